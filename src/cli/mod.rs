@@ -1,0 +1,79 @@
+//! Command-line types and dispatch; each subcommand lives in its own file.
+
+mod check;
+mod etch;
+mod output;
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Exit status: 0 ok, 1 a check failed, 2 bad input or error (the latter via `Err`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Ok,
+    CheckFailed,
+}
+
+impl From<Outcome> for std::process::ExitCode {
+    fn from(o: Outcome) -> Self {
+        match o {
+            Outcome::Ok => 0.into(),
+            Outcome::CheckFailed => 1.into(),
+        }
+    }
+}
+
+#[derive(Debug, Parser)]
+#[command(name = "tactfab", version, about = "From one process file to etch plan, masks, FE sensitivity and traveler for PVDF tactile sensors")]
+#[command(after_help = "Exit codes: 0 ok, 1 a check of the process failed, 2 bad input or I/O error.")]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Validate a process file: summary, defaults used and their sources, all warnings.
+    Check(ProcessArgs),
+    /// Compute the etch plan: rates, times, sidewalls, compensation, oxide budget.
+    Etch(EtchArgs),
+}
+
+/// The process file and what-if overrides, shared by every subcommand.
+#[derive(Debug, Args)]
+pub struct ProcessArgs {
+    /// Process file (YAML), e.g. process/mis-grasper.yaml.
+    pub file: PathBuf,
+    /// Override a field: `--set steps.tmah-etch.temp_c=85`, `--set geometry.teeth.pattern=matrix`
+    /// (repeatable; steps may be named or indexed as steps[10]).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct EtchArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Print the plan as JSON (stable contract) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses the command line and runs the subcommand.
+pub fn run() -> anyhow::Result<Outcome> {
+    let cli = Cli::parse();
+    dispatch(cli.command)
+}
+
+fn dispatch(command: Command) -> anyhow::Result<Outcome> {
+    match command {
+        Command::Check(a) => check::run(&a),
+        Command::Etch(a) => etch::run(&a),
+    }
+}
+
+/// Loads the process file with overrides; every problem becomes one error (exit 2).
+pub fn load(args: &ProcessArgs) -> anyhow::Result<tactfab::process::Loaded> {
+    tactfab::process::load(&args.file, &args.set).map_err(anyhow::Error::new)
+}

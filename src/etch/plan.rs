@@ -1,0 +1,504 @@
+//! Builds the [`EtchPlan`] step by step, carrying the wafer state (oxide, resist) along.
+
+use serde::Serialize;
+
+use super::check::Check;
+use super::compensation::{design, CompensationDesign};
+use super::geometry::{mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um};
+use super::oxidation::{DealGrove, SI_CONSUMED_PER_OXIDE};
+use super::rate::{koh_rate_100, koh_rate_110, tmah_rate_100};
+use super::resist::spin_thickness_um;
+use crate::process::{
+    CompensationGeometry, EtchMask, Etchant, Process, Side, StepParams, TeethPattern,
+};
+use crate::units::EPS0_F_PER_M;
+
+/// Everything computed from the process. Field names are the stable JSON contract.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EtchPlan {
+    pub wafer_thickness_um: f64,
+    /// wafer - front etch depth - back etch depth, from the depths the recipe actually reaches.
+    pub plate_thickness_um: f64,
+    /// The target from the geometry, for comparison.
+    pub plate_target_um: f64,
+    /// Worst-case plate thickness range from the wafer tolerance.
+    pub plate_range_um: [f64; 2],
+    /// Thermal oxide grown per face by the oxidation model.
+    pub oxide_thickness_um: f64,
+    pub front_depth_um: f64,
+    pub back_depth_um: f64,
+    pub steps: Vec<EtchStep>,
+    pub oxidations: Vec<OxidationResult>,
+    pub resists: Vec<ResistResult>,
+    pub oxide_etches: Vec<OxideEtchResult>,
+    /// Warnings and errors, each with a stable code.
+    pub warnings: Vec<Check>,
+}
+
+impl EtchPlan {
+    pub fn has_errors(&self) -> bool {
+        self.warnings.iter().any(Check::is_error)
+    }
+}
+
+/// One anisotropic silicon etch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EtchStep {
+    pub name: String,
+    /// `TMAH` or `KOH`.
+    pub etchant: String,
+    pub concentration_wt_pct: f64,
+    pub temp_c: f64,
+    pub side: Side,
+    /// Target depth per face.
+    pub depth_um: f64,
+    /// (100) rate used: the measured override when given, else the model.
+    pub rate_um_per_h: f64,
+    pub rate_source: String,
+    /// The model's (100) rate at this bath, reported even when a measurement overrides it.
+    pub model_rate_um_per_h: f64,
+    pub rate_110_um_per_h: f64,
+    pub rate_111_um_per_h: f64,
+    /// Time the recipe runs: the given time, else the time for the target depth.
+    pub time_h: f64,
+    /// Time to reach the target depth at this rate.
+    pub time_for_depth_h: f64,
+    /// Depth reached in `time_h`.
+    pub achieved_depth_um: f64,
+    pub sidewall_run_out_um: f64,
+    pub undercut_um: f64,
+    /// Narrowest street that still reaches the full depth.
+    pub min_street_um: f64,
+    /// Base of a tooth whose top is geometry.teeth.top_um (front and both-side etches).
+    pub mesa_base_um: Option<f64>,
+    pub mask: EtchMask,
+    pub mask_consumed_um: f64,
+    pub mask_remaining_um: f64,
+    pub compensation: Option<CompensationDesign>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OxidationResult {
+    pub name: String,
+    pub thickness_um: f64,
+    pub time_h: f64,
+    pub temp_c: f64,
+    pub b_um2_per_h: f64,
+    pub b_over_a_um_per_h: f64,
+    pub silicon_consumed_um: f64,
+    /// Time the model needs for the source's claimed thickness, when one is given.
+    pub time_for_expected_h: Option<f64>,
+    pub expected_thickness_um: Option<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResistResult {
+    pub name: String,
+    pub resist: String,
+    pub side: Side,
+    pub speed_rpm: f64,
+    pub thickness_um: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OxideEtchResult {
+    pub name: String,
+    pub oxide_um: f64,
+    pub rate_um_per_min: f64,
+    /// Time to clear plus the over-etch.
+    pub time_min: f64,
+}
+
+/// Relative difference beyond which a time or thickness "does not add up".
+const MISMATCH_REL: f64 = 0.01;
+
+pub(super) fn build(p: &Process) -> EtchPlan {
+    let mut warnings = Vec::new();
+    let wafer = p.wafer.thickness_um;
+    let g = &p.geometry;
+    let mut oxide_um = 0.0;
+    let mut oxidations = Vec::new();
+    let mut resists = Vec::new();
+    let mut oxide_etches = Vec::new();
+    let mut steps = Vec::new();
+    let (mut front, mut back) = (0.0, 0.0);
+
+    for s in &p.steps {
+        match &s.params {
+            StepParams::Oxidation(o) => {
+                let dg = DealGrove::new(o.ambient, p.wafer.orientation, o.temp_c);
+                let initial = o.initial_oxide_um.max(oxide_um);
+                let x = dg.thickness_um(o.time_h, initial);
+                let time_for_expected_h = o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
+                if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
+                    if (x - e).abs() / e > 0.05 {
+                        warnings.push(Check::warning(
+                            "OXIDE_CLAIM",
+                            format!(
+                                "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, not the {e} um stated; {e} um needs {t:.2} h",
+                                s.name, o.time_h, o.temp_c
+                            ),
+                        ));
+                    }
+                }
+                oxidations.push(OxidationResult {
+                    name: s.name.clone(),
+                    thickness_um: x,
+                    time_h: o.time_h,
+                    temp_c: o.temp_c,
+                    b_um2_per_h: dg.b_um2_per_h,
+                    b_over_a_um_per_h: dg.b_over_a_um_per_h,
+                    silicon_consumed_um: SI_CONSUMED_PER_OXIDE * (x - initial),
+                    time_for_expected_h,
+                    expected_thickness_um: o.expected_thickness_um,
+                });
+                oxide_um = x;
+            }
+            StepParams::SpinCoat(c) => resists.push(ResistResult {
+                name: s.name.clone(),
+                resist: c.resist.clone(),
+                side: c.side,
+                speed_rpm: c.speed_rpm,
+                thickness_um: spin_thickness_um(c.ref_thickness_um, c.ref_speed_rpm, c.spin_exponent, c.speed_rpm),
+            }),
+            StepParams::OxideEtch(e) => {
+                let rate = p.etchants.boe_rate_um_per_min;
+                oxide_etches.push(OxideEtchResult {
+                    name: s.name.clone(),
+                    oxide_um,
+                    rate_um_per_min: rate,
+                    time_min: oxide_um / rate * (1.0 + e.overetch_pct / 100.0),
+                });
+            }
+            StepParams::Strip(st) if st.target == crate::process::StripTarget::Oxide => oxide_um = 0.0,
+            StepParams::SiliconEtch(e) => {
+                let step = silicon_etch(p, &s.name, e, oxide_um, &mut warnings);
+                if matches!(e.side, Side::Front | Side::Both) {
+                    front += step.achieved_depth_um;
+                }
+                if matches!(e.side, Side::Back | Side::Both) {
+                    back += step.achieved_depth_um;
+                }
+                oxide_um = step.mask_remaining_um.max(0.0);
+                steps.push(step);
+            }
+            _ => {}
+        }
+    }
+
+    let plate = wafer - front - back;
+    let tol = p.wafer.thickness_tolerance_um;
+    if !steps.is_empty() {
+        if front + back >= wafer {
+            warnings.push(Check::error(
+                "DEPTH_EXCEEDS_WAFER",
+                format!("front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"),
+            ));
+        } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
+            let c = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 { Check::error } else { Check::warning };
+            warnings.push(c(
+                "PLATE_THICKNESS_MISMATCH",
+                format!(
+                    "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), not the {} um of geometry.plate_thickness_um",
+                    g.plate_thickness_um
+                ),
+            ));
+        }
+        if tol / g.plate_thickness_um > 0.05 {
+            warnings.push(Check::warning(
+                "PLATE_TOLERANCE",
+                format!(
+                    "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} um; etch to 90 % of the time, measure the depth, then finish",
+                    plate - tol,
+                    plate + tol
+                ),
+            ));
+        }
+    }
+    geometry_checks(p, &steps, &mut warnings);
+    piezo_check(p, &mut warnings);
+
+    EtchPlan {
+        wafer_thickness_um: wafer,
+        plate_thickness_um: plate,
+        plate_target_um: g.plate_thickness_um,
+        plate_range_um: [plate - tol, plate + tol],
+        oxide_thickness_um: oxidations.last().map(|o| o.thickness_um).unwrap_or(0.0),
+        front_depth_um: front,
+        back_depth_um: back,
+        steps,
+        oxidations,
+        resists,
+        oxide_etches,
+        warnings,
+    }
+}
+
+fn silicon_etch(
+    p: &Process,
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    oxide_um: f64,
+    warnings: &mut Vec<Check>,
+) -> EtchStep {
+    let et = &p.etchants;
+    let (model_100, r110, r100_over_r111, oxide_rate) = match e.etchant {
+        Etchant::Tmah => {
+            let table: Vec<_> = et.tmah.iter().map(|r| (r.concentration_wt_pct, r.rate_100_um_per_h, r.temp_c)).collect();
+            let (r, extrapolated) = tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
+            if extrapolated && e.measured_rate_um_per_h.is_none() {
+                warnings.push(Check::warning(
+                    "RATE_EXTRAPOLATED",
+                    format!("step `{name}`: no TMAH rate measured near {} wt %; the nearest table row is used", e.concentration_wt_pct),
+                ));
+            }
+            if e.concentration_wt_pct < 22.0 {
+                warnings.push(Check::warning(
+                    "HILLOCK_RISK",
+                    format!("step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~22 wt %", e.concentration_wt_pct),
+                ));
+            }
+            (r, r * et.tmah_r110_over_r100, et.tmah_r100_over_r111, et.tmah_oxide_rate_um_per_h)
+        }
+        Etchant::Koh => {
+            let r = koh_rate_100(e.concentration_wt_pct, e.temp_c);
+            (r, koh_rate_110(e.concentration_wt_pct, e.temp_c), et.koh_r100_over_r111, et.koh_oxide_rate_um_per_h)
+        }
+    };
+    let (rate, rate_source) = match e.measured_rate_um_per_h {
+        Some(m) => (m, "measured (process file)".to_string()),
+        None => match e.etchant {
+            Etchant::Tmah => (model_100, format!("TMAH table + Arrhenius, Ea = {} eV", et.tmah_ea_ev)),
+            Etchant::Koh => (model_100, "Seidel 1990 KOH model".to_string()),
+        },
+    };
+    if let Some(m) = e.measured_rate_um_per_h {
+        if (m - model_100).abs() / model_100 > 0.3 {
+            warnings.push(Check::warning(
+                "RATE_MODEL_DISAGREES",
+                format!("step `{name}`: measured {m} um/h vs model {model_100:.1} um/h; the measurement is used"),
+            ));
+        }
+    }
+    let scale = rate / model_100;
+    let r111 = rate / r100_over_r111;
+    let time_for_depth_h = e.depth_um / rate;
+    let time_h = e.time_h.unwrap_or(time_for_depth_h);
+    let achieved = rate * time_h;
+    if (achieved - e.depth_um).abs() / e.depth_um > MISMATCH_REL {
+        warnings.push(Check::warning(
+            "ETCH_TIME_DEPTH_MISMATCH",
+            format!(
+                "step `{name}`: {time_h} h at {rate} um/h etches {achieved:.1} um per face, not {} um; {:.3} h reaches {} um",
+                e.depth_um, time_for_depth_h, e.depth_um
+            ),
+        ));
+    }
+
+    let mask_rate = match e.mask {
+        EtchMask::Oxide => oxide_rate,
+        EtchMask::Nitride => 0.0,
+        EtchMask::Resist => f64::INFINITY,
+    };
+    let consumed = if mask_rate.is_finite() { mask_rate * time_h } else { f64::INFINITY };
+    let (start, remaining) = match e.mask {
+        EtchMask::Oxide => (oxide_um, oxide_um - consumed),
+        EtchMask::Nitride => (f64::INFINITY, f64::INFINITY),
+        EtchMask::Resist => (0.0, f64::NEG_INFINITY),
+    };
+    match e.mask {
+        EtchMask::Resist => warnings.push(Check::error(
+            "RESIST_NOT_A_MASK",
+            format!("step `{name}`: photoresist does not mask {}: it dissolves (its developer is TMAH); use thermal oxide or nitride", e.etchant.label()),
+        )),
+        EtchMask::Oxide if start <= 0.0 => warnings.push(Check::error(
+            "NO_OXIDE_MASK",
+            format!("step `{name}`: masked by oxide, but no oxide is grown before it"),
+        )),
+        EtchMask::Oxide if remaining <= 0.0 => warnings.push(Check::error(
+            "MASK_CONSUMED",
+            format!(
+                "step `{name}`: {:.2} um of oxide is etched away in {time_h:.2} h at {mask_rate} um/h, but only {start:.3} um was grown; the mask fails at {:.1} h",
+                consumed,
+                start / mask_rate
+            ),
+        )),
+        EtchMask::Oxide if remaining < 0.25 * start => warnings.push(Check::warning(
+            "MASK_MARGIN_LOW",
+            format!("step `{name}`: only {remaining:.3} um of the {start:.3} um oxide is left at the end"),
+        )),
+        _ => {}
+    }
+
+    let front_side = matches!(e.side, Side::Front | Side::Both);
+    let teeth = &p.geometry.teeth;
+    let has_teeth = teeth.pattern != TeethPattern::None && front_side;
+    let compensation = if has_teeth {
+        match &e.compensation {
+            Some(c) => {
+                if e.etchant == Etchant::Tmah && (0.53..=0.56).contains(&c.ratio) {
+                    let a = e.depth_um / c.ratio;
+                    warnings.push(Check::warning(
+                        "COMP_RATIO_FROM_KOH",
+                        format!(
+                            "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = 0.548); it is unvalidated for TMAH, whose convex corners undercut along near-{{110}} planes: add a test die with a from {:.0} to {:.0} um",
+                            c.ratio,
+                            0.8 * a,
+                            1.5 * a
+                        ),
+                    ));
+                }
+                Some(design(e.depth_um, c.ratio, c.geometry))
+            }
+            None => {
+                warnings.push(Check::warning(
+                    "NO_COMPENSATION",
+                    format!("step `{name}`: the tooth corners are convex and will be undercut without compensation"),
+                ));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    EtchStep {
+        name: name.to_string(),
+        etchant: e.etchant.label().to_string(),
+        concentration_wt_pct: e.concentration_wt_pct,
+        temp_c: e.temp_c,
+        side: e.side,
+        depth_um: e.depth_um,
+        rate_um_per_h: rate,
+        rate_source,
+        model_rate_um_per_h: model_100,
+        rate_110_um_per_h: r110 * scale,
+        rate_111_um_per_h: r111,
+        time_h,
+        time_for_depth_h,
+        achieved_depth_um: achieved,
+        sidewall_run_out_um: sidewall_run_out_um(achieved),
+        undercut_um: undercut_um(r111, time_h),
+        min_street_um: min_street_um(e.depth_um),
+        mesa_base_um: (front_side && teeth.pattern != TeethPattern::None).then(|| mesa_base_um(teeth.top_um, achieved)),
+        mask: e.mask,
+        mask_consumed_um: if consumed.is_finite() { consumed } else { 0.0 },
+        mask_remaining_um: if remaining.is_finite() { remaining } else { 0.0 },
+        compensation,
+    }
+}
+
+/// Cross-checks of geometry against the etch steps: depths, teeth spacing, compensators.
+fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
+    let g = &p.geometry;
+    let t = &g.teeth;
+    let w = p.wafer.thickness_um;
+    let implied = w - t.height_um * f64::from(t.pattern != TeethPattern::None) - g.channel_depth_um;
+    if t.pattern != TeethPattern::None && (implied - g.plate_thickness_um).abs() > 1e-6 {
+        warnings.push(Check::error(
+            "GEOMETRY_INCONSISTENT",
+            format!(
+                "wafer {w} - teeth {} - channel {} = {implied} um, but geometry.plate_thickness_um is {}",
+                t.height_um, g.channel_depth_um, g.plate_thickness_um
+            ),
+        ));
+    }
+    let front_target: f64 = steps.iter().filter(|s| matches!(s.side, Side::Front | Side::Both)).map(|s| s.depth_um).sum();
+    let back_target: f64 = steps.iter().filter(|s| matches!(s.side, Side::Back | Side::Both)).map(|s| s.depth_um).sum();
+    if !steps.is_empty() && t.pattern != TeethPattern::None && (front_target - t.height_um).abs() > 1e-6 {
+        warnings.push(Check::error(
+            "DEPTH_GEOMETRY_MISMATCH",
+            format!("front etch depth {front_target} um differs from geometry.teeth.height_um {}", t.height_um),
+        ));
+    }
+    if !steps.is_empty() && (back_target - g.channel_depth_um).abs() > 1e-6 {
+        warnings.push(Check::error(
+            "DEPTH_GEOMETRY_MISMATCH",
+            format!("back etch depth {back_target} um differs from geometry.channel_depth_um {}", g.channel_depth_um),
+        ));
+    }
+    if t.pattern == TeethPattern::None {
+        return;
+    }
+    let gx = t.pitch_x_um - t.top_um;
+    let gy = t.pitch_y_um - t.top_um;
+    let Some(front) = steps.iter().find(|s| matches!(s.side, Side::Front | Side::Both)) else { return };
+    // Narrowest street between facing parallel tooth edges.
+    let street = match t.pattern {
+        TeethPattern::Matrix => gx.min(gy),
+        _ => (2.0 * t.pitch_x_um - t.top_um).min(2.0 * t.pitch_y_um - t.top_um),
+    };
+    if street < front.min_street_um {
+        warnings.push(Check::error(
+            "STREET_TOO_NARROW",
+            format!(
+                "the {street:.0} um street between teeth self-stops as a V-groove {:.0} um deep; full depth {} um needs {:.0} um (the tooth bases merge)",
+                v_groove_depth_um(street),
+                front.depth_um,
+                front.min_street_um
+            ),
+        ));
+    }
+    let Some(c) = &front.compensation else { return };
+    // Facing corners: orthogonal neighbours (matrix) across gx or gy; diagonal neighbours
+    // (checkered) across gx and gy at once.
+    let collide = match t.pattern {
+        TeethPattern::Matrix => gx < c.min_gap_um || gy < c.min_gap_um,
+        _ => gx < c.min_gap_um && gy < c.min_gap_um,
+    };
+    let kind = match c.kind {
+        CompensationGeometry::CornerAttached => "corner-attached",
+        CompensationGeometry::Centred => "centred",
+    };
+    if collide {
+        warnings.push(Check::error(
+            "COMPENSATORS_COLLIDE",
+            format!(
+                "{kind} compensators of {:.1} um need {:.1} um between facing tooth corners; the pitch leaves {:.0} x {:.0} um: they merge into a bridge. Raise the pitch to >= {:.0} um",
+                c.side_um,
+                c.min_gap_um,
+                gx,
+                gy,
+                t.top_um + c.min_gap_um
+            ),
+        ));
+    }
+    // Outermost teeth: corner squares reach `reach_um` beyond the tooth top.
+    let inset = (t.pitch_x_um - t.top_um) / 2.0;
+    let inset_y = (t.pitch_y_um - t.top_um) / 2.0;
+    let x0 = t.origin_x_um + inset - c.reach_um;
+    let y0 = t.origin_y_um + inset_y - c.reach_um;
+    let x1 = t.origin_x_um + t.count_x as f64 * t.pitch_x_um - inset + c.reach_um;
+    let y1 = t.origin_y_um + t.count_y as f64 * t.pitch_y_um - inset_y + c.reach_um;
+    if x0 < 0.0 || y0 < 0.0 || x1 > g.die_length_um || y1 > g.die_width_um {
+        warnings.push(Check::error(
+            "COMPENSATOR_OUTSIDE_DIE",
+            format!(
+                "compensators of the outer teeth span x {x0:.0}..{x1:.0}, y {y0:.0}..{y1:.0} um, beyond the {} x {} um die",
+                g.die_length_um, g.die_width_um
+            ),
+        ));
+    }
+}
+
+/// g = d / (eps0 eps_r) (IEEE piezo relations; fe-validation.md): report when the given g, d and
+/// eps_r disagree by more than 10 %.
+fn piezo_check(p: &Process, warnings: &mut Vec<Check>) {
+    let f = &p.materials.pvdf;
+    for (label, d, g) in [("31", f.d31_pc_per_n, f.g31_vm_per_n), ("32", f.d32_pc_per_n, f.g32_vm_per_n), ("33", f.d33_pc_per_n, f.g33_vm_per_n)] {
+        let Some(g) = g else { continue };
+        if g == 0.0 || d == 0.0 {
+            continue;
+        }
+        let implied_eps_r = d * 1e-12 / (g * EPS0_F_PER_M);
+        if (implied_eps_r - f.eps_r).abs() / f.eps_r > 0.1 {
+            warnings.push(Check::warning(
+                "PIEZO_CONSTANTS_INCONSISTENT",
+                format!(
+                    "d{label} = {d} pC/N with g{label} = {g} V m/N implies eps_r = {implied_eps_r:.1}, but eps_r is {}; tactfab uses d and eps_r and derives g{label} = {:.4} V m/N",
+                    f.eps_r,
+                    d * 1e-12 / (f.eps_r * EPS0_F_PER_M)
+                ),
+            ));
+        }
+    }
+}

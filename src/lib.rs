@@ -1,0 +1,21 @@
+//! # tactfab: from one process file to wafer, masks, sensitivity and traveler
+//!
+//! A PVDF tactile sensor (paper 002 in `../shared/seeds/`) is described by one YAML process file.
+//! Data flows one way through the crate:
+//!
+//! 1. [`process`] reads the file, applies `--set` overrides, and returns a validated
+//!    [`process::Process`] or every problem at once, each with `file:line:column`, the field path and
+//!    what is allowed. Defaults come from `../shared/reference` and are reported with their source.
+//! 2. [`etch`] turns the process into an [`etch::EtchPlan`]: etch rates (TMAH Arrhenius from a
+//!    measured rate, KOH after Seidel), times, {111} sidewall run-out, undercut, streets, corner
+//!    compensation, the oxide mask budget, Deal-Grove oxidation and resist thickness, plus
+//!    [`etch::Check`]s: warnings and errors as values with stable codes.
+//! 3. Later stages (layout, export, FE, sensor, report) read the process and the plan; nothing
+//!    flows back.
+//!
+//! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
+//! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
+
+pub mod etch;
+pub mod process;
+pub mod units;

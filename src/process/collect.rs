@@ -1,0 +1,170 @@
+//! Deserialisation that reports every structural problem, not just the first.
+//!
+//! serde stops at the first error. We retry: each error is recorded, then the offending node is
+//! removed (unknown field) or replaced by a placeholder of the expected type (wrong type, missing
+//! field), and errors inside a replaced node are suppressed as consequences of the first.
+
+use serde::de::DeserializeOwned;
+use serde_yaml::{Mapping, Value};
+
+use super::path::{self, Seg};
+
+/// A structural problem before locations are attached.
+#[derive(Debug, Clone)]
+pub struct RawProblem {
+    pub path: String,
+    /// Set for unknown fields: point at the key, not the value.
+    pub key_of_parent: Option<(String, String)>,
+    pub message: String,
+    pub expected: String,
+}
+
+const MAX_ROUNDS: usize = 500;
+
+/// Deserialises `value` as `T`, collecting all problems under `base`.
+/// Returns the value with placeholders where problems were (so range rules can still run on the
+/// rest); `placeholders` receives the paths that hold one. `None` when no placeholder fits.
+pub fn deserialize_all<T: DeserializeOwned>(
+    mut value: Value,
+    base: &str,
+    problems: &mut Vec<RawProblem>,
+    placeholders: &mut Vec<String>,
+) -> Option<T> {
+    let mut suppressed: Vec<String> = Vec::new();
+    for _ in 0..MAX_ROUNDS {
+        let err = match serde_path_to_error::deserialize::<_, T>(value.clone()) {
+            Ok(t) => {
+                placeholders.extend(suppressed);
+                return Some(t);
+            }
+            Err(e) => e,
+        };
+        let rel = err.path().to_string();
+        let msg = err.inner().to_string();
+        let segs = match path::parse(&rel) {
+            Ok(s) => s,
+            Err(_) => {
+                problems.push(raw(path::join(base, &rel), msg, String::new()));
+                return None;
+            }
+        };
+        let is_suppressed = |p: &str| suppressed.iter().any(|s| path::is_within(p, s));
+
+        if let Some(field) = between(&msg, "unknown field `", "`") {
+            // serde_path_to_error reports the unknown key's own path.
+            let parent = if segs.last() == Some(&Seg::Key(field.clone())) {
+                &segs[..segs.len() - 1]
+            } else {
+                &segs[..]
+            };
+            let full = path::join(base, &path::format(&with_key(parent, &field)));
+            if !is_suppressed(&full) {
+                let allowed = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
+                problems.push(RawProblem {
+                    path: full,
+                    key_of_parent: Some((path::join(base, &path::format(parent)), field.clone())),
+                    message: format!("unknown field `{field}`"),
+                    expected: if allowed.is_empty() { "no fields here".into() } else { allowed },
+                });
+            }
+            match path::get_mut(&mut value, parent) {
+                Some(Value::Mapping(m)) => {
+                    m.remove(field.as_str());
+                }
+                _ => return None,
+            }
+            continue;
+        }
+        if let Some(field) = between(&msg, "missing field `", "`") {
+            let here = with_key(&segs, &field);
+            let full = path::join(base, &path::format(&here));
+            if !is_suppressed(&full) {
+                problems.push(raw(full.clone(), format!("missing field `{field}`"), "it to be present".into()));
+            }
+            suppressed.push(full);
+            match path::get_mut(&mut value, &segs) {
+                Some(Value::Mapping(m)) => {
+                    m.insert(Value::String(field), Value::Null);
+                }
+                _ => return None,
+            }
+            continue;
+        }
+        // Wrong type or value at `rel`.
+        let full = path::join(base, &rel);
+        let expected = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
+        if !is_suppressed(&full) {
+            let what = msg.split_once(", expected ").map(|(w, _)| w.to_string()).unwrap_or(msg.clone());
+            problems.push(raw(full.clone(), what, readable(&expected)));
+        }
+        suppressed.push(full);
+        let Some(slot) = path::get_mut(&mut value, &segs) else { return None };
+        match placeholder(&expected, slot) {
+            Some(v) => *slot = v,
+            None => return None,
+        }
+    }
+    None
+}
+
+/// serde's type names in words a process engineer reads.
+fn readable(expected: &str) -> String {
+    match expected {
+        "f64" | "f32" => "a number".into(),
+        "u32" | "u16" | "u64" | "usize" => "a whole number >= 0".into(),
+        "a boolean" => "true or false".into(),
+        e if e.starts_with("struct ") => format!("a mapping ({})", &e[7..]),
+        e => e.to_string(),
+    }
+}
+
+fn raw(path: String, message: String, expected: String) -> RawProblem {
+    RawProblem { path, key_of_parent: None, message, expected }
+}
+
+fn with_key(segs: &[Seg], key: &str) -> Vec<Seg> {
+    let mut v = segs.to_vec();
+    v.push(Seg::Key(key.to_string()));
+    v
+}
+
+fn between(s: &str, start: &str, end: &str) -> Option<String> {
+    let i = s.find(start)? + start.len();
+    let j = s[i..].find(end)? + i;
+    Some(s[i..j].to_string())
+}
+
+/// A value of the type serde expected, so the remaining fields can still be checked.
+fn placeholder(expected: &str, current: &Value) -> Option<Value> {
+    let e = expected;
+    if let Some(first) = between(e, "`", "`") {
+        // An enum: "`a`, `b` or `c`" / "one of `a`, ...".
+        if current.as_str() != Some(first.as_str()) {
+            return Some(Value::String(first));
+        }
+    }
+    // NaN makes every cross-field comparison with this field false: no consequential errors.
+    if e.contains("f64") || e.contains("f32") || e.contains("number") {
+        return Some(Value::Number(f64::NAN.into()));
+    }
+    if e.contains("u32") || e.contains("u16") || e.contains("usize") || e.contains("i64") || e.contains("u64") || e.contains("i32") || e.contains("integer") {
+        return Some(Value::Number(0.into()));
+    }
+    if e.contains("string") {
+        return Some(Value::String(String::new()));
+    }
+    if e.contains("bool") {
+        return Some(Value::Bool(false));
+    }
+    if e.contains("sequence") {
+        return Some(Value::Sequence(Vec::new()));
+    }
+    if e.contains("struct") || e.contains("map") {
+        return Some(Value::Mapping(Mapping::new()));
+    }
+    if e.contains("enum") && !current.is_string() {
+        // Unit enum given as a non-string: try a string; the next round names the variants.
+        return Some(Value::String(String::new()));
+    }
+    None
+}

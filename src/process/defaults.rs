@@ -1,0 +1,159 @@
+//! Default constants, each from `../shared/reference` with its provenance tag.
+//!
+//! The serde defaults call these functions; [`DEFAULTS`] names the same values with their source
+//! so the loader can report every default a file relied on.
+
+use super::schema::{SiliconModel, Substrate, TmahRate};
+
+/// A default value the process file may override, and where it comes from.
+#[derive(Debug, Clone, Copy)]
+pub struct DefaultSource {
+    /// Field path relative to its parent, e.g. `materials.silicon.c11_gpa`; `steps[].x` applies to
+    /// every step that has the field.
+    pub path: &'static str,
+    /// `[paper]`, `[lit]`, `[derived]` or `[est]` with the citation.
+    pub source: &'static str,
+}
+
+pub fn wafer_thickness_tolerance_um() -> f64 {
+    20.0
+}
+pub fn wafer_diameter_mm() -> f64 {
+    100.0
+}
+pub fn dicing_street_um() -> f64 {
+    200.0
+}
+pub fn silicon_model() -> SiliconModel {
+    SiliconModel::Anisotropic
+}
+pub fn c11_gpa() -> f64 {
+    165.7
+}
+pub fn c12_gpa() -> f64 {
+    63.9
+}
+pub fn c44_gpa() -> f64 {
+    79.6
+}
+pub fn si_e_gpa() -> f64 {
+    169.1
+}
+pub fn si_nu() -> f64 {
+    0.064
+}
+pub fn fracture_strength_mpa() -> f64 {
+    4000.0
+}
+pub fn safety_factor() -> f64 {
+    3.0
+}
+pub fn pvdf_thickness_um() -> f64 {
+    25.0
+}
+pub fn pvdf_e_gpa() -> f64 {
+    3.0
+}
+pub fn pvdf_nu() -> f64 {
+    0.35
+}
+pub fn pvdf_density_g_per_cm3() -> f64 {
+    1.76
+}
+pub fn d31_pc_per_n() -> f64 {
+    20.0
+}
+pub fn d32_pc_per_n() -> f64 {
+    2.0
+}
+pub fn d33_pc_per_n() -> f64 {
+    -18.0
+}
+pub fn eps_r() -> f64 {
+    12.0
+}
+pub fn tmah_table() -> Vec<TmahRate> {
+    vec![TmahRate {
+        concentration_wt_pct: 25.0,
+        rate_100_um_per_h: 24.0,
+        temp_c: 80.0,
+        source: "[paper] 002 sec. VI.A, measured".into(),
+    }]
+}
+pub fn tmah_ea_ev() -> f64 {
+    0.55
+}
+pub fn tmah_r110_over_r100() -> f64 {
+    1.75
+}
+pub fn tmah_r100_over_r111() -> f64 {
+    30.0
+}
+pub fn koh_r100_over_r111() -> f64 {
+    // Sato 1998: 0.797 / 0.005 um/min.
+    159.4
+}
+pub fn tmah_oxide_rate_um_per_h() -> f64 {
+    0.06
+}
+pub fn koh_oxide_rate_um_per_h() -> f64 {
+    0.43
+}
+pub fn boe_rate_um_per_min() -> f64 {
+    0.075
+}
+pub fn substrate_wafer() -> Substrate {
+    Substrate::Wafer
+}
+pub fn s1813_ref_thickness_um() -> f64 {
+    1.4
+}
+pub fn s1813_ref_speed_rpm() -> f64 {
+    3915.0
+}
+pub fn s1813_spin_exponent() -> f64 {
+    // ln(2.0/1.4) / ln(3915/1950): the two McGill MicroFab points.
+    (2.0f64 / 1.4).ln() / (3915.0f64 / 1950.0).ln()
+}
+pub fn overetch_pct() -> f64 {
+    20.0
+}
+pub fn compensation_ratio() -> f64 {
+    0.544
+}
+
+/// Every default with its provenance (reference/README.md tags).
+pub const DEFAULTS: &[DefaultSource] = &[
+    DefaultSource { path: "wafer.thickness_tolerance_um", source: "[est] typical supplier tolerance, reference/process-physics.md" },
+    DefaultSource { path: "wafer.diameter_mm", source: "[est] 100 mm wafer" },
+    DefaultSource { path: "geometry.dicing_street_um", source: "[est] saw kerf plus margin" },
+    DefaultSource { path: "materials.silicon.model", source: "anisotropic cubic silicon (reference/fe-validation.md)" },
+    DefaultSource { path: "materials.silicon.c11_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
+    DefaultSource { path: "materials.silicon.c12_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
+    DefaultSource { path: "materials.silicon.c44_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
+    DefaultSource { path: "materials.silicon.e_gpa", source: "[derived] E<110> from Hopcroft 2010" },
+    DefaultSource { path: "materials.silicon.nu", source: "[derived] nu<110> from Hopcroft 2010" },
+    DefaultSource { path: "materials.silicon.fracture_strength_mpa", source: "[paper] 001, fracture 4 GPa" },
+    DefaultSource { path: "materials.silicon.safety_factor", source: "[paper] 001, safety factor 3" },
+    DefaultSource { path: "materials.pvdf.thickness_um", source: "[paper] 002 sec. III" },
+    DefaultSource { path: "materials.pvdf.e_gpa", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.nu", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.density_g_per_cm3", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.d31_pc_per_n", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.d32_pc_per_n", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.d33_pc_per_n", source: "[paper] 002 sec. VI.B" },
+    DefaultSource { path: "materials.pvdf.eps_r", source: "[lit] PVDF datasheets ~12 (reference/fe-validation.md)" },
+    DefaultSource { path: "etchants.tmah", source: "[paper] 002: 25 wt %, 24 um/h at 80 C, measured" },
+    DefaultSource { path: "etchants.tmah_ea_ev", source: "[lit] Tabata 1992, Merlos 1993, Thong 1997 (band 0.5-0.65)" },
+    DefaultSource { path: "etchants.tmah_r110_over_r100", source: "[lit] Shikida 2000 (1.5-2)" },
+    DefaultSource { path: "etchants.tmah_r100_over_r111", source: "[lit] Tabata 1992 (12.5-50)" },
+    DefaultSource { path: "etchants.koh_r100_over_r111", source: "[lit] Sato 1998, 30 % KOH 70 C" },
+    DefaultSource { path: "etchants.tmah_oxide_rate_um_per_h", source: "[lit] 0.01-0.3 nm/min; planned at 1 nm/min worst case" },
+    DefaultSource { path: "etchants.koh_oxide_rate_um_per_h", source: "[lit] ~0.43 um/h at 30 %, 80 C" },
+    DefaultSource { path: "etchants.boe_rate_um_per_min", source: "[lit] 75-100 nm/min at room temperature (slow end)" },
+    DefaultSource { path: "steps[].ref_thickness_um", source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab" },
+    DefaultSource { path: "steps[].ref_speed_rpm", source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab" },
+    DefaultSource { path: "steps[].spin_exponent", source: "[derived] from S1813 1.4 um @ 3915 rpm and 2.0 um @ 1950 rpm" },
+    DefaultSource { path: "steps[].overetch_pct", source: "[est] 20 % over-etch" },
+    DefaultSource { path: "steps[].compensation.ratio", source: "[paper] 002 a = h/0.544 (a KOH rule, Sato 1998)" },
+];

@@ -1,0 +1,328 @@
+//! The process model: one YAML file, loaded, overridden (`--set`), checked and resolved.
+//!
+//! serde_yaml (deprecated upstream) and marked_yaml stay inside this module: the rest of the crate
+//! sees only [`Process`], [`Provenance`] and [`LoadError`].
+
+mod collect;
+pub mod defaults;
+mod error;
+mod overrides;
+mod path;
+pub mod schema;
+mod validate;
+
+use std::path::Path;
+
+use serde::Serialize;
+use serde_yaml::Value;
+
+pub use error::{LoadError, Location, Problem};
+pub use schema::*;
+
+use collect::{deserialize_all, RawProblem};
+
+/// A default the file relied on, with its value and source.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Provenance {
+    pub path: String,
+    pub value: String,
+    pub source: String,
+}
+
+/// A validated process and what it took from defaults and overrides.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Loaded {
+    pub process: Process,
+    /// Defaults the file did not override, with their source.
+    pub defaults_used: Vec<Provenance>,
+    /// `--set` overrides as applied, canonical path first.
+    pub overrides: Vec<(String, String)>,
+}
+
+/// Reads, overrides, deserialises and validates a process file.
+pub fn load(file: &Path, overrides: &[String]) -> Result<Loaded, LoadError> {
+    let text = std::fs::read_to_string(file).map_err(|cause| LoadError::Io { path: file.to_path_buf(), cause })?;
+    load_str(&text, &file.display().to_string(), overrides)
+}
+
+/// As [`load`], from text; `file` names it in messages.
+pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, LoadError> {
+    let at = |line: usize, column: usize| Location::File { file: file.to_string(), line, column };
+    let marked = match marked_yaml::parse_yaml_with_options(
+        0,
+        text,
+        marked_yaml::LoaderOptions::default().error_on_duplicate_keys(true),
+    ) {
+        Ok(n) => n,
+        Err(e) => return Err(LoadError::Invalid(vec![syntax_problem(&e, file, text)])),
+    };
+    let mut value: Value = match serde_yaml::from_str(text) {
+        Ok(v) => v,
+        Err(e) => {
+            let location = e.location().map(|l| at(l.line(), l.column())).unwrap_or(Location::Unknown { file: file.into() });
+            return Err(LoadError::Invalid(vec![Problem {
+                location,
+                path: ".".into(),
+                message: format!("YAML syntax: {e}"),
+                expected: "valid YAML".into(),
+            }]));
+        }
+    };
+    let applied = overrides::apply(&mut value, overrides)?;
+    let locate = |p: &str, key: Option<&(String, String)>| -> Location {
+        if let Some(a) = applied.iter().rev().find(|a| path::is_within(p, &a.path)) {
+            return Location::Override { arg: a.arg.clone() };
+        }
+        let found = match key {
+            Some((parent, k)) => path::parse(parent).ok().and_then(|s| path::locate_key(&marked, &s, k)),
+            None => path::parse(p).ok().and_then(|s| path::locate(&marked, &s)),
+        };
+        match found {
+            Some((line, column)) => at(line, column),
+            None => Location::Unknown { file: file.into() },
+        }
+    };
+
+    let mut raw = Vec::new();
+    let mut placeholders = Vec::new();
+    let (process, steps_value) = deserialize_process(value.clone(), &mut raw, &mut placeholders);
+    let mut problems: Vec<Problem> = raw
+        .iter()
+        .map(|r| Problem {
+            location: locate(&r.path, r.key_of_parent.as_ref()),
+            path: r.path.clone(),
+            message: r.message.clone(),
+            expected: r.expected.clone(),
+        })
+        .collect();
+
+    if let Some(p) = &process {
+        let is_placeholder = |path: &str| placeholders.iter().any(|h| path::is_within(path, h));
+        for v in validate::validate(p, &is_placeholder) {
+            if is_placeholder(&v.path) {
+                continue;
+            }
+            problems.push(Problem { location: locate(&v.path, None), path: v.path, message: v.message, expected: v.expected });
+        }
+    }
+    if !problems.is_empty() {
+        problems.sort_by(|a, b| sort_key(&a.location).cmp(&sort_key(&b.location)).then(a.path.cmp(&b.path)));
+        problems.dedup();
+        return Err(LoadError::Invalid(problems));
+    }
+    let process = process.expect("no problems means the process deserialised");
+    let _ = steps_value;
+    let defaults_used = defaults_used(&value, &process);
+    Ok(Loaded {
+        process,
+        defaults_used,
+        overrides: applied.into_iter().map(|a| (a.path, a.arg)).collect(),
+    })
+}
+
+fn sort_key(l: &Location) -> (u8, usize, usize, String) {
+    match l {
+        Location::Override { arg } => (0, 0, 0, arg.clone()),
+        Location::File { line, column, .. } => (1, *line, *column, String::new()),
+        Location::Unknown { .. } => (2, 0, 0, String::new()),
+    }
+}
+
+fn syntax_problem(e: &marked_yaml::LoadError, file: &str, _text: &str) -> Problem {
+    use marked_yaml::LoadError as E;
+    let (marker, message) = match e {
+        E::ScanError(m, se) => (Some(*m), format!("YAML syntax: {}", se.info())),
+        E::DuplicateKey(inner) => (inner.prev_key.span().start().copied().or(None), format!("duplicate key `{}`", inner.key.as_str())),
+        E::TopLevelMustBeMapping(m) => (Some(*m), "the document must be a mapping of sections".into()),
+        E::UnexpectedAnchor(m) => (Some(*m), "YAML anchors are not supported in process files".into()),
+        E::MappingKeyMustBeScalar(m) => (Some(*m), "mapping keys must be plain names".into()),
+        E::UnexpectedTag(m) => (Some(*m), "YAML tags are not supported in process files".into()),
+        other => (None, format!("YAML: {other}")),
+    };
+    let location = match (e, marker) {
+        (E::DuplicateKey(inner), _) => inner
+            .key
+            .span()
+            .start()
+            .map(|m| Location::File { file: file.into(), line: m.line(), column: m.column() })
+            .unwrap_or(Location::Unknown { file: file.into() }),
+        (_, Some(m)) => Location::File { file: file.into(), line: m.line(), column: m.column() },
+        _ => Location::Unknown { file: file.into() },
+    };
+    Problem { location, path: ".".into(), message, expected: "valid YAML with unique keys".into() }
+}
+
+/// Deserialises the top level and each step on its own (the step's `kind` picks its fields).
+fn deserialize_process(
+    mut value: Value,
+    raw: &mut Vec<RawProblem>,
+    placeholders: &mut Vec<String>,
+) -> (Option<Process>, Option<Value>) {
+    let steps_value = match &mut value {
+        Value::Mapping(m) => m.remove("steps"),
+        _ => None,
+    };
+    let top: Option<Process> = deserialize_all(value, ".", raw, placeholders);
+    let steps = match &steps_value {
+        None => {
+            raw.push(RawProblem {
+                path: "steps".into(),
+                key_of_parent: None,
+                message: "missing field `steps`".into(),
+                expected: "a list of process steps".into(),
+            });
+            None
+        }
+        Some(Value::Sequence(items)) => {
+            let mut out = Vec::new();
+            let mut ok = true;
+            for (i, item) in items.iter().enumerate() {
+                match deserialize_step(item, &format!("steps[{i}]"), raw, placeholders) {
+                    Some(s) => out.push(s),
+                    None => ok = false,
+                }
+            }
+            ok.then_some(out)
+        }
+        Some(_) => {
+            raw.push(RawProblem {
+                path: "steps".into(),
+                key_of_parent: None,
+                message: "`steps` is not a list".into(),
+                expected: "a list of process steps".into(),
+            });
+            None
+        }
+    };
+    match (top, steps) {
+        (Some(mut p), Some(s)) => {
+            p.steps = s;
+            (Some(p), steps_value)
+        }
+        _ => (None, steps_value),
+    }
+}
+
+const COMMON_KEYS: &[&str] = &["name", "kind", "equipment", "notes"];
+
+fn deserialize_step(
+    item: &Value,
+    base: &str,
+    raw: &mut Vec<RawProblem>,
+    placeholders: &mut Vec<String>,
+) -> Option<Step> {
+    let Value::Mapping(m) = item else {
+        raw.push(RawProblem {
+            path: base.into(),
+            key_of_parent: None,
+            message: "a step must be a mapping".into(),
+            expected: "name, kind and the kind's parameters".into(),
+        });
+        return None;
+    };
+    let mut common = serde_yaml::Mapping::new();
+    let mut params = serde_yaml::Mapping::new();
+    for (k, v) in m {
+        if k.as_str().is_some_and(|k| COMMON_KEYS.contains(&k)) {
+            common.insert(k.clone(), v.clone());
+        } else {
+            params.insert(k.clone(), v.clone());
+        }
+    }
+    let common: Option<StepCommon> = deserialize_all(Value::Mapping(common), base, raw, placeholders);
+    let common = common?;
+    let params_v = Value::Mapping(params);
+    macro_rules! kinds {
+        ($($name:literal => $variant:ident($ty:ty)),* $(,)?) => {
+            match common.kind.as_str() {
+                $($name => deserialize_all::<$ty>(params_v, base, raw, placeholders).map(StepParams::$variant),)*
+                other => {
+                    raw.push(RawProblem {
+                        path: format!("{base}.kind"),
+                        key_of_parent: None,
+                        message: format!("unknown step kind `{other}`"),
+                        expected: format!("one of {}", schema::STEP_KINDS.iter().map(|(k, _)| format!("`{k}`")).collect::<Vec<_>>().join(", ")),
+                    });
+                    placeholders.push(base.to_string());
+                    Some(StepParams::Clean(Generic { time_min: None, temp_c: None }))
+                }
+            }
+        };
+    }
+    let params = kinds! {
+        "clean" => Clean(Generic),
+        "oxidation" => Oxidation(Oxidation),
+        "spin_coat" => SpinCoat(SpinCoat),
+        "bake" => Bake(Bake),
+        "expose" => Expose(Expose),
+        "develop" => Develop(Develop),
+        "oxide_etch" => OxideEtch(OxideEtch),
+        "silicon_etch" => SiliconEtch(SiliconEtch),
+        "strip" => Strip(Strip),
+        "mount" => Mount(Generic),
+        "metal_etch" => MetalEtch(MetalEtch),
+        "assemble" => Assemble(Assemble),
+    }?;
+    Some(Step { name: common.name, equipment: common.equipment, notes: common.notes, params })
+}
+
+/// Lists every default the file relied on: the path was absent from the (overridden) tree.
+fn defaults_used(tree: &Value, process: &Process) -> Vec<Provenance> {
+    let resolved = serde_yaml::to_value(process).unwrap_or(Value::Null);
+    let steps_resolved = serde_yaml::to_value(&process.steps).unwrap_or(Value::Null);
+    let mut out = Vec::new();
+    for d in defaults::DEFAULTS {
+        if let Some(field) = d.path.strip_prefix("steps[].") {
+            let Some(Value::Sequence(items)) = tree.get("steps") else { continue };
+            for (i, item) in items.iter().enumerate() {
+                let rel = path::parse(field).unwrap_or_default();
+                let parent_present = rel.len() < 2 || path::get(item, &rel[..rel.len() - 1]).is_some();
+                let resolved_v = steps_resolved.get(i).and_then(|s| path::get(s, &rel));
+                if parent_present && path::get(item, &rel).is_none() && resolved_v.is_some() {
+                    out.push(Provenance {
+                        path: format!("steps[{i}].{field}"),
+                        value: render(resolved_v.expect("checked")),
+                        source: d.source.into(),
+                    });
+                }
+            }
+            continue;
+        }
+        let isotropic_only = matches!(d.path, "materials.silicon.e_gpa" | "materials.silicon.nu");
+        if isotropic_only && process.materials.silicon.model != SiliconModel::Isotropic {
+            continue;
+        }
+        let segs = path::parse(d.path).unwrap_or_default();
+        if path::get(tree, &segs).is_none() {
+            if let Some(v) = path::get(&resolved, &segs) {
+                out.push(Provenance { path: d.path.into(), value: render(v), source: d.source.into() });
+            }
+        }
+    }
+    out.sort_by(|a, b| natural_key(&a.path).cmp(&natural_key(&b.path)));
+    out
+}
+
+/// Sorts `steps[2]` before `steps[10]`.
+fn natural_key(p: &str) -> Vec<(String, usize)> {
+    path::parse(p)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|s| match s {
+            path::Seg::Key(k) => (k, 0),
+            path::Seg::Index(i) => (String::new(), i),
+        })
+        .collect()
+}
+
+fn render(v: &Value) -> String {
+    match v {
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if n.is_f64() => format!("{}", (x * 1e6).round() / 1e6),
+            _ => n.to_string(),
+        },
+        Value::String(s) => s.clone(),
+        Value::Bool(b) => b.to_string(),
+        other => serde_json::to_string(other).unwrap_or_default(),
+    }
+}

@@ -1,0 +1,540 @@
+//! The process file's shape: serde types, `deny_unknown_fields`, units in every numeric name.
+//!
+//! These are the validated model once [`crate::process::load`] has checked ranges and cross-field
+//! rules. Defaultable constants carry serde defaults from [`super::defaults`]; the loader records
+//! which defaults were used so the output can state their provenance.
+
+use serde::{Deserialize, Serialize};
+
+use super::defaults as d;
+
+/// A whole process file: device, wafer, geometry, materials, masks and the ordered steps.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Process {
+    pub device: Device,
+    pub wafer: Wafer,
+    pub geometry: Geometry,
+    pub materials: Materials,
+    pub masks: Vec<Mask>,
+    /// Etchant tables and mask-erosion rates; every entry defaults to `../shared/reference`.
+    #[serde(default)]
+    pub etchants: Etchants,
+    /// Steps in the order the cleanroom runs them. Deserialised per step by the loader
+    /// (the `kind` field selects the parameter set), so errors point into the right step.
+    #[serde(skip)]
+    pub steps: Vec<Step>,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Device {
+    /// File-name-safe device name; output files are `<name>.gds` etc.
+    pub name: String,
+    pub revision: String,
+    #[serde(default)]
+    pub description: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum CrystalPlane {
+    #[serde(rename = "100")]
+    P100,
+    #[serde(rename = "110")]
+    P110,
+    #[serde(rename = "111")]
+    P111,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Direction {
+    #[serde(rename = "110")]
+    D110,
+    #[serde(rename = "100")]
+    D100,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wafer {
+    /// Surface orientation; anisotropic etch geometry here assumes (100).
+    pub orientation: CrystalPlane,
+    pub thickness_um: f64,
+    /// Supplier tolerance; it goes straight into the plate thickness.
+    #[serde(default = "d::wafer_thickness_tolerance_um")]
+    pub thickness_tolerance_um: f64,
+    #[serde(default = "d::wafer_diameter_mm")]
+    pub diameter_mm: f64,
+    /// Crystal direction of the die edges.
+    pub die_edge: Direction,
+}
+
+/// Device geometry in die coordinates: origin at the lower-left corner, x along the length,
+/// y across the width (the supports run along x at both y edges).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    pub die_length_um: f64,
+    pub die_width_um: f64,
+    /// Target plate thickness under the U-channel.
+    pub plate_thickness_um: f64,
+    /// Width of each support strip along the two long (y) edges.
+    pub support_width_um: f64,
+    /// Back-side etch depth of the U-channel between the supports.
+    pub channel_depth_um: f64,
+    /// Dicing street between dies on the wafer.
+    #[serde(default = "d::dicing_street_um")]
+    pub dicing_street_um: f64,
+    pub teeth: Teeth,
+    pub electrodes: Electrodes,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TeethPattern {
+    /// Teeth on the cells with even i + j.
+    Checkered,
+    /// A tooth on every cell.
+    Matrix,
+    /// Plain plate.
+    None,
+}
+
+/// Square-topped frustum teeth on a regular grid of cells.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Teeth {
+    pub pattern: TeethPattern,
+    /// Front-side etch depth around the teeth.
+    pub height_um: f64,
+    /// Side of the square tooth top (the mask's drawn square).
+    pub top_um: f64,
+    pub pitch_x_um: f64,
+    pub pitch_y_um: f64,
+    pub count_x: u32,
+    pub count_y: u32,
+    /// Lower-left corner of cell (0, 0) in die coordinates.
+    pub origin_x_um: f64,
+    pub origin_y_um: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Axis {
+    #[serde(rename = "x")]
+    X,
+    #[serde(rename = "y")]
+    Y,
+}
+
+/// The nine-island PVDF electrode pattern: three sensing units along x, each with one island
+/// under support 1, one under the middle (U-channel) and one under support 2.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Electrodes {
+    pub units: u32,
+    /// Gap between neighbouring islands (in x between units, in y between support and middle).
+    pub gap_um: f64,
+    /// Unmetallised margin along the film's outer edges.
+    pub edge_margin_um: f64,
+    /// Square pad at each island where its wire is attached with conductive epoxy.
+    pub wire_pad_um: f64,
+    /// Film drawn direction (the d31 axis) in die axes.
+    pub drawn_axis: Axis,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Materials {
+    pub silicon: Silicon,
+    pub pvdf: Pvdf,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SiliconModel {
+    /// Cubic stiffness C11, C12, C44 rotated into die axes.
+    Anisotropic,
+    /// The (E, nu) override.
+    Isotropic,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Silicon {
+    #[serde(default = "d::silicon_model")]
+    pub model: SiliconModel,
+    #[serde(default = "d::c11_gpa")]
+    pub c11_gpa: f64,
+    #[serde(default = "d::c12_gpa")]
+    pub c12_gpa: f64,
+    #[serde(default = "d::c44_gpa")]
+    pub c44_gpa: f64,
+    /// Used only with `model: isotropic`.
+    #[serde(default = "d::si_e_gpa")]
+    pub e_gpa: f64,
+    #[serde(default = "d::si_nu")]
+    pub nu: f64,
+    #[serde(default = "d::fracture_strength_mpa")]
+    pub fracture_strength_mpa: f64,
+    #[serde(default = "d::safety_factor")]
+    pub safety_factor: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pvdf {
+    #[serde(default = "d::pvdf_thickness_um")]
+    pub thickness_um: f64,
+    #[serde(default = "d::pvdf_e_gpa")]
+    pub e_gpa: f64,
+    #[serde(default = "d::pvdf_nu")]
+    pub nu: f64,
+    #[serde(default = "d::pvdf_density_g_per_cm3")]
+    pub density_g_per_cm3: f64,
+    #[serde(default = "d::d31_pc_per_n")]
+    pub d31_pc_per_n: f64,
+    #[serde(default = "d::d32_pc_per_n")]
+    pub d32_pc_per_n: f64,
+    #[serde(default = "d::d33_pc_per_n")]
+    pub d33_pc_per_n: f64,
+    #[serde(default = "d::eps_r")]
+    pub eps_r: f64,
+    /// Optional datasheet voltage constants; when given they are checked against d / (eps0 eps_r).
+    #[serde(default)]
+    pub g31_vm_per_n: Option<f64>,
+    #[serde(default)]
+    pub g32_vm_per_n: Option<f64>,
+    #[serde(default)]
+    pub g33_vm_per_n: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    Front,
+    Back,
+    Both,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Tone {
+    /// Chrome where the drawn shape is (clear field elsewhere).
+    LightField,
+    /// Clear where the drawn shape is.
+    DarkField,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mask {
+    pub name: String,
+    pub side: Side,
+    pub tone: Tone,
+    /// Whether the mask shop receives the drawn layer mirrored (back-side exposure).
+    pub mirrored: bool,
+    /// What the mask defines: `front_si`, `back_si` or `pvdf`.
+    pub purpose: MaskPurpose,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaskPurpose {
+    FrontSi,
+    BackSi,
+    Pvdf,
+}
+
+/// Etch-rate tables and mask-erosion rates.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Etchants {
+    /// TMAH (100) rates keyed by concentration; interpolated linearly in wt %.
+    #[serde(default = "d::tmah_table")]
+    pub tmah: Vec<TmahRate>,
+    #[serde(default = "d::tmah_ea_ev")]
+    pub tmah_ea_ev: f64,
+    /// R(110)/R(100) for TMAH.
+    #[serde(default = "d::tmah_r110_over_r100")]
+    pub tmah_r110_over_r100: f64,
+    /// R(100)/R(111) for TMAH.
+    #[serde(default = "d::tmah_r100_over_r111")]
+    pub tmah_r100_over_r111: f64,
+    /// R(100)/R(111) for KOH (Sato 1998).
+    #[serde(default = "d::koh_r100_over_r111")]
+    pub koh_r100_over_r111: f64,
+    /// Thermal SiO2 loss in TMAH (worst case).
+    #[serde(default = "d::tmah_oxide_rate_um_per_h")]
+    pub tmah_oxide_rate_um_per_h: f64,
+    /// Thermal SiO2 loss in KOH.
+    #[serde(default = "d::koh_oxide_rate_um_per_h")]
+    pub koh_oxide_rate_um_per_h: f64,
+    /// BOE etch rate of thermal oxide at room temperature.
+    #[serde(default = "d::boe_rate_um_per_min")]
+    pub boe_rate_um_per_min: f64,
+}
+
+impl Default for Etchants {
+    fn default() -> Self {
+        Etchants {
+            tmah: d::tmah_table(),
+            tmah_ea_ev: d::tmah_ea_ev(),
+            tmah_r110_over_r100: d::tmah_r110_over_r100(),
+            tmah_r100_over_r111: d::tmah_r100_over_r111(),
+            koh_r100_over_r111: d::koh_r100_over_r111(),
+            tmah_oxide_rate_um_per_h: d::tmah_oxide_rate_um_per_h(),
+            koh_oxide_rate_um_per_h: d::koh_oxide_rate_um_per_h(),
+            boe_rate_um_per_min: d::boe_rate_um_per_min(),
+        }
+    }
+}
+
+/// One measured TMAH (100) rate at a reference temperature.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TmahRate {
+    pub concentration_wt_pct: f64,
+    pub rate_100_um_per_h: f64,
+    pub temp_c: f64,
+    pub source: String,
+}
+
+/// One process step: common fields plus the parameters of its kind.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Step {
+    pub name: String,
+    pub equipment: String,
+    pub notes: String,
+    #[serde(flatten)]
+    pub params: StepParams,
+}
+
+/// Fields every step has; `kind` selects the [`StepParams`] variant.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepCommon {
+    pub name: String,
+    pub kind: String,
+    #[serde(default)]
+    pub equipment: String,
+    #[serde(default)]
+    pub notes: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum StepParams {
+    Clean(Generic),
+    Oxidation(Oxidation),
+    SpinCoat(SpinCoat),
+    Bake(Bake),
+    Expose(Expose),
+    Develop(Develop),
+    OxideEtch(OxideEtch),
+    SiliconEtch(SiliconEtch),
+    Strip(Strip),
+    Mount(Generic),
+    MetalEtch(MetalEtch),
+    Assemble(Assemble),
+}
+
+/// Every step kind and what it is, for error messages.
+pub const STEP_KINDS: &[(&str, &str)] = &[
+    ("clean", "wafer or film cleaning"),
+    ("oxidation", "thermal oxidation (Deal-Grove)"),
+    ("spin_coat", "resist spin coating"),
+    ("bake", "soft/hard/cure bake"),
+    ("expose", "UV exposure through masks"),
+    ("develop", "resist development"),
+    ("oxide_etch", "SiO2 wet etch (BOE)"),
+    ("silicon_etch", "anisotropic TMAH/KOH etch"),
+    ("strip", "resist or oxide removal"),
+    ("mount", "mounting on a carrier"),
+    ("metal_etch", "metal electrode wet etch"),
+    ("assemble", "gluing and wiring"),
+];
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Generic {
+    #[serde(default)]
+    pub time_min: Option<f64>,
+    #[serde(default)]
+    pub temp_c: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ambient {
+    Wet,
+    Dry,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Oxidation {
+    pub ambient: Ambient,
+    pub temp_c: f64,
+    pub time_h: f64,
+    /// Oxide present before this step (Deal-Grove's x_i).
+    #[serde(default)]
+    pub initial_oxide_um: f64,
+    /// What the source claims this step grows; checked against the model.
+    #[serde(default)]
+    pub expected_thickness_um: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Substrate {
+    Wafer,
+    Pvdf,
+    Carrier,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpinCoat {
+    pub resist: String,
+    pub speed_rpm: f64,
+    pub time_s: f64,
+    pub side: Side,
+    #[serde(default = "d::substrate_wafer")]
+    pub substrate: Substrate,
+    /// Spin curve: thickness at a reference speed and the exponent of t ~ rpm^-n.
+    #[serde(default = "d::s1813_ref_thickness_um")]
+    pub ref_thickness_um: f64,
+    #[serde(default = "d::s1813_ref_speed_rpm")]
+    pub ref_speed_rpm: f64,
+    #[serde(default = "d::s1813_spin_exponent")]
+    pub spin_exponent: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bake {
+    pub temp_c: f64,
+    pub time_min: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expose {
+    /// Mask names from `masks`.
+    pub masks: Vec<String>,
+    pub time_s: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Develop {
+    pub developer: String,
+    pub time_s: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OxideEtch {
+    pub etchant: String,
+    pub side: Side,
+    /// Over-etch beyond the computed clearing time, in percent.
+    #[serde(default = "d::overetch_pct")]
+    pub overetch_pct: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Etchant {
+    Tmah,
+    Koh,
+}
+
+impl Etchant {
+    pub fn label(self) -> &'static str {
+        match self {
+            Etchant::Tmah => "TMAH",
+            Etchant::Koh => "KOH",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EtchMask {
+    Oxide,
+    Nitride,
+    Resist,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CompensationGeometry {
+    /// Square sharing its corner with the convex corner, extending diagonally outwards.
+    CornerAttached,
+    /// Square centred on the convex corner.
+    Centred,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Compensation {
+    /// a = h / ratio. Defaults to the paper's 0.544 (a KOH-derived rule).
+    #[serde(default = "d::compensation_ratio")]
+    pub ratio: f64,
+    pub geometry: CompensationGeometry,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SiliconEtch {
+    pub etchant: Etchant,
+    pub concentration_wt_pct: f64,
+    pub temp_c: f64,
+    pub side: Side,
+    /// Target depth per etched face.
+    pub depth_um: f64,
+    /// The time the recipe actually runs; when absent the time is computed from the depth.
+    #[serde(default)]
+    pub time_h: Option<f64>,
+    /// Measured (100) rate for this bath; always wins over the models.
+    #[serde(default)]
+    pub measured_rate_um_per_h: Option<f64>,
+    pub mask: EtchMask,
+    /// Convex-corner compensation on the front (teeth) mask.
+    #[serde(default)]
+    pub compensation: Option<Compensation>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StripTarget {
+    Resist,
+    Oxide,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Strip {
+    pub target: StripTarget,
+    pub chemistry: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetalEtch {
+    pub etchant: String,
+    pub temp_c: f64,
+    pub time_min: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Assemble {
+    #[serde(default)]
+    pub temp_c: Option<f64>,
+    #[serde(default)]
+    pub time_min: Option<f64>,
+    /// Wires attached in this step (nine electrodes plus the common).
+    #[serde(default)]
+    pub wires: u32,
+}
