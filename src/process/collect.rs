@@ -60,10 +60,11 @@ pub fn deserialize_all<T: DeserializeOwned>(
             let full = path::join(base, &path::format(&with_key(parent, &field)));
             if !is_suppressed(&full) {
                 let allowed = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
+                let names: Vec<String> = allowed.split('`').skip(1).step_by(2).map(str::to_string).collect();
                 problems.push(RawProblem {
                     path: full,
                     key_of_parent: Some((path::join(base, &path::format(parent)), field.clone())),
-                    message: format!("unknown field `{field}`"),
+                    message: format!("unknown field `{field}`{}", did_you_mean(&field, &names)),
                     expected: if allowed.is_empty() { "no fields here".into() } else { allowed },
                 });
             }
@@ -95,7 +96,9 @@ pub fn deserialize_all<T: DeserializeOwned>(
         let expected = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
         if !is_suppressed(&full) {
             let what = msg.split_once(", expected ").map(|(w, _)| w.to_string()).unwrap_or(msg.clone());
-            problems.push(raw(full.clone(), what, readable(&expected)));
+            let variants: Vec<String> = expected.split('`').skip(1).step_by(2).map(str::to_string).collect();
+            let hint = between(&what, "unknown variant `", "`").map(|v| did_you_mean(&v, &variants)).unwrap_or_default();
+            problems.push(raw(full.clone(), format!("{what}{hint}"), readable(&expected)));
         }
         suppressed.push(full);
         let Some(slot) = path::get_mut(&mut value, &segs) else { return None };
@@ -105,6 +108,31 @@ pub fn deserialize_all<T: DeserializeOwned>(
         }
     }
     None
+}
+
+/// ` (did you mean `x`?)` when one allowed name is within two edits of `got`.
+pub fn did_you_mean(got: &str, allowed: &[String]) -> String {
+    allowed
+        .iter()
+        .map(|a| (edit_distance(got, a), a))
+        .filter(|(d, _)| *d <= 2)
+        .min()
+        .map(|(_, a)| format!(" (did you mean `{a}`?)"))
+        .unwrap_or_default()
+}
+
+/// Levenshtein distance (Wagner-Fischer).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb)).min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
 }
 
 /// serde's type names in words a process engineer reads.

@@ -68,6 +68,14 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
             }]));
         }
     };
+    if value.is_null() {
+        return Err(LoadError::Invalid(vec![Problem {
+            location: at(1, 1),
+            path: ".".into(),
+            message: "the process file is empty".into(),
+            expected: "a mapping with device, wafer, geometry, materials, masks and steps".into(),
+        }]));
+    }
     let applied = overrides::apply(&mut value, overrides)?;
     let locate = |p: &str, key: Option<&(String, String)>| -> Location {
         if let Some(a) = applied.iter().rev().find(|a| path::is_within(p, &a.path)) {
@@ -236,11 +244,16 @@ fn deserialize_step(
         ($($name:literal => $variant:ident($ty:ty)),* $(,)?) => {
             match common.kind.as_str() {
                 $($name => deserialize_all::<$ty>(params_v, base, raw, placeholders).map(StepParams::$variant),)*
+                _ if placeholders.iter().any(|p| p == &format!("{base}.kind")) => {
+                    placeholders.push(base.to_string());
+                    Some(StepParams::Clean(Generic { time_min: None, temp_c: None }))
+                }
                 other => {
+                    let kinds: Vec<String> = schema::STEP_KINDS.iter().map(|(k, _)| k.to_string()).collect();
                     raw.push(RawProblem {
                         path: format!("{base}.kind"),
                         key_of_parent: None,
-                        message: format!("unknown step kind `{other}`"),
+                        message: format!("unknown step kind `{other}`{}", collect::did_you_mean(other, &kinds)),
                         expected: format!("one of {}", schema::STEP_KINDS.iter().map(|(k, _)| format!("`{k}`")).collect::<Vec<_>>().join(", ")),
                     });
                     placeholders.push(base.to_string());

@@ -1,0 +1,8 @@
+//! The one integration-test binary: the real `tactfab` binary driven through a small harness,
+//! plus property tests of the library.
+
+mod bad_input;
+mod harness;
+mod process_cli;
+mod properties;
+mod readme;
