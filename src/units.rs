@@ -3,7 +3,7 @@
 /// Boltzmann constant in eV/K (CODATA 2018, exact).
 pub const BOLTZMANN_EV_PER_K: f64 = 8.617_333_262e-5;
 /// Vacuum permittivity in F/m (CODATA 2018).
-pub const EPS0_F_PER_M: f64 = 8.854_187_8128e-12;
+pub const EPS0_F_PER_M: f64 = 8.854_187_812_8e-12;
 /// Angle between {111} sidewalls and the (100) surface: atan(sqrt 2) = 54.7356 deg.
 pub fn sidewall_angle_rad() -> f64 {
     2f64.sqrt().atan()

@@ -5,7 +5,7 @@ use tactfab::etch::Check;
 /// Lines `warning[CODE]: message` for every check, errors first.
 pub fn checks(checks: &[Check]) -> String {
     let mut sorted: Vec<&Check> = checks.iter().collect();
-    sorted.sort_by(|a, b| b.severity.cmp(&a.severity));
+    sorted.sort_by_key(|c| std::cmp::Reverse(c.severity));
     sorted.iter().map(|c| format!("  {c}\n")).collect()
 }
 

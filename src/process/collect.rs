@@ -101,7 +101,7 @@ pub fn deserialize_all<T: DeserializeOwned>(
             problems.push(raw(full.clone(), format!("{what}{hint}"), readable(&expected)));
         }
         suppressed.push(full);
-        let Some(slot) = path::get_mut(&mut value, &segs) else { return None };
+        let slot = path::get_mut(&mut value, &segs)?;
         match placeholder(&expected, slot) {
             Some(v) => *slot = v,
             None => return None,

@@ -291,10 +291,10 @@ fn defaults_used(tree: &Value, process: &Process) -> Vec<Provenance> {
                 let rel = path::parse(field).unwrap_or_default();
                 let parent_present = rel.len() < 2 || path::get(item, &rel[..rel.len() - 1]).is_some();
                 let resolved_v = steps_resolved.get(i).and_then(|s| path::get(s, &rel));
-                if parent_present && path::get(item, &rel).is_none() && resolved_v.is_some() {
+                if let (true, None, Some(rv)) = (parent_present, path::get(item, &rel), resolved_v) {
                     out.push(Provenance {
                         path: format!("steps[{i}].{field}"),
-                        value: render(resolved_v.expect("checked")),
+                        value: render(rv),
                         source: d.source.into(),
                     });
                 }
@@ -312,7 +312,7 @@ fn defaults_used(tree: &Value, process: &Process) -> Vec<Provenance> {
             }
         }
     }
-    out.sort_by(|a, b| natural_key(&a.path).cmp(&natural_key(&b.path)));
+    out.sort_by_key(|p| natural_key(&p.path));
     out
 }
 
