@@ -20,6 +20,9 @@ pub struct Process {
     /// Etchant tables and mask-erosion rates; every entry defaults to `../shared/reference`.
     #[serde(default)]
     pub etchants: Etchants,
+    /// Sensitivity checks: FE scenes with pass/fail limits.
+    #[serde(default)]
+    pub checks: Checks,
     /// Steps in the order the cleanroom runs them. Deserialised per step by the loader
     /// (the `kind` field selects the parameter set), so errors point into the right step.
     #[serde(skip)]
@@ -537,4 +540,65 @@ pub struct Assemble {
     /// Wires attached in this step (nine electrodes plus the common).
     #[serde(default)]
     pub wires: u32,
+}
+
+/// Declared sensitivity checks.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Checks {
+    #[serde(default)]
+    pub scenes: Vec<Scene>,
+}
+
+/// A named load case on the die (die coordinates, um) with optional pass/fail limits.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    /// `{point: {...}}` and so on: one key naming the kind (serde_yaml's singleton-map form).
+    #[serde(with = "serde_yaml::with::singleton_map")]
+    pub load: SceneLoad,
+    #[serde(default)]
+    pub limits: Limits,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum SceneLoad {
+    /// A point force with a contact radius (the stress is reported for that patch).
+    Point { x_um: f64, y_um: f64, force_n: f64, radius_um: f64 },
+    /// Uniform pressure over the plate, or over a region, by total force.
+    Pressure {
+        force_n: f64,
+        #[serde(default)]
+        region: Option<RegionUm>,
+    },
+    /// A rectangular probe of the given size, centre and angle (deg, counter-clockwise from x).
+    Probe { x_um: f64, y_um: f64, width_um: f64, height_um: f64, angle_deg: f64, force_n: f64 },
+    /// A line force across the full plate length at `y_um` (the fixed-fixed beam case of paper 001).
+    Line { y_um: f64, force_n: f64 },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionUm {
+    pub x0_um: f64,
+    pub y0_um: f64,
+    pub x1_um: f64,
+    pub y1_um: f64,
+}
+
+/// Pass/fail limits of a scene; absent limits are not checked.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Limits {
+    /// Smallest acceptable |V|/F of the most sensitive middle electrode.
+    #[serde(default)]
+    pub min_sensitivity_mv_per_n: Option<f64>,
+    #[serde(default)]
+    pub max_stress_mpa: Option<f64>,
+    #[serde(default)]
+    pub min_safety_factor: Option<f64>,
+    #[serde(default)]
+    pub max_deflection_um: Option<f64>,
 }

@@ -146,6 +146,56 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
     v.range("etchants.koh_oxide_rate_um_per_h", et.koh_oxide_rate_um_per_h, 0.0, 100.0, false, "um/h");
     v.positive("etchants.boe_rate_um_per_min", et.boe_rate_um_per_min, 10.0, "um/min");
 
+    let mut scene_names = std::collections::BTreeSet::new();
+    for (i, sc) in p.checks.scenes.iter().enumerate() {
+        let b = format!("checks.scenes[{i}]");
+        if !safe(&sc.name) {
+            v.push(format!("{b}.name"), format!("`{}` is not a simple name", sc.name), "letters, digits, `-` and `_`");
+        } else if !scene_names.insert(sc.name.as_str()) {
+            v.push(format!("{b}.name"), format!("scene `{}` is defined twice", sc.name), "unique scene names");
+        }
+        let (l, w) = (g.die_length_um, g.die_width_um);
+        let force = |v: &mut V, f: f64| v.range(&format!("{b}.load.force_n"), f.abs(), 0.0, 1000.0, true, "N (magnitude)");
+        match &sc.load {
+            SceneLoad::Point { x_um, y_um, force_n, radius_um } => {
+                v.range(&format!("{b}.load.point.x_um"), *x_um, 0.0, l, false, "um (on the die)");
+                v.range(&format!("{b}.load.point.y_um"), *y_um, 0.0, w, false, "um (on the die)");
+                v.positive(&format!("{b}.load.point.radius_um"), *radius_um, w / 2.0, "um");
+                force(&mut v, *force_n);
+            }
+            SceneLoad::Pressure { force_n, region } => {
+                force(&mut v, *force_n);
+                if let Some(r) = region {
+                    if !(r.x0_um >= 0.0 && r.x1_um <= l && r.y0_um >= 0.0 && r.y1_um <= w && r.x0_um < r.x1_um && r.y0_um < r.y1_um) {
+                        v.push(format!("{b}.load.pressure.region"), "the region is empty or leaves the die", format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"));
+                    }
+                }
+            }
+            SceneLoad::Probe { x_um, y_um, width_um, height_um, force_n, .. } => {
+                v.range(&format!("{b}.load.probe.x_um"), *x_um, 0.0, l, false, "um (on the die)");
+                v.range(&format!("{b}.load.probe.y_um"), *y_um, 0.0, w, false, "um (on the die)");
+                v.positive(&format!("{b}.load.probe.width_um"), *width_um, 1e5, "um");
+                v.positive(&format!("{b}.load.probe.height_um"), *height_um, 1e5, "um");
+                force(&mut v, *force_n);
+            }
+            SceneLoad::Line { y_um, force_n } => {
+                v.range(&format!("{b}.load.line.y_um"), *y_um, 0.0, w, false, "um (on the die)");
+                force(&mut v, *force_n);
+            }
+        }
+        let lim = &sc.limits;
+        for (name, x) in [
+            ("min_sensitivity_mv_per_n", lim.min_sensitivity_mv_per_n),
+            ("max_stress_mpa", lim.max_stress_mpa),
+            ("min_safety_factor", lim.min_safety_factor),
+            ("max_deflection_um", lim.max_deflection_um),
+        ] {
+            if let Some(x) = x {
+                v.positive(&format!("{b}.limits.{name}"), x, 1e9, "");
+            }
+        }
+    }
+
     let mut step_names = std::collections::BTreeSet::new();
     for (i, s) in p.steps.iter().enumerate() {
         let b = format!("steps[{i}]");
