@@ -10,12 +10,22 @@
 //!    measured rate, KOH after Seidel), times, {111} sidewall run-out, undercut, streets, corner
 //!    compensation, the oxide mask budget, Deal-Grove oxidation and resist thickness, plus
 //!    [`etch::Check`]s: warnings and errors as values with stable codes.
-//! 3. Later stages (layout, export, FE, sensor, report) read the process and the plan; nothing
-//!    flows back.
+//! 3. [`fe`] is a Kirchhoff plate solver (Bogner-Fox-Schmit rectangles, faer sparse Cholesky) that
+//!    knows nothing of sensors: meshes, thickness regions, line supports, loads, reactions, strains
+//!    and three-mesh error estimates.
+//! 4. [`sensor`] builds the plate from the process, the plan (the plate thickness the recipe
+//!    leaves, the tooth footprints) and the electrode pattern, splits each scene's load between the
+//!    plate and the supports, and reads the nine electrodes: thickness mode Q = d33 F under the
+//!    supports, extension mode Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines
+//!    the mesh until the estimated error is under the tolerance and says what that cost.
+//!
+//! Nothing flows back: later stages read the process and the plan, never change them.
 //!
 //! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
 
 pub mod etch;
+pub mod fe;
 pub mod process;
+pub mod sensor;
 pub mod units;

@@ -2,6 +2,7 @@
 
 mod check;
 mod etch;
+mod fe;
 mod output;
 
 use std::path::PathBuf;
@@ -38,6 +39,8 @@ enum Command {
     Check(ProcessArgs),
     /// Compute the etch plan: rates, times, sidewalls, compensation, oxide budget.
     Etch(EtchArgs),
+    /// Finite-element sensitivity: charge and voltage of every electrode under each scene.
+    Fe(FeArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -60,6 +63,30 @@ pub struct EtchArgs {
     pub json: bool,
 }
 
+#[derive(Debug, Args)]
+pub struct FeArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Run only this scene of checks.scenes.
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (radius default 0.25 mm).
+    #[arg(long, value_name = "X_MM,Y_MM,FORCE_N[,RADIUS_MM]")]
+    pub point: Vec<String>,
+    /// Ad-hoc uniform pressure over the plate, by total force.
+    #[arg(long, value_name = "FORCE_N", allow_hyphen_values = true)]
+    pub pressure: Vec<f64>,
+    /// Relative error the answer must be under (estimated from three meshes).
+    #[arg(long, default_value_t = 0.01)]
+    pub tol: f64,
+    /// Most mesh levels to try (each halves the element size, starting at 1 mm).
+    #[arg(long, default_value_t = 6)]
+    pub max_levels: usize,
+    /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -70,10 +97,16 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
     match command {
         Command::Check(a) => check::run(&a),
         Command::Etch(a) => etch::run(&a),
+        Command::Fe(a) => fe::run(&a),
     }
 }
 
 /// Loads the process file with overrides; every problem becomes one error (exit 2).
 pub fn load(args: &ProcessArgs) -> anyhow::Result<tactfab::process::Loaded> {
     tactfab::process::load(&args.file, &args.set).map_err(anyhow::Error::new)
+}
+
+/// The electrode rectangles the FE model reads.
+pub fn electrodes(p: &tactfab::process::Process, _plan: &tactfab::etch::EtchPlan) -> Vec<tactfab::sensor::ElectrodeArea> {
+    tactfab::sensor::SensorGeometry::electrodes_from_process(p)
 }

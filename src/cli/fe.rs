@@ -1,0 +1,135 @@
+//! `tactfab fe FILE`: what each electrode reads under the declared or ad-hoc scenes.
+
+use anyhow::{bail, Context};
+
+use tactfab::process::{Limits, Scene, SceneLoad};
+use tactfab::sensor::{evaluate_many, SceneReport, SensorGeometry};
+
+use super::output::f;
+use super::{load, FeArgs, Outcome};
+
+pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
+    let loaded = load(&args.process)?;
+    let p = &loaded.process;
+    let plan = tactfab::etch::plan(p);
+    let scenes = scenes(args, &p.checks.scenes)?;
+    let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan));
+    let reports = evaluate_many(&geometry, &scenes, args.tol, args.max_levels).context("finite-element solve failed")?;
+    let failed = reports.iter().zip(&scenes).any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?);
+    } else {
+        for (r, s) in reports.iter().zip(&scenes) {
+            print!("{}", text(r, &limit_failures(r, &s.limits)));
+        }
+    }
+    Ok(if failed { Outcome::CheckFailed } else { Outcome::Ok })
+}
+
+/// The scenes to run: `--point`/`--pressure` if given, else the file's (optionally one `--scene`).
+fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
+    let mut out = Vec::new();
+    for spec in &args.point {
+        let v: Vec<f64> = spec
+            .split(',')
+            .map(|s| s.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .with_context(|| format!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM] as numbers"))?;
+        if !(3..=4).contains(&v.len()) {
+            bail!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM]");
+        }
+        let radius_mm = v.get(3).copied().unwrap_or(0.25);
+        if radius_mm <= 0.0 {
+            bail!("--point {spec}: the contact radius must be positive (a point load's stress is singular)");
+        }
+        out.push(Scene {
+            name: format!("point-{}-{}-{}N", v[0], v[1], v[2]),
+            load: SceneLoad::Point { x_um: v[0] * 1000.0, y_um: v[1] * 1000.0, force_n: v[2], radius_um: radius_mm * 1000.0 },
+            limits: Limits::default(),
+        });
+    }
+    for force in &args.pressure {
+        out.push(Scene { name: format!("pressure-{force}N"), load: SceneLoad::Pressure { force_n: *force, region: None }, limits: Limits::default() });
+    }
+    if !out.is_empty() {
+        return Ok(out);
+    }
+    let chosen: Vec<Scene> = match &args.scene {
+        Some(name) => declared.iter().filter(|s| &s.name == name).cloned().collect(),
+        None => declared.to_vec(),
+    };
+    if chosen.is_empty() {
+        let known: Vec<_> = declared.iter().map(|s| s.name.as_str()).collect();
+        match &args.scene {
+            Some(n) => bail!("no scene `{n}` in checks.scenes (known: {})", known.join(", ")),
+            None => bail!("the process file declares no checks.scenes: give --point X_MM,Y_MM,FORCE_N or --pressure FORCE_N"),
+        }
+    }
+    Ok(chosen)
+}
+
+/// Limits of a scene that the report violates, as readable lines.
+pub fn limit_failures(r: &SceneReport, l: &Limits) -> Vec<String> {
+    let mut v = Vec::new();
+    if let Some(m) = l.min_sensitivity_mv_per_n {
+        if r.sensitivity_mv_per_n < m {
+            v.push(format!("sensitivity {:.3} mV/N < {m} mV/N", r.sensitivity_mv_per_n));
+        }
+    }
+    if let Some(m) = l.max_stress_mpa {
+        if r.max_stress_mpa > m {
+            v.push(format!("stress {:.1} MPa > {m} MPa", r.max_stress_mpa));
+        }
+    }
+    if let Some(m) = l.min_safety_factor {
+        if r.safety_factor < m {
+            v.push(format!("safety factor {:.2} < {m}", r.safety_factor));
+        }
+    }
+    if let Some(m) = l.max_deflection_um {
+        if r.max_deflection_um.abs() > m {
+            v.push(format!("deflection {:.1} um > {m} um", r.max_deflection_um));
+        }
+    }
+    v
+}
+
+fn text(r: &SceneReport, failures: &[String]) -> String {
+    let mut s = format!(
+        "scene `{}` ({} N): {} model, {} elements, {} dofs, {} levels, {} ms, estimated error {}\n",
+        r.scene,
+        r.force_n,
+        r.model.kind,
+        r.model.elements,
+        r.model.dofs,
+        r.model.levels,
+        f(r.solve_ms, 1),
+        r.error_estimate.map(|e| format!("{e:.1e}")).unwrap_or_else(|| "n/a".into())
+    );
+    s.push_str(&format!(
+        "  deflection {} um at the load, {} um max; stress {} MPa over the contact; safety factor {}; max load {} N\n",
+        f(r.deflection_at_load_um, 2),
+        f(r.max_deflection_um, 2),
+        f(r.max_stress_mpa, 1),
+        f(r.safety_factor, 2),
+        f(r.max_permissible_load_n, 2)
+    ));
+    s.push_str(&format!(
+        "  reactions: support 1 {} N, support 2 {} N; most sensitive {} at {} mV/N\n",
+        f(r.reactions_n.support1, 4),
+        f(r.reactions_n.support2, 4),
+        r.most_sensitive,
+        f(r.sensitivity_mv_per_n, 3)
+    ));
+    s.push_str("  electrode   charge_pc   voltage_mv\n");
+    for e in &r.electrodes {
+        s.push_str(&format!("  {:<9} {:>11} {:>12}\n", e.name, f(e.charge_pc, 3), f(e.voltage_mv, 3)));
+    }
+    for w in &r.warnings {
+        s.push_str(&format!("  warning: {w}\n"));
+    }
+    for x in failures {
+        s.push_str(&format!("  FAIL: {x}\n"));
+    }
+    s
+}

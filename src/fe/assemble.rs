@@ -1,0 +1,128 @@
+//! Element stiffness matrices and assembly of the free-free stiffness into a CSC pattern.
+
+use crate::fe::bfs;
+use crate::fe::dofs::{element_dofs, DofMap, CONSTRAINED};
+use crate::fe::error::{FeError, FeResult};
+use crate::fe::mesh::RectMesh;
+use crate::fe::problem::PlateProblem;
+use faer::sparse::SymbolicSparseColMat;
+use std::collections::HashMap;
+
+/// Element stiffness matrices shared by elements of equal size and thickness.
+#[derive(Debug, Clone)]
+pub struct ElementStiffness {
+    /// Index into `matrices` of every element.
+    pub kind: Vec<u32>,
+    pub matrices: Vec<Box<[[f64; 16]; 16]>>,
+}
+
+impl ElementStiffness {
+    /// Compute (with sharing) the BFS stiffness of every element for the problem's thickness and material.
+    pub fn new(problem: &PlateProblem, thickness_um: &[f64]) -> FeResult<Self> {
+        let mesh = &problem.mesh;
+        if !problem.material.is_positive_definite() {
+            return Err(FeError::InvalidStiffness {
+                element: 0,
+                hint: "material Q must be positive definite (Q11 Q22 > Q12^2, Q66 > 0)",
+            });
+        }
+        let mut cache: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut matrices = Vec::new();
+        let mut kind = Vec::with_capacity(mesh.n_elements());
+        for (e, &t) in thickness_um.iter().enumerate() {
+            if !(t > 0.0 && t.is_finite()) {
+                return Err(FeError::InvalidStiffness {
+                    element: e,
+                    hint: "every thickness (base and regions) must be positive",
+                });
+            }
+            let (x0, y0, x1, y1) = mesh.element_bounds_um(e);
+            let (a, b) = ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6);
+            let key = [a.to_bits(), b.to_bits(), t.to_bits()];
+            let id = *cache.entry(key).or_insert_with(|| {
+                let d = problem.material.bending_stiffness(t * 1e-6);
+                matrices.push(Box::new(bfs::stiffness(a, b, &d)));
+                (matrices.len() - 1) as u32
+            });
+            kind.push(id);
+        }
+        Ok(ElementStiffness { kind, matrices })
+    }
+
+    /// y = K x over all global dofs (element by element).
+    pub fn apply(&self, mesh: &RectMesh, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; x.len()];
+        for e in 0..mesh.n_elements() {
+            let k = &self.matrices[self.kind[e] as usize];
+            let dofs = element_dofs(mesh, e);
+            for i in 0..16 {
+                let s: f64 = (0..16).map(|j| k[i][j] * x[dofs[j]]).sum();
+                y[dofs[i]] += s;
+            }
+        }
+        y
+    }
+}
+
+/// Sparsity pattern (CSC, lower triangle) of the free-free stiffness, built directly from the 3x3 node
+/// stencil of the rectilinear mesh (no sorting of element triplets).
+#[derive(Debug, Clone)]
+pub struct Pattern {
+    pub symbolic: SymbolicSparseColMat<usize>,
+}
+
+impl Pattern {
+    /// Build once per mesh and constraint set.
+    pub fn new(mesh: &RectMesh, dofs: &DofMap) -> FeResult<Self> {
+        let (nxl, nyl) = (mesh.x_um.len(), mesh.y_um.len());
+        let mut col_ptr = Vec::with_capacity(dofs.n_free() + 1);
+        let mut row_idx = Vec::with_capacity(dofs.n_free() * 20);
+        col_ptr.push(0);
+        for (c, &g) in dofs.free_dofs.iter().enumerate() {
+            let node = g / 4;
+            let (i, j) = (node % nxl, node / nxl);
+            // All nodes of the 3x3 stencil share an element with this node; rows come out sorted.
+            for jj in j.saturating_sub(1)..=(j + 1).min(nyl - 1) {
+                for ii in i.saturating_sub(1)..=(i + 1).min(nxl - 1) {
+                    let nn = jj * nxl + ii;
+                    for d in 0..4 {
+                        let f = dofs.free_index[4 * nn + d];
+                        if f != CONSTRAINED && f >= c {
+                            row_idx.push(f);
+                        }
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let n = dofs.n_free();
+        Ok(Pattern {
+            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+        })
+    }
+
+    /// Assembled lower-triangle values (CSC order) from the element stiffness matrices.
+    pub fn values(&self, mesh: &RectMesh, dofs: &DofMap, k: &ElementStiffness) -> Vec<f64> {
+        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        let mut vals = vec![0.0; row_idx.len()];
+        for e in 0..mesh.n_elements() {
+            let ed = element_dofs(mesh, e).map(|d| dofs.free_index[d]);
+            let ke = &k.matrices[k.kind[e] as usize];
+            for j in 0..16 {
+                let c = ed[j];
+                if c == CONSTRAINED {
+                    continue;
+                }
+                let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                for i in 0..16 {
+                    let r = ed[i];
+                    if r != CONSTRAINED && r >= c {
+                        let pos = col.binary_search(&r).expect("entry in the stencil pattern");
+                        vals[col_ptr[c] + pos] += ke[i][j];
+                    }
+                }
+            }
+        }
+        vals
+    }
+}

@@ -1,0 +1,214 @@
+//! Problem definition: mesh, thickness map, material, supports, prescribed dofs and load cases.
+//! Inputs are in um and N; everything internal is SI (m, N, Pa).
+//! Sign convention: loads are positive in the +w direction ("downward", the load direction), so a
+//! positive force gives a positive deflection w; the bottom surface is the side facing +w.
+
+use crate::fe::material::PlateMaterial;
+use crate::fe::mesh::RectMesh;
+use serde::Serialize;
+
+/// Rectangle with its own thickness (um); later regions win; an element takes the region covering its centre.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ThicknessRegion {
+    pub x0_um: f64,
+    pub y0_um: f64,
+    pub x1_um: f64,
+    pub y1_um: f64,
+    pub thickness_um: f64,
+}
+
+/// Support kind along a line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum SupportKind {
+    /// w = 0 and the normal slope = 0 (w, w_x, w_y, w_xy fixed).
+    Clamped,
+    /// w = 0 along the line (w and the tangential slope fixed).
+    SimplySupported,
+}
+
+/// Direction of a support line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Axis {
+    /// Line along x at y = at_um, from x = from_um to to_um.
+    X,
+    /// Line along y at x = at_um, from y = from_um to to_um.
+    Y,
+}
+
+/// A line support on a mesh line; reactions are summed per `group`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LineSupport {
+    pub group: String,
+    pub kind: SupportKind,
+    pub along: Axis,
+    pub at_um: f64,
+    pub from_um: f64,
+    pub to_um: f64,
+}
+
+/// Nodal degree of freedom of the BFS element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Dof {
+    /// Deflection w (m).
+    W,
+    /// Slope w_x.
+    Wx,
+    /// Slope w_y.
+    Wy,
+    /// Twist w_xy (1/m).
+    Wxy,
+}
+
+impl Dof {
+    /// Offset of the dof within a node's 4 dofs.
+    pub fn offset(self) -> usize {
+        match self {
+            Dof::W => 0,
+            Dof::Wx => 1,
+            Dof::Wy => 2,
+            Dof::Wxy => 3,
+        }
+    }
+}
+
+/// A nodal dof with a prescribed (possibly non-zero) value in SI units (patch tests, imposed settlement).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PrescribedDof {
+    pub group: String,
+    pub x_um: f64,
+    pub y_um: f64,
+    pub dof: Dof,
+    pub value: f64,
+}
+
+/// Axis-aligned rectangle in um.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RectUm {
+    pub x0_um: f64,
+    pub y0_um: f64,
+    pub x1_um: f64,
+    pub y1_um: f64,
+}
+
+impl RectUm {
+    /// Normalised (x0 <= x1, y0 <= y1) copy.
+    pub fn normalised(&self) -> Self {
+        RectUm {
+            x0_um: self.x0_um.min(self.x1_um),
+            y0_um: self.y0_um.min(self.y1_um),
+            x1_um: self.x0_um.max(self.x1_um),
+            y1_um: self.y0_um.max(self.y1_um),
+        }
+    }
+    /// Area in m^2.
+    pub fn area_m2(&self) -> f64 {
+        (self.x1_um - self.x0_um).abs() * (self.y1_um - self.y0_um).abs() * 1e-12
+    }
+}
+
+/// A load case component. Forces are positive in the +w (load) direction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Load {
+    /// Point force; radius 0 = consistent nodal load at the point; radius > 0 spreads it uniformly over a
+    /// square patch of equal area (side sqrt(pi) r), clipped per element.
+    Point {
+        x_um: f64,
+        y_um: f64,
+        force_n: f64,
+        radius_um: f64,
+    },
+    /// Uniform pressure giving `total_force_n` over the rectangle (None = whole plate).
+    Pressure {
+        region: Option<RectUm>,
+        total_force_n: f64,
+    },
+    /// Uniform line force giving `total_force_n` along the segment (x0,y0)-(x1,y1).
+    Line {
+        x0_um: f64,
+        y0_um: f64,
+        x1_um: f64,
+        y1_um: f64,
+        total_force_n: f64,
+    },
+    /// Rotated rectangular probe (uniform pressure over a width x height rectangle centred at (x, y),
+    /// rotated by angle_deg counter-clockwise); exact polygon clipping per element.
+    Probe {
+        x_um: f64,
+        y_um: f64,
+        width_um: f64,
+        height_um: f64,
+        angle_deg: f64,
+        total_force_n: f64,
+    },
+    /// Uniform pressure over a simple polygon (um, any orientation) giving `total_force_n`; the part
+    /// of a probe or patch that lies over the plate after clipping at the supports.
+    Polygon { points_um: Vec<(f64, f64)>, total_force_n: f64 },
+}
+
+/// A linear Kirchhoff plate problem with one or more load cases (each case is a list of loads).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlateProblem {
+    pub mesh: RectMesh,
+    pub base_thickness_um: f64,
+    pub thickness_regions: Vec<ThicknessRegion>,
+    pub material: PlateMaterial,
+    pub supports: Vec<LineSupport>,
+    pub prescribed: Vec<PrescribedDof>,
+    pub load_cases: Vec<Vec<Load>>,
+}
+
+impl PlateProblem {
+    /// Problem with uniform thickness, no supports and no loads yet.
+    pub fn new(mesh: RectMesh, thickness_um: f64, material: PlateMaterial) -> Self {
+        PlateProblem {
+            mesh,
+            base_thickness_um: thickness_um,
+            thickness_regions: Vec::new(),
+            material,
+            supports: Vec::new(),
+            prescribed: Vec::new(),
+            load_cases: Vec::new(),
+        }
+    }
+
+    /// Add one support line per plate edge (groups "x0", "x1", "y0", "y1").
+    pub fn support_all_edges(&mut self, kind: SupportKind) -> &mut Self {
+        let (x0, y0, x1, y1) = self.mesh.bounds_um();
+        for (g, along, at, from, to) in [
+            ("y0", Axis::X, y0, x0, x1),
+            ("y1", Axis::X, y1, x0, x1),
+            ("x0", Axis::Y, x0, y0, y1),
+            ("x1", Axis::Y, x1, y0, y1),
+        ] {
+            self.supports.push(LineSupport {
+                group: g.into(),
+                kind,
+                along,
+                at_um: at,
+                from_um: from,
+                to_um: to,
+            });
+        }
+        self
+    }
+
+    /// Thickness (um) of every element: the last region covering the element centre, else the base.
+    pub fn element_thickness_um(&self) -> Vec<f64> {
+        (0..self.mesh.n_elements())
+            .map(|e| {
+                let (x0, y0, x1, y1) = self.mesh.element_bounds_um(e);
+                let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+                self.thickness_regions
+                    .iter()
+                    .rev()
+                    .find(|r| {
+                        cx >= r.x0_um.min(r.x1_um)
+                            && cx <= r.x0_um.max(r.x1_um)
+                            && cy >= r.y0_um.min(r.y1_um)
+                            && cy <= r.y0_um.max(r.y1_um)
+                    })
+                    .map_or(self.base_thickness_um, |r| r.thickness_um)
+            })
+            .collect()
+    }
+}

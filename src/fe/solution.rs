@@ -1,0 +1,366 @@
+//! Post-processing of one load case: deflection, curvature, moments, strains, stress and reactions.
+//! Conventions: w positive in the load direction; kappa = (-w_xx, -w_yy, -2 w_xy); the bottom surface is
+//! the side facing +w (z = +t/2 along w), so eps_bottom = (t/2) kappa and sagging puts it in tension.
+
+use crate::fe::bfs;
+use crate::fe::dofs::element_dofs;
+use crate::fe::material::PlateMaterial;
+use crate::fe::mesh::RectMesh;
+use crate::fe::problem::RectUm;
+use serde::Serialize;
+use std::sync::Arc;
+
+/// Deflection beyond this fraction of the thickness leaves the linear (small-deflection) range.
+pub const LINEAR_RANGE_LIMIT: f64 = 0.2;
+
+/// Data shared by all load cases of one factorisation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolutionContext {
+    pub mesh: RectMesh,
+    pub thickness_um: Vec<f64>,
+    pub material: PlateMaterial,
+    pub groups: Vec<String>,
+}
+
+/// Force (N) carried by a support group in the load direction (sum over its w dofs of f - K u).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GroupReaction {
+    pub group: String,
+    pub force_n: f64,
+}
+
+/// Location and value of an extreme deflection.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DeflectionPeak {
+    pub x_um: f64,
+    pub y_um: f64,
+    pub w_m: f64,
+}
+
+/// Plate surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Surface {
+    /// Side facing +w (away from the load).
+    Bottom,
+    /// Loaded side.
+    Top,
+}
+
+/// Location and value of the largest principal (tensile) bending stress.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StressPeak {
+    pub x_um: f64,
+    pub y_um: f64,
+    pub sigma_pa: f64,
+    pub surface: Surface,
+}
+
+/// Serializable summary of one load case.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolutionSummary {
+    pub max_deflection: DeflectionPeak,
+    pub applied_force_n: f64,
+    pub reactions: Vec<GroupReaction>,
+    pub linear_range_ratio: f64,
+}
+
+/// Solution of one load case.
+#[derive(Debug, Clone)]
+pub struct PlateSolution {
+    ctx: Arc<SolutionContext>,
+    u: Vec<f64>,
+    reactions: Vec<GroupReaction>,
+    applied_force_n: f64,
+}
+
+impl PlateSolution {
+    pub(crate) fn new(
+        ctx: Arc<SolutionContext>,
+        u: Vec<f64>,
+        reactions: Vec<GroupReaction>,
+        applied_force_n: f64,
+    ) -> Self {
+        PlateSolution {
+            ctx,
+            u,
+            reactions,
+            applied_force_n,
+        }
+    }
+
+    /// The mesh of this solution.
+    pub fn mesh(&self) -> &RectMesh {
+        &self.ctx.mesh
+    }
+    /// Global dof vector (4 per node: w [m], w_x, w_y, w_xy [1/m]).
+    pub fn dofs(&self) -> &[f64] {
+        &self.u
+    }
+    /// Total applied force (N, positive in +w).
+    pub fn applied_force_n(&self) -> f64 {
+        self.applied_force_n
+    }
+    /// Support forces per group (in order of first appearance).
+    pub fn reactions(&self) -> &[GroupReaction] {
+        &self.reactions
+    }
+    /// Support force of one group (N), None for an unknown group.
+    pub fn reaction_n(&self, group: &str) -> Option<f64> {
+        self.reactions
+            .iter()
+            .find(|r| r.group == group)
+            .map(|r| r.force_n)
+    }
+
+    fn element_u(&self, e: usize) -> [f64; 16] {
+        element_dofs(&self.ctx.mesh, e).map(|d| self.u[d])
+    }
+
+    fn element_size_m(&self, e: usize) -> (f64, f64) {
+        let (x0, y0, x1, y1) = self.ctx.mesh.element_bounds_um(e);
+        ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6)
+    }
+
+    #[track_caller]
+    fn at(&self, x_um: f64, y_um: f64) -> (usize, f64, [f64; 3]) {
+        let Some((e, lx, ly)) = self.ctx.mesh.locate(x_um, y_um) else {
+            panic!("point ({x_um}, {y_um}) um is outside the plate");
+        };
+        let (a, b) = self.element_size_m(e);
+        let (w, k) = bfs::deflection_curvature(&self.element_u(e), lx, ly, a, b);
+        (e, w, k)
+    }
+
+    /// Deflection w (m, positive in the load direction) at (x, y) by element interpolation. Panics outside the plate.
+    #[track_caller]
+    pub fn deflection_m(&self, x_um: f64, y_um: f64) -> f64 {
+        self.at(x_um, y_um).1
+    }
+
+    /// Curvature (kappa_x, kappa_y, kappa_xy) in 1/m at a point (element on the upper/right side of mesh lines).
+    #[track_caller]
+    pub fn curvature(&self, x_um: f64, y_um: f64) -> [f64; 3] {
+        self.at(x_um, y_um).2
+    }
+
+    /// Bending moments per unit length (Mx, My, Mxy) in N, M = D kappa (sagging positive).
+    #[track_caller]
+    pub fn moments(&self, x_um: f64, y_um: f64) -> [f64; 3] {
+        let (e, _, k) = self.at(x_um, y_um);
+        bfs::moments(
+            k,
+            &self
+                .ctx
+                .material
+                .bending_stiffness(self.ctx.thickness_um[e] * 1e-6),
+        )
+    }
+
+    /// Bottom-surface strain (eps_x, eps_y, gamma_xy) = (t/2) kappa (Kirchhoff kinematics eps = z kappa),
+    /// t = local thickness: each section bends about its own mid-plane, so on a stepped plate with a flat
+    /// bottom the local neutral-axis offset is t/2; membrane coupling at thickness steps is neglected.
+    #[track_caller]
+    pub fn bottom_strain(&self, x_um: f64, y_um: f64) -> [f64; 3] {
+        let (e, _, k) = self.at(x_um, y_um);
+        let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+        k.map(|v| h * v)
+    }
+
+    /// Clipped parts of a rectangle per element: (element, local x0, x1, y0, y1 in m).
+    fn clipped(&self, r: &RectUm) -> Vec<(usize, f64, f64, f64, f64)> {
+        let m = &self.ctx.mesh;
+        let r = r.normalised();
+        let mut out = Vec::new();
+        for i in RectMesh::axis_range(&m.x_um, r.x0_um, r.x1_um) {
+            for j in RectMesh::axis_range(&m.y_um, r.y0_um, r.y1_um) {
+                let e = m.element(i, j);
+                let (ex0, ey0, ex1, ey1) = m.element_bounds_um(e);
+                let (cx0, cx1, cy0, cy1) = (
+                    r.x0_um.max(ex0),
+                    r.x1_um.min(ex1),
+                    r.y0_um.max(ey0),
+                    r.y1_um.min(ey1),
+                );
+                if cx1 >= cx0 && cy1 >= cy0 {
+                    out.push((
+                        e,
+                        (cx0 - ex0) * 1e-6,
+                        (cx1 - ex0) * 1e-6,
+                        (cy0 - ey0) * 1e-6,
+                        (cy1 - ey0) * 1e-6,
+                    ));
+                }
+            }
+        }
+        out
+    }
+
+    /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped per element,
+    /// 4x4 Gauss per clipped part (exact for the BFS curvature field).
+    pub fn integrate_bottom_strain(&self, rect: RectUm) -> (f64, f64) {
+        let (mut sx, mut sy) = (0.0, 0.0);
+        for (e, x0, x1, y0, y1) in self.clipped(&rect) {
+            let (a, b) = self.element_size_m(e);
+            let u = self.element_u(e);
+            let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+            for (x, wx) in bfs::gauss4_on(x0, x1) {
+                for (y, wy) in bfs::gauss4_on(y0, y1) {
+                    let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
+                    sx += wx * wy * h * k[0];
+                    sy += wx * wy * h * k[1];
+                }
+            }
+        }
+        (sx, sy)
+    }
+
+    /// Largest principal tensile bending stress on either surface over a rectangle (e.g. a contact patch),
+    /// sampled on a 5x5 grid including the edges of every clipped element part; None if the rectangle
+    /// does not overlap the plate.
+    /// sigma_bottom = Q (t/2) kappa, sigma_top = -sigma_bottom; sigma_1 = (sx+sy)/2 + sqrt(((sx-sy)/2)^2 + txy^2).
+    pub fn max_principal_stress(&self, rect: RectUm) -> Option<StressPeak> {
+        let mut best = StressPeak {
+            x_um: f64::NAN,
+            y_um: f64::NAN,
+            sigma_pa: f64::NEG_INFINITY,
+            surface: Surface::Bottom,
+        };
+        let m = &self.ctx.mesh;
+        for (e, x0, x1, y0, y1) in self.clipped(&rect) {
+            let (a, b) = self.element_size_m(e);
+            let u = self.element_u(e);
+            let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+            let (ex0, ey0, _, _) = m.element_bounds_um(e);
+            for p in 0..5 {
+                for q in 0..5 {
+                    let x = x0 + (x1 - x0) * p as f64 / 4.0;
+                    let y = y0 + (y1 - y0) * q as f64 / 4.0;
+                    let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
+                    let s = self.ctx.material.stress(h * k[0], h * k[1], h * k[2]);
+                    let (c, r) = (
+                        0.5 * (s[0] + s[1]),
+                        (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt(),
+                    );
+                    for (sigma, surface) in [(c + r, Surface::Bottom), (-c + r, Surface::Top)] {
+                        if sigma > best.sigma_pa {
+                            best = StressPeak {
+                                x_um: ex0 + x * 1e6,
+                                y_um: ey0 + y * 1e6,
+                                sigma_pa: sigma,
+                                surface,
+                            };
+                        }
+                    }
+                }
+            }
+        }
+        best.sigma_pa.is_finite().then_some(best)
+    }
+
+    /// Largest |w| over nodes and 4x4 Gauss points of every element, polished by Newton steps on grad w = 0
+    /// inside the best element. Returns the signed value.
+    pub fn max_deflection(&self) -> DeflectionPeak {
+        let m = &self.ctx.mesh;
+        let nxl = m.x_um.len();
+        let mut best = DeflectionPeak {
+            x_um: m.x_um[0],
+            y_um: m.y_um[0],
+            w_m: 0.0,
+        };
+        let mut best_e = 0;
+        for n in 0..m.n_nodes() {
+            let w = self.u[4 * n];
+            if w.abs() > best.w_m.abs() {
+                best = DeflectionPeak {
+                    x_um: m.x_um[n % nxl],
+                    y_um: m.y_um[n / nxl],
+                    w_m: w,
+                };
+                best_e = m.locate(best.x_um, best.y_um).map_or(0, |l| l.0);
+            }
+        }
+        for e in 0..m.n_elements() {
+            let (a, b) = self.element_size_m(e);
+            let u = self.element_u(e);
+            let (ex0, ey0, _, _) = m.element_bounds_um(e);
+            for (x, _) in bfs::gauss4_on(0.0, a) {
+                for (y, _) in bfs::gauss4_on(0.0, b) {
+                    let w = bfs::shape(x, y, a, b)[0]
+                        .iter()
+                        .zip(&u)
+                        .map(|(n, v)| n * v)
+                        .sum::<f64>();
+                    if w.abs() > best.w_m.abs() {
+                        best = DeflectionPeak {
+                            x_um: ex0 + x * 1e6,
+                            y_um: ey0 + y * 1e6,
+                            w_m: w,
+                        };
+                        best_e = e;
+                    }
+                }
+            }
+        }
+        // Newton polish in the best element.
+        let (a, b) = self.element_size_m(best_e);
+        let u = self.element_u(best_e);
+        let (ex0, ey0, _, _) = m.element_bounds_um(best_e);
+        let (mut x, mut y) = (
+            ((best.x_um - ex0) * 1e-6).clamp(0.0, a),
+            ((best.y_um - ey0) * 1e-6).clamp(0.0, b),
+        );
+        for _ in 0..12 {
+            let s = bfs::shape(x, y, a, b);
+            let d = |k: usize| s[k].iter().zip(&u).map(|(n, v)| n * v).sum::<f64>();
+            let (gx, gy, hxx, hyy, hxy) = (d(1), d(2), d(3), d(4), d(5));
+            let det = hxx * hyy - hxy * hxy;
+            if det.abs() < 1e-300 {
+                break;
+            }
+            let (nx, ny) = (
+                (x - (hyy * gx - hxy * gy) / det).clamp(0.0, a),
+                (y - (hxx * gy - hxy * gx) / det).clamp(0.0, b),
+            );
+            let w = bfs::shape(nx, ny, a, b)[0]
+                .iter()
+                .zip(&u)
+                .map(|(n, v)| n * v)
+                .sum::<f64>();
+            if w.abs() >= best.w_m.abs() {
+                best = DeflectionPeak {
+                    x_um: ex0 + nx * 1e6,
+                    y_um: ey0 + ny * 1e6,
+                    w_m: w,
+                };
+            }
+            if (nx - x).abs() < 1e-12 * a && (ny - y).abs() < 1e-12 * b {
+                break;
+            }
+            (x, y) = (nx, ny);
+        }
+        best
+    }
+
+    /// max |w| / t at the location of the largest deflection; above [`LINEAR_RANGE_LIMIT`] membrane
+    /// stiffening matters and the linear model is leaving its range.
+    pub fn linear_range_ratio(&self) -> f64 {
+        let p = self.max_deflection();
+        let e = self.ctx.mesh.locate(p.x_um, p.y_um).map_or(0, |l| l.0);
+        p.w_m.abs() / (self.ctx.thickness_um[e] * 1e-6)
+    }
+
+    /// True when the deflection exceeds 0.2 x thickness (membrane stiffening ignored).
+    pub fn exceeds_linear_range(&self) -> bool {
+        self.linear_range_ratio() > LINEAR_RANGE_LIMIT
+    }
+
+    /// Serializable summary.
+    pub fn summary(&self) -> SolutionSummary {
+        SolutionSummary {
+            max_deflection: self.max_deflection(),
+            applied_force_n: self.applied_force_n,
+            reactions: self.reactions.clone(),
+            linear_range_ratio: self.linear_range_ratio(),
+        }
+    }
+}

@@ -1,0 +1,205 @@
+//! Sparse Cholesky factorisation (faer) with a reusable symbolic analysis and multi-column solves.
+
+use crate::fe::assemble::{ElementStiffness, Pattern};
+use crate::fe::dofs::DofMap;
+use crate::fe::error::{FeError, FeResult};
+use crate::fe::loads::load_vector;
+use crate::fe::problem::{Load, PlateProblem};
+use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::linalg::LltError;
+use faer::sparse::SparseColMat;
+use faer::{Mat, Side};
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// A factorised plate stiffness: the symbolic analysis is kept and reused by [`Factorised::refactor`]
+/// when only values change (thickness, material); load cases are solved as one multi-column solve.
+#[derive(Debug, Clone)]
+pub struct Factorised {
+    dofs: DofMap,
+    pattern: Pattern,
+    kel: ElementStiffness,
+    symbolic: SymbolicLlt<usize>,
+    llt: Llt<usize, f64>,
+    ctx: Arc<SolutionContext>,
+    key: PlateProblem,
+}
+
+fn numeric(
+    symbolic: &SymbolicLlt<usize>,
+    pattern: &Pattern,
+    vals: Vec<f64>,
+) -> FeResult<Llt<usize, f64>> {
+    let mat = SparseColMat::<usize, f64>::new(pattern.symbolic.clone(), vals);
+    Llt::try_new_with_symbolic(symbolic.clone(), mat.as_ref(), Side::Lower).map_err(|e| match e {
+        LltError::Numeric(n) => FeError::NotPositiveDefinite {
+            detail: format!("{n:?}"),
+            hint: "the plate is not fully constrained or has zero stiffness somewhere: check that supports exist and thicknesses are positive",
+        },
+        LltError::Generic(g) => FeError::Sparse { detail: format!("{g:?}"), hint: "out of memory: use a coarser mesh" },
+    })
+}
+
+fn pattern_key(p: &PlateProblem) -> PlateProblem {
+    PlateProblem {
+        thickness_regions: Vec::new(),
+        load_cases: Vec::new(),
+        base_thickness_um: 0.0,
+        ..p.clone()
+    }
+}
+
+impl Factorised {
+    /// Number the dofs, check that rigid-body motion is prevented, build the pattern, analyse and factorise.
+    /// Panics on an empty or unsorted mesh (misuse); returns errors for physically invalid input.
+    #[track_caller]
+    pub fn new(problem: &PlateProblem) -> FeResult<Self> {
+        let mesh = &problem.mesh;
+        mesh.validate();
+        let dofs = DofMap::new(problem)?;
+        let free_modes = dofs.free_rigid_modes(mesh);
+        if free_modes > 0 {
+            return Err(FeError::Underconstrained { free_modes, hint: "the plate is not fully constrained: check that supports exist and are not all collinear" });
+        }
+        if dofs.n_free() == 0 {
+            return Err(FeError::Sparse {
+                detail: "no free dofs".into(),
+                hint: "everything is constrained: use a finer mesh or fewer supports",
+            });
+        }
+        let pattern = Pattern::new(mesh, &dofs)?;
+        let symbolic =
+            SymbolicLlt::try_new(pattern.symbolic.as_ref(), Side::Lower).map_err(|e| {
+                FeError::Sparse {
+                    detail: format!("{e:?}"),
+                    hint: "out of memory or index overflow: use a coarser mesh",
+                }
+            })?;
+        let thickness = problem.element_thickness_um();
+        let kel = ElementStiffness::new(problem, &thickness)?;
+        let llt = numeric(&symbolic, &pattern, pattern.values(mesh, &dofs, &kel))?;
+        let ctx = Arc::new(SolutionContext {
+            mesh: mesh.clone(),
+            thickness_um: thickness,
+            material: problem.material,
+            groups: dofs.groups.clone(),
+        });
+        Ok(Factorised {
+            dofs,
+            pattern,
+            kel,
+            symbolic,
+            llt,
+            ctx,
+            key: pattern_key(problem),
+        })
+    }
+
+    /// New values (thickness map, material) on the same mesh, supports and prescribed dofs:
+    /// reuses the symbolic factorisation.
+    pub fn refactor(&mut self, problem: &PlateProblem) -> FeResult<()> {
+        let mut key = pattern_key(problem);
+        key.material = self.key.material;
+        let mut old = self.key.clone();
+        old.material = key.material;
+        if key != old {
+            return Err(FeError::PatternMismatch {
+                hint: "build a new Factorised when the mesh, supports or prescribed dofs change",
+            });
+        }
+        let thickness = problem.element_thickness_um();
+        let kel = ElementStiffness::new(problem, &thickness)?;
+        let llt = numeric(
+            &self.symbolic,
+            &self.pattern,
+            self.pattern.values(&problem.mesh, &self.dofs, &kel),
+        )?;
+        self.kel = kel;
+        self.llt = llt;
+        self.key = pattern_key(problem);
+        self.ctx = Arc::new(SolutionContext {
+            mesh: problem.mesh.clone(),
+            thickness_um: thickness,
+            material: problem.material,
+            groups: self.dofs.groups.clone(),
+        });
+        Ok(())
+    }
+
+    /// Number of free (unknown) dofs.
+    pub fn n_free_dofs(&self) -> usize {
+        self.dofs.n_free()
+    }
+
+    /// Solve all load cases with one multi-column triangular solve. Prescribed dof values apply to every case.
+    pub fn solve(&self, load_cases: &[Vec<Load>]) -> FeResult<Vec<PlateSolution>> {
+        let mesh = &self.ctx.mesh;
+        let n_free = self.dofs.n_free();
+        let forces: Vec<Vec<f64>> = load_cases
+            .par_iter()
+            .enumerate()
+            .map(|(c, l)| load_vector(mesh, l, c))
+            .collect::<FeResult<_>>()?;
+        let mut u_fixed = vec![0.0; self.dofs.n_dofs];
+        for &(d, v, _) in &self.dofs.constrained {
+            u_fixed[d] = v;
+        }
+        let k_fixed = self.kel.apply(mesh, &u_fixed);
+        let mut rhs = Mat::<f64>::zeros(n_free, load_cases.len());
+        for (c, f) in forces.iter().enumerate() {
+            for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
+                rhs[(i, c)] = f[d] - k_fixed[d];
+            }
+        }
+        self.llt.solve_in_place(rhs.as_mut());
+        (0..load_cases.len())
+            .into_par_iter()
+            .map(|c| {
+                let mut u = u_fixed.clone();
+                for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
+                    u[d] = rhs[(i, c)];
+                }
+                if u.iter().any(|v| !v.is_finite()) {
+                    return Err(FeError::NonFinite {
+                        hint: "check material constants, thickness and load values for NaN/inf",
+                    });
+                }
+                let ku = self.kel.apply(mesh, &u);
+                // Force carried by each support in the load direction: f - K u at constrained w dofs.
+                let mut by_group = vec![0.0; self.dofs.groups.len()];
+                for &(d, _, g) in &self.dofs.constrained {
+                    if d % 4 == 0 {
+                        by_group[g] += forces[c][d] - ku[d];
+                    }
+                }
+                let applied_force_n = forces[c].iter().step_by(4).sum();
+                let reactions = self
+                    .dofs
+                    .groups
+                    .iter()
+                    .zip(by_group)
+                    .map(|(g, f)| GroupReaction {
+                        group: g.clone(),
+                        force_n: f,
+                    })
+                    .collect();
+                Ok(PlateSolution::new(
+                    self.ctx.clone(),
+                    u,
+                    reactions,
+                    applied_force_n,
+                ))
+            })
+            .collect()
+    }
+}
+
+impl PlateProblem {
+    /// Factorise and solve all load cases of the problem.
+    #[track_caller]
+    pub fn solve(&self) -> FeResult<Vec<PlateSolution>> {
+        Factorised::new(self)?.solve(&self.load_cases)
+    }
+}

@@ -1,0 +1,270 @@
+//! Solving scenes to a tolerance: successively refined meshes, three-mesh error estimates, and the
+//! per-scene report (the JSON contract of `tactfab fe --json`).
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::fe::{richardson, Factorised, FeError, LineSupport, PlateProblem, RectMesh, RefinePoint, SupportKind};
+use crate::fe::problem::Axis as FeAxis;
+use crate::process::Scene;
+
+use super::geometry::{SensorGeometry, SupportSide};
+use super::readout::{group_for, read, ElectrodeReading, Readout};
+use super::scene::{split, SceneLoads};
+
+/// Largest element of the coarsest mesh; each level halves it.
+const COARSE_ELEMENT_UM: f64 = 1000.0;
+/// Deflection over this fraction of the plate thickness leaves linear theory (fe-validation.md).
+const LINEAR_LIMIT: f64 = 0.2;
+
+/// Which model answered and what it cost.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelInfo {
+    /// `plate` (Kirchhoff BFS plate) or `direct` (load wholly over a support).
+    pub kind: String,
+    pub elements: usize,
+    pub dofs: usize,
+    /// Mesh levels solved (the last one answered).
+    pub levels: usize,
+    pub max_element_um: f64,
+    /// Observed convergence order of the deflection at the load (never assumed).
+    pub observed_order: Option<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reactions {
+    pub support1: f64,
+    pub support2: f64,
+}
+
+/// Everything one scene reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneReport {
+    pub scene: String,
+    pub force_n: f64,
+    pub model: ModelInfo,
+    /// Wall time of every level solved for this answer.
+    pub solve_ms: f64,
+    /// Estimated relative error of the readings (three-mesh Richardson); None before three levels.
+    pub error_estimate: Option<f64>,
+    pub converged: bool,
+    pub deflection_at_load_um: f64,
+    pub max_deflection_um: f64,
+    /// Largest principal bending stress over the contact patch.
+    pub max_stress_mpa: f64,
+    pub safety_factor: f64,
+    /// Load at which the stress reaches fracture / safety factor (linear scaling).
+    pub max_permissible_load_n: f64,
+    /// Largest |V| / F over the electrodes, and which one.
+    pub sensitivity_mv_per_n: f64,
+    pub most_sensitive: String,
+    pub reactions_n: Reactions,
+    pub electrodes: Vec<ElectrodeReading>,
+    pub warnings: Vec<String>,
+}
+
+/// Solves one scene; see [`evaluate_many`].
+pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) -> Result<SceneReport, FeError> {
+    Ok(evaluate_many(g, std::slice::from_ref(scene), tol, max_levels)?.remove(0))
+}
+
+/// Solves all scenes on a shared sequence of meshes (one factorisation per level, all scenes as one
+/// multi-column solve) until every scene's estimated error is under `tol` or `max_levels` is reached.
+pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
+    assert!(max_levels >= 1, "at least one mesh level");
+    let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
+    let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
+    let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
+    let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo)> = None;
+    let mut elapsed_ms = 0.0;
+    let mut estimates: Vec<Option<f64>> = vec![None; scenes.len()];
+    let mut orders: Vec<Option<f64>> = vec![None; scenes.len()];
+    let levels = if needs_plate { max_levels } else { 1 };
+    for level in 0..levels {
+        let t0 = Instant::now();
+        let h = COARSE_ELEMENT_UM / f64::powi(2.0, level as i32);
+        let (sols, info) = if needs_plate {
+            let problem = build_problem(g, &loads, h, level);
+            let fact = Factorised::new(&problem)?;
+            let cases: Vec<_> = loads.iter().map(|l| l.plate.clone()).collect();
+            let solved = fact.solve(&cases)?;
+            let sols: Vec<_> = solved.into_iter().zip(&loads).map(|(s, l)| (!l.plate.is_empty()).then_some(s)).collect();
+            let info = ModelInfo {
+                kind: "plate".into(),
+                elements: problem.mesh.n_elements(),
+                dofs: 4 * problem.mesh.n_nodes(),
+                levels: level + 1,
+                max_element_um: h,
+                observed_order: None,
+            };
+            (sols, info)
+        } else {
+            (vec![None; scenes.len()], ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None })
+        };
+        elapsed_ms += t0.elapsed().as_secs_f64() * 1e3;
+        for (k, l) in loads.iter().enumerate() {
+            let r = read(g, sols[k].as_ref(), &l.direct);
+            let w = sols[k].as_ref().map(|s| s.deflection_m(l.at_um.0, l.at_um.1)).unwrap_or(0.0);
+            let mut q = vec![w];
+            q.extend(r.electrodes.iter().map(|e| e.charge_pc));
+            history[k].push(q);
+            if history[k].len() >= 3 {
+                let (e, p) = estimate(&history[k], g);
+                estimates[k] = Some(e);
+                orders[k] = p;
+            }
+        }
+        last = Some((sols, info));
+        let done = estimates.iter().zip(&loads).all(|(e, l)| l.plate.is_empty() || e.is_some_and(|e| e < tol));
+        if done {
+            break;
+        }
+    }
+    let (sols, info) = last.expect("at least one level ran");
+    let mut out = Vec::new();
+    for (k, (scene, l)) in scenes.iter().zip(&loads).enumerate() {
+        let sol = sols[k].as_ref();
+        let r: Readout = read(g, sol, &l.direct);
+        let mut info = info.clone();
+        if sol.is_none() {
+            info = ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None };
+        }
+        info.observed_order = orders[k];
+        let (w_load, w_max, stress_pa) = match sol {
+            Some(s) => {
+                let peak = s.max_principal_stress(l.patch).map(|p| p.sigma_pa).unwrap_or(0.0);
+                (s.deflection_m(l.at_um.0, l.at_um.1), s.max_deflection().w_m, peak)
+            }
+            None => (0.0, 0.0, 0.0),
+        };
+        let f = l.total_force_n;
+        let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
+        let safety = if stress_pa > 0.0 { g.fracture_strength_mpa * 1e6 / stress_pa } else { f64::INFINITY };
+        let (best, sens) = r
+            .electrodes
+            .iter()
+            .map(|e| (e.name.clone(), if f != 0.0 { (e.voltage_mv / f).abs() } else { 0.0 }))
+            .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        let mut warnings = Vec::new();
+        let t_um = g.plate_thickness_um;
+        if w_max.abs() * 1e6 > LINEAR_LIMIT * t_um {
+            warnings.push(format!(
+                "LINEAR_RANGE: maximum deflection {:.1} um exceeds {LINEAR_LIMIT} x the {t_um:.0} um plate: membrane stiffening is not modelled, readings overestimate",
+                w_max.abs() * 1e6
+            ));
+        }
+        let converged = sol.is_none() || estimates[k].is_some_and(|e| e < tol);
+        if !converged {
+            warnings.push(match estimates[k] {
+                Some(e) => format!("NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} after {} mesh levels", info.levels),
+                None => format!("NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate", info.levels),
+            });
+        }
+        if info.observed_order.is_none() && estimates[k].is_some() && sol.is_some() {
+            warnings.push("ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error estimate is the last change".into());
+        }
+        out.push(SceneReport {
+            scene: scene.name.clone(),
+            force_n: f,
+            model: info,
+            solve_ms: elapsed_ms,
+            error_estimate: if sol.is_none() { Some(0.0) } else { estimates[k] },
+            converged,
+            deflection_at_load_um: w_load * 1e6,
+            max_deflection_um: w_max * 1e6,
+            max_stress_mpa: stress_pa * 1e-6,
+            safety_factor: safety,
+            max_permissible_load_n: if stress_pa > 0.0 { f.abs() * allowed_pa / stress_pa } else { f64::INFINITY },
+            sensitivity_mv_per_n: sens,
+            most_sensitive: best,
+            reactions_n: Reactions { support1: r.support1_n, support2: r.support2_n },
+            electrodes: r.electrodes,
+            warnings,
+        });
+    }
+    Ok(out)
+}
+
+/// Relative error of the finest level: the worst quantity, each normalised by the largest
+/// magnitude of its kind (deflection; middle charges; support charges), from the last three levels.
+fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
+    let n = history.len();
+    let (f3, f2, f1) = (&history[n - 3], &history[n - 2], &history[n - 1]);
+    let kind = |i: usize| -> usize {
+        if i == 0 {
+            0
+        } else {
+            match g.electrodes[i - 1].side {
+                SupportSide::Middle => 1,
+                _ => 2,
+            }
+        }
+    };
+    let mut scale = [0f64; 3];
+    for (i, v) in f1.iter().enumerate() {
+        scale[kind(i)] = scale[kind(i)].max(v.abs());
+    }
+    let mut worst: f64 = 0.0;
+    for i in 0..f1.len() {
+        let s = scale[kind(i)];
+        if s == 0.0 {
+            continue;
+        }
+        let r = richardson(f3[i], f2[i], f1[i], 2.0);
+        worst = worst.max(r.error_estimate / s);
+    }
+    let order = richardson(f3[0], f2[0], f1[0], 2.0).observed_order;
+    (worst, order)
+}
+
+/// The plate over the U-channel: clamped along both inner support edges (split per electrode so
+/// each support electrode gets its own reaction), teeth as thicker regions, lines on every feature.
+fn build_problem(g: &SensorGeometry, loads: &[SceneLoads], h_um: f64, level: usize) -> PlateProblem {
+    let (mut xs, mut ys) = g.feature_lines();
+    let mut refine = Vec::new();
+    for l in loads {
+        let p = &l.patch;
+        if p.x1_um > p.x0_um && p.y1_um > p.y0_um {
+            xs.extend([p.x0_um, p.x1_um]);
+            ys.extend([p.y0_um, p.y1_um]);
+        }
+        for &(x, y, hmin) in &l.refine {
+            refine.push(RefinePoint { x_um: x, y_um: y, h_min_um: hmin.max(h_um / 8.0) });
+        }
+    }
+    let clip = |v: &mut Vec<f64>, lo: f64, hi: f64| {
+        v.retain(|x| *x >= lo && *x <= hi);
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    };
+    clip(&mut xs, 0.0, g.length_um);
+    clip(&mut ys, g.plate_y0_um, g.plate_y1_um);
+    let _ = level;
+    let mesh = RectMesh::build(&xs, &ys, h_um, &refine);
+    let mut p = PlateProblem::new(mesh, g.plate_thickness_um, g.material);
+    p.thickness_regions = g.teeth.clone();
+    for (side, y) in [(SupportSide::Support1, g.plate_y0_um), (SupportSide::Support2, g.plate_y1_um)] {
+        let mut cuts = vec![0.0, g.length_um];
+        let mut owned = Vec::new();
+        for e in g.electrodes.iter().filter(|e| e.side == side) {
+            cuts.extend([e.x0_um.max(0.0), e.x1_um.min(g.length_um)]);
+            owned.push(e);
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+        for w in cuts.windows(2) {
+            let mid = (w[0] + w[1]) / 2.0;
+            let group = owned
+                .iter()
+                .find(|e| mid > e.x0_um && mid < e.x1_um)
+                .map(|e| group_for(side, &e.name))
+                .unwrap_or_else(|| match side {
+                    SupportSide::Support1 => "support1:edge".into(),
+                    _ => "support2:edge".into(),
+                });
+            p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: w[0], to_um: w[1] });
+        }
+    }
+    p
+}

@@ -1,0 +1,180 @@
+//! What the FE model takes from the process, the etch plan and the PVDF mask.
+
+use serde::Serialize;
+
+use crate::etch::EtchPlan;
+use crate::fe::{DieEdge, PlateMaterial, ThicknessRegion};
+use crate::process::{Axis, Direction, Process, SiliconModel, TeethPattern};
+
+/// Which support an electrode or reaction belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SupportSide {
+    /// y = 0 .. support_width.
+    Support1,
+    /// The plate over the U-channel.
+    Middle,
+    /// y = width - support_width .. width.
+    Support2,
+}
+
+/// One electrode island as the FE model sees it: its bounding rectangle and metallised area.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElectrodeArea {
+    pub name: String,
+    pub side: SupportSide,
+    pub x0_um: f64,
+    pub y0_um: f64,
+    pub x1_um: f64,
+    pub y1_um: f64,
+    /// Metallised area including the wire pad (sets the capacitance).
+    pub area_um2: f64,
+}
+
+/// The sensor as the FE model needs it (die coordinates, um).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SensorGeometry {
+    pub length_um: f64,
+    pub width_um: f64,
+    /// Inner edges of the supports: the plate spans y in [y0_um, y1_um] and is clamped there.
+    pub plate_y0_um: f64,
+    pub plate_y1_um: f64,
+    /// Plate thickness the recipe leaves (from the etch plan, not the drawing's target).
+    pub plate_thickness_um: f64,
+    /// Teeth footprints over the plate with their total thickness.
+    pub teeth: Vec<ThicknessRegion>,
+    pub electrodes: Vec<ElectrodeArea>,
+    pub material: PlateMaterial,
+    /// PVDF: E (Pa), nu, d31/d32/d33 (pC/N), eps_r, film thickness (um), drawn axis.
+    pub pvdf_e_pa: f64,
+    pub pvdf_nu: f64,
+    pub d31_pc_per_n: f64,
+    pub d32_pc_per_n: f64,
+    pub d33_pc_per_n: f64,
+    pub eps_r: f64,
+    pub film_thickness_um: f64,
+    pub drawn_axis: Axis,
+    pub fracture_strength_mpa: f64,
+    pub safety_factor: f64,
+}
+
+impl SensorGeometry {
+    /// Builds the model geometry. A tooth is modelled as a square of side top + run-out (the
+    /// mid-height width of the {111} frustum) with the full tooth height on top of the plate.
+    pub fn new(p: &Process, plan: &EtchPlan, electrodes: Vec<ElectrodeArea>) -> Self {
+        let g = &p.geometry;
+        let (py0, py1) = (g.support_width_um, g.die_width_um - g.support_width_um);
+        let plate = plan.plate_thickness_um;
+        let t = &g.teeth;
+        let front = plan.steps.iter().find(|s| s.mesa_base_um.is_some());
+        let (height, run_out) = match front {
+            Some(s) => (s.achieved_depth_um, s.sidewall_run_out_um),
+            None => (t.height_um, t.height_um / 2f64.sqrt()),
+        };
+        let side = t.top_um + run_out;
+        let mut teeth = Vec::new();
+        if t.pattern != TeethPattern::None {
+            for j in 0..t.count_y {
+                for i in 0..t.count_x {
+                    if t.pattern == TeethPattern::Checkered && (i + j) % 2 == 1 {
+                        continue;
+                    }
+                    let cx = t.origin_x_um + (f64::from(i) + 0.5) * t.pitch_x_um;
+                    let cy = t.origin_y_um + (f64::from(j) + 0.5) * t.pitch_y_um;
+                    let (x0, x1) = ((cx - side / 2.0).max(0.0), (cx + side / 2.0).min(g.die_length_um));
+                    let (y0, y1) = ((cy - side / 2.0).max(py0), (cy + side / 2.0).min(py1));
+                    if x1 > x0 && y1 > y0 {
+                        teeth.push(ThicknessRegion { x0_um: x0, y0_um: y0, x1_um: x1, y1_um: y1, thickness_um: plate + height });
+                    }
+                }
+            }
+        }
+        let si = &p.materials.silicon;
+        let material = match si.model {
+            SiliconModel::Anisotropic => PlateMaterial::from_cubic(
+                si.c11_gpa * 1e9,
+                si.c12_gpa * 1e9,
+                si.c44_gpa * 1e9,
+                match p.wafer.die_edge {
+                    Direction::D110 => DieEdge::Along110,
+                    Direction::D100 => DieEdge::Along100,
+                },
+            ),
+            SiliconModel::Isotropic => PlateMaterial::isotropic(si.e_gpa * 1e9, si.nu),
+        };
+        let f = &p.materials.pvdf;
+        SensorGeometry {
+            length_um: g.die_length_um,
+            width_um: g.die_width_um,
+            plate_y0_um: py0,
+            plate_y1_um: py1,
+            plate_thickness_um: plate,
+            teeth,
+            electrodes,
+            material,
+            pvdf_e_pa: f.e_gpa * 1e9,
+            pvdf_nu: f.nu,
+            d31_pc_per_n: f.d31_pc_per_n,
+            d32_pc_per_n: f.d32_pc_per_n,
+            d33_pc_per_n: f.d33_pc_per_n,
+            eps_r: f.eps_r,
+            film_thickness_um: f.thickness_um,
+            drawn_axis: g.electrodes.drawn_axis,
+            fracture_strength_mpa: si.fracture_strength_mpa,
+            safety_factor: si.safety_factor,
+        }
+    }
+
+    /// Electrode rectangles computed from the process alone, for use without a mask set
+    /// (same rules as the PVDF mask: units along x, islands split at the support edges).
+    pub fn electrodes_from_process(p: &Process) -> Vec<ElectrodeArea> {
+        let g = &p.geometry;
+        let e = &g.electrodes;
+        let n = e.units.max(1);
+        let (m, gap, sw, w, l) = (e.edge_margin_um, e.gap_um, g.support_width_um, g.die_width_um, g.die_length_um);
+        let unit_w = (l - 2.0 * m - f64::from(n - 1) * gap) / f64::from(n);
+        let rows = [
+            ("S1", SupportSide::Support1, m, sw - gap / 2.0),
+            ("M", SupportSide::Middle, sw + gap / 2.0, w - sw - gap / 2.0),
+            ("S2", SupportSide::Support2, w - sw + gap / 2.0, w - m),
+        ];
+        let mut out = Vec::new();
+        for (prefix, side, y0, y1) in rows {
+            for k in 0..n {
+                let x0 = m + f64::from(k) * (unit_w + gap);
+                out.push(ElectrodeArea {
+                    name: format!("{prefix}{}", k + 1),
+                    side,
+                    x0_um: x0,
+                    y0_um: y0,
+                    x1_um: x0 + unit_w,
+                    y1_um: y1,
+                    area_um2: unit_w * (y1 - y0),
+                });
+            }
+        }
+        out
+    }
+
+    /// Mesh lines every level keeps: plate edges, electrode edges, tooth edges.
+    pub fn feature_lines(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut xs = vec![0.0, self.length_um];
+        let mut ys = vec![self.plate_y0_um, self.plate_y1_um];
+        for e in &self.electrodes {
+            xs.extend([e.x0_um, e.x1_um]);
+            if e.side == SupportSide::Middle {
+                ys.extend([e.y0_um, e.y1_um]);
+            }
+        }
+        for t in &self.teeth {
+            xs.extend([t.x0_um, t.x1_um]);
+            ys.extend([t.y0_um, t.y1_um]);
+        }
+        (xs, ys)
+    }
+
+    /// Film capacitance C = eps0 eps_r A / t (parallel plate) in farads.
+    pub fn capacitance_f(&self, area_um2: f64) -> f64 {
+        crate::units::EPS0_F_PER_M * self.eps_r * area_um2 * 1e-12 / (self.film_thickness_um * 1e-6)
+    }
+}

@@ -1,0 +1,17 @@
+//! The sensor: the FE plate built from the process and mask geometry, and what each of the nine
+//! electrodes reads under a scene.
+//!
+//! [`SensorGeometry`] collects what the model needs from the process, the etch plan (the plate
+//! thickness the recipe leaves, the tooth footprint) and the PVDF mask (electrode rectangles).
+//! [`evaluate`] solves a scene on successively refined meshes until the estimated error is under the
+//! tolerance and reports charges, voltages, deflection, stress and reactions with the cost.
+
+mod geometry;
+mod readout;
+mod scene;
+mod evaluate;
+
+pub use evaluate::{evaluate, evaluate_many, ModelInfo, SceneReport};
+pub use geometry::{ElectrodeArea, SensorGeometry, SupportSide};
+pub use readout::{ElectrodeReading, Readout};
+pub use scene::{DirectLoad, SceneLoads};

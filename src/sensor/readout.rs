@@ -1,0 +1,91 @@
+//! Electrode charges and voltages from a plate solution and the direct support loads.
+
+use serde::Serialize;
+
+use crate::fe::{PlateSolution, RectUm};
+use crate::process::Axis;
+
+use super::geometry::{SensorGeometry, SupportSide};
+use super::scene::DirectLoad;
+
+/// One electrode's reading.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElectrodeReading {
+    pub name: String,
+    pub charge_pc: f64,
+    pub voltage_mv: f64,
+    /// Force through the electrode (support electrodes, thickness mode); positive = compression.
+    pub force_n: Option<f64>,
+}
+
+/// All electrodes plus the support totals.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Readout {
+    pub electrodes: Vec<ElectrodeReading>,
+    pub support1_n: f64,
+    pub support2_n: f64,
+}
+
+/// Reaction group name of the clamped-edge segment under an electrode.
+pub fn group_for(side: SupportSide, name: &str) -> String {
+    match side {
+        SupportSide::Support1 => format!("support1:{name}"),
+        SupportSide::Support2 => format!("support2:{name}"),
+        SupportSide::Middle => unreachable!("middle electrodes carry no reaction"),
+    }
+}
+
+/// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
+/// extension mode Q = integral of (d31 s1 + d32 s2) dA over each middle electrode with s the
+/// plane-stress PVDF stress from the plate's bottom-surface strain; V = Q / C, C = eps0 eps_r A / t.
+pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoad]) -> Readout {
+    let mut out = Vec::new();
+    let (mut s1, mut s2) = (0.0, 0.0);
+    // Reactions of edge segments outside every electrode still count towards the support totals.
+    if let Some(sol) = sol {
+        for r in sol.reactions() {
+            if r.group.starts_with("support1") {
+                s1 += r.force_n;
+            } else if r.group.starts_with("support2") {
+                s2 += r.force_n;
+            }
+        }
+    }
+    for d in direct {
+        match d.side {
+            SupportSide::Support1 => s1 += d.force_n,
+            SupportSide::Support2 => s2 += d.force_n,
+            SupportSide::Middle => {}
+        }
+    }
+    let ep = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu);
+    for e in &g.electrodes {
+        let c_f = g.capacitance_f(e.area_um2);
+        let (charge_pc, force_n) = match e.side {
+            SupportSide::Middle => {
+                let (ix, iy) = sol
+                    .map(|s| s.integrate_bottom_strain(RectUm { x0_um: e.x0_um, y0_um: e.y0_um, x1_um: e.x1_um, y1_um: e.y1_um }))
+                    .unwrap_or((0.0, 0.0));
+                // Integrated PVDF stresses (N): s_x = E'(e_x + nu e_y), s_y = E'(e_y + nu e_x).
+                let sx = ep * (ix + g.pvdf_nu * iy);
+                let sy = ep * (iy + g.pvdf_nu * ix);
+                let (s1_, s2_) = match g.drawn_axis {
+                    Axis::Y => (sy, sx),
+                    Axis::X => (sx, sy),
+                };
+                (g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_, None)
+            }
+            side => {
+                let mut f = sol.and_then(|s| s.reaction_n(&group_for(side, &e.name))).unwrap_or(0.0);
+                for d in direct.iter().filter(|d| d.side == side) {
+                    let overlap = (d.x1_um.min(e.x1_um) - d.x0_um.max(e.x0_um)).max(0.0);
+                    let span = d.x1_um - d.x0_um;
+                    f += if span > 0.0 { d.force_n * overlap / span } else if d.x0_um >= e.x0_um && d.x0_um <= e.x1_um { d.force_n } else { 0.0 };
+                }
+                (g.d33_pc_per_n * f, Some(f))
+            }
+        };
+        out.push(ElectrodeReading { name: e.name.clone(), charge_pc, voltage_mv: charge_pc * 1e-12 / c_f * 1e3, force_n });
+    }
+    Readout { electrodes: out, support1_n: s1, support2_n: s2 }
+}
