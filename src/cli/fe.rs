@@ -21,6 +21,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     } else {
         for (r, s) in reports.iter().zip(&scenes) {
             print!("{}", text(r, &limit_failures(r, &s.limits)));
+            if args.convergence {
+                print!("{}", convergence_table(r));
+            }
         }
     }
     Ok(if failed { Outcome::CheckFailed } else { Outcome::Ok })
@@ -130,6 +133,25 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
     }
     for x in failures {
         s.push_str(&format!("  FAIL: {x}\n"));
+    }
+    s
+}
+
+fn convergence_table(r: &SceneReport) -> String {
+    let mut s = String::from("  level  h_um  elements     dofs   time_ms  deflection_um  charge_pc   est_error  order\n");
+    for (i, l) in r.convergence.iter().enumerate() {
+        s.push_str(&format!(
+            "  {:>5} {:>5} {:>9} {:>8} {:>9} {:>14} {:>10} {:>11} {:>6}\n",
+            i,
+            f(l.max_element_um, 0),
+            l.elements,
+            l.dofs,
+            f(l.time_ms, 1),
+            f(l.deflection_at_load_um, 4),
+            f(l.charge_pc, 4),
+            l.error_estimate.map(|e| format!("{e:.2e}")).unwrap_or_else(|| "-".into()),
+            l.observed_order.map(|p| f(p, 2)).unwrap_or_else(|| "-".into())
+        ));
     }
     s
 }

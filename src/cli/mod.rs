@@ -85,6 +85,9 @@ pub struct FeArgs {
     /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order).
+    #[arg(long)]
+    pub convergence: bool,
 }
 
 /// Parses the command line and runs the subcommand.

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::fe::{richardson, Factorised, FeError, LineSupport, PlateProblem, RectMesh, RefinePoint, SupportKind};
+use crate::fe::{richardson, Factorised, FeError, LineSupport, PlateProblem, RectMesh, RefinePoint, SupportKind, ThicknessRegion};
 use crate::fe::problem::Axis as FeAxis;
 use crate::process::Scene;
 
@@ -15,6 +15,8 @@ use super::scene::{split, SceneLoads};
 
 /// Largest element of the coarsest mesh; each level halves it.
 const COARSE_ELEMENT_UM: f64 = 1000.0;
+/// Feature lines closer than this are merged (the tooth edge moves to the electrode edge).
+const MIN_LINE_GAP_UM: f64 = 250.0;
 /// Deflection over this fraction of the plate thickness leaves linear theory (fe-validation.md).
 const LINEAR_LIMIT: f64 = 0.2;
 
@@ -36,6 +38,21 @@ pub struct ModelInfo {
 pub struct Reactions {
     pub support1: f64,
     pub support2: f64,
+}
+
+/// One mesh level of a scene's convergence history.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LevelRecord {
+    pub max_element_um: f64,
+    pub elements: usize,
+    pub dofs: usize,
+    pub time_ms: f64,
+    pub deflection_at_load_um: f64,
+    /// Charge of the electrode that is largest on the finest mesh.
+    pub charge_pc: f64,
+    /// Estimate after this level (needs three levels).
+    pub error_estimate: Option<f64>,
+    pub observed_order: Option<f64>,
 }
 
 /// Everything one scene reports.
@@ -62,6 +79,8 @@ pub struct SceneReport {
     pub reactions_n: Reactions,
     pub electrodes: Vec<ElectrodeReading>,
     pub warnings: Vec<String>,
+    /// Per mesh level: size, cost, values and the estimate (`tactfab fe --convergence`).
+    pub convergence: Vec<LevelRecord>,
 }
 
 /// Solves one scene; see [`evaluate_many`].
@@ -81,11 +100,15 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
     let mut estimates: Vec<Option<f64>> = vec![None; scenes.len()];
     let mut orders: Vec<Option<f64>> = vec![None; scenes.len()];
     let levels = if needs_plate { max_levels } else { 1 };
+    let mut base: Option<(Vec<f64>, Vec<f64>)> = None;
+    let mut level_cost: Vec<(f64, usize, usize, f64)> = Vec::new();
+    let mut level_est: Vec<Vec<(Option<f64>, Option<f64>)>> = vec![Vec::new(); scenes.len()];
     for level in 0..levels {
         let t0 = Instant::now();
         let h = COARSE_ELEMENT_UM / f64::powi(2.0, level as i32);
+        let base = base.get_or_insert_with(|| base_lines(g, &loads));
         let (sols, info) = if needs_plate {
-            let problem = build_problem(g, &loads, h, level);
+            let problem = build_problem(g, base, level);
             let fact = Factorised::new(&problem)?;
             let cases: Vec<_> = loads.iter().map(|l| l.plate.clone()).collect();
             let solved = fact.solve(&cases)?;
@@ -102,7 +125,9 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
         } else {
             (vec![None; scenes.len()], ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None })
         };
-        elapsed_ms += t0.elapsed().as_secs_f64() * 1e3;
+        let dt = t0.elapsed().as_secs_f64() * 1e3;
+        elapsed_ms += dt;
+        level_cost.push((h, info.elements, info.dofs, dt));
         for (k, l) in loads.iter().enumerate() {
             let r = read(g, sols[k].as_ref(), &l.direct);
             let w = sols[k].as_ref().map(|s| s.deflection_m(l.at_um.0, l.at_um.1)).unwrap_or(0.0);
@@ -114,6 +139,7 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
                 estimates[k] = Some(e);
                 orders[k] = p;
             }
+            level_est[k].push((estimates[k], orders[k]));
         }
         last = Some((sols, info));
         let done = estimates.iter().zip(&loads).all(|(e, l)| l.plate.is_empty() || e.is_some_and(|e| e < tol));
@@ -164,6 +190,24 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
         if info.observed_order.is_none() && estimates[k].is_some() && sol.is_some() {
             warnings.push("ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error estimate is the last change".into());
         }
+        let largest = history[k].last().map(|q| {
+            (1..q.len()).max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs())).unwrap_or(0)
+        });
+        let convergence = level_cost
+            .iter()
+            .zip(&history[k])
+            .zip(&level_est[k])
+            .map(|((&(h, el, dofs, ms), q), &(e, p))| LevelRecord {
+                max_element_um: h,
+                elements: el,
+                dofs,
+                time_ms: ms,
+                deflection_at_load_um: q[0] * 1e6,
+                charge_pc: largest.map(|i| q[i]).unwrap_or(0.0),
+                error_estimate: e,
+                observed_order: p,
+            })
+            .collect();
         out.push(SceneReport {
             scene: scene.name.clone(),
             force_n: f,
@@ -181,6 +225,7 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
             reactions_n: Reactions { support1: r.support1_n, support2: r.support2_n },
             electrodes: r.electrodes,
             warnings,
+            convergence,
         });
     }
     Ok(out)
@@ -218,10 +263,10 @@ fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
     (worst, order)
 }
 
-/// The plate over the U-channel: clamped along both inner support edges (split per electrode so
-/// each support electrode gets its own reaction), teeth as thicker regions, lines on every feature.
-fn build_problem(g: &SensorGeometry, loads: &[SceneLoads], h_um: f64, level: usize) -> PlateProblem {
-    let (mut xs, mut ys) = g.feature_lines();
+/// Lines of the coarsest mesh: every feature line (electrode, tooth, support and load-patch
+/// edges), intervals no longer than [`COARSE_ELEMENT_UM`], mild grading towards concentrated loads.
+fn base_lines(g: &SensorGeometry, loads: &[SceneLoads]) -> (Vec<f64>, Vec<f64>) {
+    let (mut xs, mut ys) = g.exact_lines();
     let mut refine = Vec::new();
     for l in loads {
         let p = &l.patch;
@@ -230,20 +275,68 @@ fn build_problem(g: &SensorGeometry, loads: &[SceneLoads], h_um: f64, level: usi
             ys.extend([p.y0_um, p.y1_um]);
         }
         for &(x, y, hmin) in &l.refine {
-            refine.push(RefinePoint { x_um: x, y_um: y, h_min_um: hmin.max(h_um / 8.0) });
+            refine.push(RefinePoint { x_um: x, y_um: y, h_min_um: hmin.max(COARSE_ELEMENT_UM / 4.0) });
         }
     }
-    let clip = |v: &mut Vec<f64>, lo: f64, hi: f64| {
-        v.retain(|x| *x >= lo && *x <= hi);
-        v.sort_by(f64::total_cmp);
-        v.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-    };
-    clip(&mut xs, 0.0, g.length_um);
-    clip(&mut ys, g.plate_y0_um, g.plate_y1_um);
-    let _ = level;
-    let mesh = RectMesh::build(&xs, &ys, h_um, &refine);
+    let (tx, ty) = g.tooth_lines();
+    let xs = merge_lines(xs, tx, 0.0, g.length_um);
+    let ys = merge_lines(ys, ty, g.plate_y0_um, g.plate_y1_um);
+    let mesh = RectMesh::build(&xs, &ys, COARSE_ELEMENT_UM, &refine);
+    (mesh.x_um.clone(), mesh.y_um.clone())
+}
+
+/// Exact lines first, then snapped ones that are at least [`MIN_LINE_GAP_UM`] from every kept
+/// line: slivers between nearly coincident lines would force tiny, badly graded elements.
+fn merge_lines(exact: Vec<f64>, snapped: Vec<f64>, lo: f64, hi: f64) -> Vec<f64> {
+    let mut kept: Vec<f64> = exact.into_iter().filter(|x| *x >= lo && *x <= hi).collect();
+    kept.extend([lo, hi]);
+    kept.sort_by(f64::total_cmp);
+    kept.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    let mut extra: Vec<f64> = snapped.into_iter().filter(|x| *x > lo && *x < hi).collect();
+    extra.sort_by(f64::total_cmp);
+    for x in extra {
+        if kept.iter().all(|k| (k - x).abs() >= MIN_LINE_GAP_UM) {
+            let i = kept.partition_point(|k| *k < x);
+            kept.insert(i, x);
+        }
+    }
+    kept
+}
+
+/// Every interval split into 2^level equal parts: nested meshes, refinement ratio exactly 2.
+fn subdivide(lines: &[f64], level: usize) -> Vec<f64> {
+    let n = 1usize << level;
+    let mut out = Vec::with_capacity((lines.len() - 1) * n + 1);
+    for w in lines.windows(2) {
+        for k in 0..n {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / n as f64);
+        }
+    }
+    out.push(*lines.last().expect("a mesh has lines"));
+    out
+}
+
+/// The plate over the U-channel: clamped along both inner support edges (split per electrode so
+/// each support electrode gets its own reaction), teeth as thicker regions.
+fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize) -> PlateProblem {
+    let xs = subdivide(&base.0, level);
+    let ys = subdivide(&base.1, level);
+    let mesh = RectMesh::build(&xs, &ys, 1e9, &[]);
     let mut p = PlateProblem::new(mesh, g.plate_thickness_um, g.material);
-    p.thickness_regions = g.teeth.clone();
+    // Tooth edges on the base lines, so every level sees the same footprint.
+    let snap = |v: f64, lines: &[f64]| lines.iter().copied().min_by(|a, b| (a - v).abs().total_cmp(&(b - v).abs())).unwrap_or(v);
+    p.thickness_regions = g
+        .teeth
+        .iter()
+        .map(|t| ThicknessRegion {
+            x0_um: snap(t.x0_um, &base.0),
+            x1_um: snap(t.x1_um, &base.0),
+            y0_um: snap(t.y0_um, &base.1),
+            y1_um: snap(t.y1_um, &base.1),
+            thickness_um: t.thickness_um,
+        })
+        .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
+        .collect();
     for (side, y) in [(SupportSide::Support1, g.plate_y0_um), (SupportSide::Support2, g.plate_y1_um)] {
         let mut cuts = vec![0.0, g.length_um];
         let mut owned = Vec::new();

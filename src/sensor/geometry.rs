@@ -156,8 +156,8 @@ impl SensorGeometry {
         out
     }
 
-    /// Mesh lines every level keeps: plate edges, electrode edges, tooth edges.
-    pub fn feature_lines(&self) -> (Vec<f64>, Vec<f64>) {
+    /// Lines every mesh keeps exactly: plate edges, electrode edges.
+    pub fn exact_lines(&self) -> (Vec<f64>, Vec<f64>) {
         let mut xs = vec![0.0, self.length_um];
         let mut ys = vec![self.plate_y0_um, self.plate_y1_um];
         for e in &self.electrodes {
@@ -166,10 +166,13 @@ impl SensorGeometry {
                 ys.extend([e.y0_um, e.y1_um]);
             }
         }
-        for t in &self.teeth {
-            xs.extend([t.x0_um, t.x1_um]);
-            ys.extend([t.y0_um, t.y1_um]);
-        }
+        (xs, ys)
+    }
+
+    /// Tooth footprint edges (kept unless they nearly coincide with an exact line).
+    pub fn tooth_lines(&self) -> (Vec<f64>, Vec<f64>) {
+        let xs = self.teeth.iter().flat_map(|t| [t.x0_um, t.x1_um]).collect();
+        let ys = self.teeth.iter().flat_map(|t| [t.y0_um, t.y1_um]).collect();
         (xs, ys)
     }
 

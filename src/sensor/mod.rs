@@ -11,7 +11,7 @@ mod readout;
 mod scene;
 mod evaluate;
 
-pub use evaluate::{evaluate, evaluate_many, ModelInfo, SceneReport};
+pub use evaluate::{evaluate, evaluate_many, LevelRecord, ModelInfo, SceneReport};
 pub use geometry::{ElectrodeArea, SensorGeometry, SupportSide};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};
