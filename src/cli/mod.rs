@@ -2,6 +2,7 @@
 
 mod check;
 mod etch;
+mod masks;
 mod output;
 
 use std::path::PathBuf;
@@ -38,6 +39,8 @@ enum Command {
     Check(ProcessArgs),
     /// Compute the etch plan: rates, times, sidewalls, compensation, oxide budget.
     Etch(EtchArgs),
+    /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
+    Masks(MasksArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -60,6 +63,18 @@ pub struct EtchArgs {
     pub json: bool,
 }
 
+#[derive(Debug, Args)]
+pub struct MasksArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory; files are `<device>.gds`, `<device>.lyp`, `<device>-<mask>.svg`.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Formats to write (comma-separated); the .lyp comes with gds.
+    #[arg(long, value_delimiter = ',', default_value = "gds,svg")]
+    pub format: Vec<masks::Format>,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -70,6 +85,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
     match command {
         Command::Check(a) => check::run(&a),
         Command::Etch(a) => etch::run(&a),
+        Command::Masks(a) => masks::run(&a),
     }
 }
 
