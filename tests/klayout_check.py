@@ -132,7 +132,8 @@ def main():
     for name, ld, mirrored in exp["masks"]:
         path = os.path.join(svg_dir, f"mis-grasper-{name}.svg")
         root = ET.parse(path).getroot()
-        check(root.get("width") == f"{L / 1000:.3f}mm" and root.get("viewBox") == f"0 0 {L:.3f} {W:.3f}", f"{name}.svg size in mm, viewBox in um")
+        size_ok = root.get("width") == f"{L / 1000:.6f}mm" and root.get("height") == f"{W / 1000:.6f}mm"
+        check(size_ok and root.get("viewBox") == f"0 0 {L:.3f} {W:.3f}", f"{name}.svg size in mm, viewBox in um")
         lnum, dnum = map(int, ld.split("/"))
         groups = [g for g in root.iter("{http://www.w3.org/2000/svg}g") if g.get("data-gds-layer") == ld]
         check(len(groups) == 1, f"{name}.svg: one group for layer {ld}")

@@ -38,6 +38,13 @@ pub fn um_text(nm: i64) -> String {
     format!("{sign}{}.{:03}", a / 1000, a % 1000)
 }
 
+/// nm integer as mm with exactly 6 decimals.
+pub fn mm_text(nm: i64) -> String {
+    let sign = if nm < 0 { "-" } else { "" };
+    let a = nm.unsigned_abs();
+    format!("{sign}{}.{:06}", a / 1_000_000, a % 1_000_000)
+}
+
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so a
 /// failed write never leaves a truncated file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
@@ -61,6 +68,7 @@ mod tests {
         assert_eq!(um_text(20_000_001), "20000.001");
         assert_eq!(um_text(-1_500), "-1.500");
         assert_eq!(um_text(0), "0.000");
+        assert_eq!(mm_text(30_000_000), "30.000000");
         assert_eq!(nm(20000.001).unwrap(), 20_000_001);
         assert!(nm(3e6).is_err());
     }

@@ -6,7 +6,7 @@ use geo::Polygon;
 use svg::node::element::{Group, Path, Rectangle};
 use svg::Document;
 
-use super::{nm, um_text, ExportError};
+use super::{mm_text, nm, um_text, ExportError};
 use crate::layout::{LayerKind, MaskEntry, MaskSet};
 
 /// Path data for polygons in a frame of height `height_nm` (y flipped): `M x y L ... Z` per ring.
@@ -41,8 +41,8 @@ impl MaskSet {
         let polys = self.die_mask(mask);
         let layer = mask.layer;
         let mut doc = Document::new()
-            .set("width", format!("{}mm", um_text(i64::from(nm(l)?))))
-            .set("height", format!("{}mm", um_text(h_nm)))
+            .set("width", format!("{}mm", mm_text(i64::from(nm(l)?))))
+            .set("height", format!("{}mm", mm_text(h_nm)))
             .set("viewBox", format!("0 0 {} {}", um_text(i64::from(nm(l)?)), um_text(h_nm)))
             .set("data-device", self.device.clone())
             .set("data-revision", self.revision.clone())
