@@ -22,6 +22,14 @@ pub enum Format {
 pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
     let loaded = load(&args.process)?;
     let p = &loaded.process;
+    let unknown = tactfab::drc::unknown_waivers(p);
+    if !unknown.is_empty() {
+        anyhow::bail!(
+            "drc.waive: unknown rule code(s) {}\n  hint: codes are {}",
+            unknown.join(", "),
+            tactfab::drc::CODES.iter().map(|(c, _)| *c).collect::<Vec<_>>().join(", ")
+        );
+    }
     let plan = tactfab::etch::plan(p);
     let set = tactfab::layout::build(p, &plan)?;
     let drc = tactfab::drc::check(&set, p, &plan);

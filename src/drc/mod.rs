@@ -100,6 +100,11 @@ impl DrcReport {
     }
 }
 
+/// Waived codes that are not rule codes (a typo would silently waive nothing): an input error.
+pub fn unknown_waivers(p: &Process) -> Vec<String> {
+    p.drc.waive.iter().filter(|w| !CODES.iter().any(|(c, _)| c == w)).cloned().collect()
+}
+
 /// Runs every rule on the mask set.
 pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
     let d = &p.drc;

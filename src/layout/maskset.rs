@@ -74,8 +74,8 @@ impl LayerKind {
             LayerKind::BackSi => "#2ca02c",
             LayerKind::Pvdf => "#d62728",
             LayerKind::Marks => "#ff7f0e",
-            LayerKind::Annotation => "#7f7f7f",
-            LayerKind::Outline => "#000000",
+            LayerKind::Annotation => "#bcbd22",
+            LayerKind::Outline => "#808080",
         }
     }
 }

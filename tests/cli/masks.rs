@@ -240,9 +240,14 @@ fn streets_between_dies_are_checked() {
 fn errors_leave_no_partial_output() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("m");
-    let (code, _, stderr) = generate(&out, &["--set", "geometry.electrodes.wire_pad_um=20000"], &[]);
+    // Passes validation (pad < support width) but a 2.2 mm pad cannot fit a 2 mm island.
+    let (code, _, stderr) = generate(&out, &["--set", "geometry.electrodes.wire_pad_um=2200"], &[]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("electrodes"), "{stderr}");
+    assert!(stderr.contains("the electrodes do not fit"), "{stderr}");
+    assert!(!out.exists(), "output written on error");
+    let (code, _, stderr) = generate(&out, &["--set", "drc.waive=[MIN_WDITH]"], &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("MIN_WDITH"), "{stderr}");
     assert!(!out.exists(), "output written on error");
     assert_eq!(std::fs::read_dir(t.path()).unwrap().count(), 0, "temporary files left behind");
     let (code, _, _) = tactfab(&["masks", "process/does-not-exist.yaml", "-o", out.to_str().unwrap()]);
