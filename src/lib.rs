@@ -10,8 +10,15 @@
 //!    measured rate, KOH after Seidel), times, {111} sidewall run-out, undercut, streets, corner
 //!    compensation, the oxide mask budget, Deal-Grove oxidation and resist thickness, plus
 //!    [`etch::Check`]s: warnings and errors as values with stable codes.
-//! 3. Later stages (layout, export, FE, sensor, report) read the process and the plan; nothing
-//!    flows back.
+//! 3. [`layout`] turns process + plan into a [`layout::MaskSet`]: polygons per layer in f64 um
+//!    (geo types) for the front teeth with corner compensation, the back supports, the PVDF
+//!    electrodes, alignment marks and polygon labels, a die cell and a wafer of AREF-stepped dies.
+//!    Every boolean goes through one adapter ([`layout::boolean`], geo 0.33 `BooleanOps`).
+//! 4. [`drc`] checks the generated set (width, space, compensators, tooth bases, streets,
+//!    electrodes, polygon validity) and returns violations as values; the process file may waive
+//!    codes on purpose.
+//! 5. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp.
+//! 6. Later stages (FE, sensor, report) read the process and the plan; nothing flows back.
 //!
 //! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.

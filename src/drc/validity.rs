@@ -20,6 +20,12 @@ pub fn problems(p: &Polygon, max_vertices: usize) -> Vec<String> {
     if n > max_vertices {
         out.push(format!("{n} vertices > {max_vertices}"));
     }
+    let mut seen = std::collections::BTreeSet::new();
+    for c in ring.iter().take(n) {
+        if !seen.insert(((c.x * 1000.0).round() as i64, (c.y * 1000.0).round() as i64)) {
+            out.push(format!("ring touches itself at ({:.3}, {:.3})", c.x, c.y));
+        }
+    }
     if !p.interiors().is_empty() {
         out.push("has holes (GDS boundaries cannot)".into());
     }

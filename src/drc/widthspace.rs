@@ -60,6 +60,7 @@ pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_u
             }
         }
     }
+    out.extend(point_contacts(polys, layer));
     // Corner to corner between different polygons.
     let mut pts: Vec<(Coord, usize)> = Vec::new();
     for (k, p) in polys.iter().enumerate() {
@@ -91,6 +92,48 @@ pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_u
     out
 }
 
+/// Shapes of one layer that meet only at a vertex: on the mask a zero-width neck (pieces that
+/// share an edge, such as the halves of a cut glyph, are fine).
+fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Violation> {
+    let mut at: std::collections::BTreeMap<(i64, i64), Vec<(usize, usize)>> = std::collections::BTreeMap::new();
+    for (k, p) in polys.iter().enumerate() {
+        let ring = &p.exterior().0;
+        for i in 0..ring.len().saturating_sub(1) {
+            let c = ring[i];
+            at.entry(((c.x * 1000.0).round() as i64, (c.y * 1000.0).round() as i64)).or_default().push((k, i));
+        }
+    }
+    let dirs = |k: usize, i: usize| -> [(f64, f64); 2] {
+        let ring = &polys[k].exterior().0;
+        let n = ring.len() - 1;
+        let c = ring[i];
+        let (a, b) = (ring[(i + n - 1) % n], ring[(i + 1) % n]);
+        let unit = |d: (f64, f64)| {
+            let l = (d.0 * d.0 + d.1 * d.1).sqrt();
+            (d.0 / l, d.1 / l)
+        };
+        [unit((a.x - c.x, a.y - c.y)), unit((b.x - c.x, b.y - c.y))]
+    };
+    let mut out = Vec::new();
+    for ((x, y), users) in &at {
+        for i in 0..users.len() {
+            for j in i + 1..users.len() {
+                let (u, v) = (users[i], users[j]);
+                let shared = dirs(u.0, u.1).iter().any(|a| dirs(v.0, v.1).iter().any(|b| (a.0 * b.1 - a.1 * b.0).abs() < 1e-9 && a.0 * b.0 + a.1 * b.1 > 0.0));
+                if !shared {
+                    out.push(Violation::new(
+                        "MIN_WIDTH",
+                        Some(layer),
+                        (*x as f64 / 1000.0, *y as f64 / 1000.0),
+                        "shapes touch at a single point: a zero-width neck",
+                    ));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Whether the midpoint of two corners lies inside some polygon (then it is not a gap).
 fn inside_any(polys: &[Polygon], a: Coord, b: Coord) -> bool {
     use geo::Contains;
@@ -112,6 +155,9 @@ mod tests {
         assert!(ok.is_empty());
         let diag = check(&[rect(0.0, 0.0, 10.0, 10.0), rect(13.0, 13.0, 30.0, 30.0)], LayerKind::FrontSi, 10.0, 10.0);
         assert_eq!(diag.len(), 1);
+        // Corner contact is a zero-width neck.
+        let v = check(&[rect(0.0, 0.0, 10.0, 10.0), rect(10.0, 10.0, 30.0, 30.0)], LayerKind::FrontSi, 10.0, 10.0);
+        assert!(v.iter().any(|x| x.message.contains("single point")), "{v:?}");
         // Touching halves are one shape.
         assert!(check(&[rect(0.0, 0.0, 10.0, 20.0), rect(10.0, 0.0, 20.0, 20.0)], LayerKind::FrontSi, 10.0, 10.0).is_empty());
     }

@@ -259,3 +259,12 @@ fn errors_leave_no_partial_output() {
     assert_eq!(code, 2, "{stderr}");
     assert_eq!(std::fs::read_dir(t.path()).unwrap().count(), 1);
 }
+
+#[test]
+fn vertex_only_compensators_fail_drc() {
+    let t = tempfile::tempdir().unwrap();
+    // Without overlap a corner-attached square touches its tooth at one point: a zero-width neck.
+    let (code, stdout, _) = generate(&t.path().join("m"), &["--set", "layout.compensation_overlap_um=0"], &[]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(stdout.contains("single point"), "{stdout}");
+}
