@@ -7,7 +7,6 @@
 use std::time::Instant;
 
 use tactfab::export::gds::GdsOptions;
-use tactfab::layout::LayerKind;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.partial_cmp(b).unwrap());

@@ -56,6 +56,27 @@ mod tests {
         }
 
         #[test]
+        fn every_mask_set_polygon_is_valid(
+            pattern in prop::sample::select(vec!["checkered", "matrix", "none"]),
+            kind in prop::sample::select(vec!["corner_attached", "centred"]),
+            pitch in 2600u32..3000, top in 1000u32..2000,
+        ) {
+            let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("process/mis-grasper.yaml");
+            let sets = vec![
+                format!("geometry.teeth.pattern={pattern}"),
+                format!("steps.tmah-etch.compensation.geometry={kind}"),
+                format!("geometry.teeth.pitch_x_um={pitch}"),
+                format!("geometry.teeth.pitch_y_um={pitch}"),
+                format!("geometry.teeth.top_um={top}"),
+            ];
+            let loaded = crate::process::load(&file, &sets).expect("valid overrides");
+            let plan = crate::etch::plan(&loaded.process);
+            let set = crate::layout::build(&loaded.process, &plan).expect("layout");
+            let bad = crate::drc::validity::check(&set, 4000);
+            prop_assert!(bad.is_empty(), "{:?}", bad);
+        }
+
+        #[test]
         fn every_union_polygon_is_valid(rs in rects()) {
             for p in union(&rs) {
                 prop_assert!(problems(&p, 4000).is_empty(), "{:?}", problems(&p, 4000));
