@@ -268,3 +268,28 @@ fn vertex_only_compensators_fail_drc() {
     assert_eq!(code, 1, "{stdout}");
     assert!(stdout.contains("single point"), "{stdout}");
 }
+
+/// Each process-aware rule fires on a design that breaks it.
+#[test]
+fn each_rule_fires_on_a_broken_design() {
+    let t = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 4] = [
+        // 2.2 mm matrix pitch: 2 mm tops grow 2.28 mm bases after 204 um of etching.
+        (&["geometry.teeth.pattern=matrix", "geometry.teeth.pitch_x_um=2200", "geometry.teeth.pitch_y_um=2200"], "TEETH_BASES_MERGE"),
+        // 2.05 mm cells leave 25 um from the outer tooth to the die edge; compensators reach 358 um.
+        (&["geometry.teeth.pitch_x_um=2050", "geometry.teeth.pitch_y_um=2050"], "COMPENSATOR_OUTSIDE_DIE"),
+        // Islands 300 um apart with a 400 um minimum.
+        (&["geometry.electrodes.gap_um=300", "drc.min_electrode_gap_um=400"], "ELECTRODE_GAP"),
+        // 8 um label pixels are below the 10 um minimum width.
+        (&["layout.label_pixel_um=8"], "MIN_WIDTH"),
+    ];
+    for (k, (sets, code)) in cases.iter().enumerate() {
+        let mut args = Vec::new();
+        for s in sets.iter() {
+            args.extend(["--set", *s]);
+        }
+        let (exit, stdout, stderr) = generate(&t.path().join(format!("c{k}")), &args, &[]);
+        assert_eq!(exit, 1, "{sets:?}\n{stdout}\n{stderr}");
+        assert!(stdout.contains(&format!("  {code}: ")), "{code} not reported for {sets:?}:\n{stdout}");
+    }
+}
