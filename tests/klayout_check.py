@@ -154,6 +154,23 @@ def main():
         check(x == 0 and abs(svg_r.area() - gds_r.area()) == 0 and svg_r.area() > 0,
               f"{name}.svg: {len(polys)} polygons, area {svg_r.area() / um2:.1f} um2, XOR with GDS {ld} = {x}")
 
+    # Layer properties: every layer named, with the source KLayout maps onto the GDS layer.
+    lyp = ET.parse(os.path.join(svg_dir, "mis-grasper.lyp")).getroot()
+    sources = {p.findtext("source"): p.findtext("name") for p in lyp.findall("properties")}
+    want_src = {f"{l}/{d}@1" for (l, d) in [(1, 0), (2, 0), (3, 0), (10, 0), (63, 0), (64, 0)]}
+    check(set(sources) == want_src and all(sources.values()), f"lyp names every layer: {sources}")
+    lv_ok = True
+    try:
+        import klayout.lay as lay
+        lv = lay.LayoutView()
+        lv.load_layout(gds, True)
+        lv.load_layer_props(os.path.join(svg_dir, "mis-grasper.lyp"))
+        names = sorted(n.name for n in lv.each_layer())
+        lv_ok = len(names) == 6
+    except ImportError:
+        names = "klayout.lay not available"
+    check(lv_ok, f"KLayout loads the lyp onto the layout: {names}")
+
     if failures:
         print(f"{len(failures)} CHECKS FAILED")
         sys.exit(1)
