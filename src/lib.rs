@@ -18,14 +18,26 @@
 //!    plate and the supports, and reads the nine electrodes: thickness mode Q = d33 F under the
 //!    supports, extension mode Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines
 //!    the mesh until the estimated error is under the tolerance and says what that cost.
+//! 5. [`layout`] turns process + plan into a [`layout::MaskSet`]: polygons per layer in f64 um
+//!    (geo types) for the front teeth with corner compensation, the back supports, the PVDF
+//!    electrodes, alignment marks and polygon labels, a die cell and a wafer of AREF-stepped dies.
+//!    Every boolean goes through one adapter ([`layout::boolean`], geo 0.33 `BooleanOps`).
+//! 6. [`drc`] checks the generated set (width, space, compensators, tooth bases, streets,
+//!    electrodes, polygon validity) and returns violations as values; the process file may waive
+//!    codes on purpose.
+//! 7. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp.
 //!
-//! Nothing flows back: later stages read the process and the plan, never change them.
+//! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
+//! The FE model takes its electrodes from the PVDF mask, so what is simulated is what is drawn.
 //!
 //! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
 
+pub mod drc;
 pub mod etch;
+pub mod export;
 pub mod fe;
+pub mod layout;
 pub mod process;
 pub mod sensor;
 pub mod units;

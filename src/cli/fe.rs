@@ -13,7 +13,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     let p = &loaded.process;
     let plan = tactfab::etch::plan(p);
     let scenes = scenes(args, &p.checks.scenes)?;
-    let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan));
+    let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
     let reports = evaluate_many(&geometry, &scenes, args.tol, args.max_levels).context("finite-element solve failed")?;
     let failed = reports.iter().zip(&scenes).any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
     if args.json {

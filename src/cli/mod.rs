@@ -3,6 +3,7 @@
 mod check;
 mod etch;
 mod fe;
+mod masks;
 mod output;
 
 use std::path::PathBuf;
@@ -41,6 +42,8 @@ enum Command {
     Etch(EtchArgs),
     /// Finite-element sensitivity: charge and voltage of every electrode under each scene.
     Fe(FeArgs),
+    /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
+    Masks(MasksArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -90,6 +93,18 @@ pub struct FeArgs {
     pub convergence: bool,
 }
 
+#[derive(Debug, Args)]
+pub struct MasksArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory; files are `<device>.gds`, `<device>.lyp`, `<device>-<mask>.svg`.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Formats to write (comma-separated); the .lyp comes with gds.
+    #[arg(long, value_delimiter = ',', default_value = "gds,svg")]
+    pub format: Vec<masks::Format>,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -101,6 +116,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Check(a) => check::run(&a),
         Command::Etch(a) => etch::run(&a),
         Command::Fe(a) => fe::run(&a),
+        Command::Masks(a) => masks::run(&a),
     }
 }
 
@@ -109,7 +125,8 @@ pub fn load(args: &ProcessArgs) -> anyhow::Result<tactfab::process::Loaded> {
     tactfab::process::load(&args.file, &args.set).map_err(anyhow::Error::new)
 }
 
-/// The electrode rectangles the FE model reads.
-pub fn electrodes(p: &tactfab::process::Process, _plan: &tactfab::etch::EtchPlan) -> Vec<tactfab::sensor::ElectrodeArea> {
-    tactfab::sensor::SensorGeometry::electrodes_from_process(p)
+/// The electrode rectangles the FE model reads: those of the PVDF mask.
+pub fn electrodes(p: &tactfab::process::Process, plan: &tactfab::etch::EtchPlan) -> anyhow::Result<Vec<tactfab::sensor::ElectrodeArea>> {
+    let masks = tactfab::layout::build(p, plan).map_err(|e| anyhow::anyhow!("{e}"))?;
+    Ok(tactfab::sensor::SensorGeometry::electrodes_from_masks(&masks))
 }

@@ -6,9 +6,8 @@
 //! +w direction (downward, the load direction); deflection w positive along the load; curvature
 //! kappa = (-w_xx, -w_yy, -2 w_xy); the bottom surface (facing +w) is in tension under sagging.
 //!
-//! ```ignore
-//! // (not a doctest: the crate name differs between fe-dev and the main crate)
-//! use crate::fe::*;
+//! ```
+//! use tactfab::fe::*;
 //! // 10 x 10 mm Si plate, 100 um thick, clamped edges, 1 N at the centre.
 //! let mesh = RectMesh::build(&[0.0, 5000.0, 10_000.0], &[0.0, 5000.0, 10_000.0], 625.0, &[]);
 //! let mut p = PlateProblem::new(mesh, 100.0, PlateMaterial::silicon(DieEdge::Along110));

@@ -3,7 +3,7 @@
 //! The serde defaults call these functions; [`DEFAULTS`] names the same values with their source
 //! so the loader can report every default a file relied on.
 
-use super::schema::{SiliconModel, Substrate, TmahRate};
+use super::schema::{GdsLayer, SiliconModel, Substrate, TmahRate};
 
 /// A default value the process file may override, and where it comes from.
 #[derive(Debug, Clone, Copy)]
@@ -122,6 +122,46 @@ pub fn compensation_ratio() -> f64 {
     0.544
 }
 
+pub fn layer_front_si() -> GdsLayer {
+    GdsLayer { layer: 1, datatype: 0 }
+}
+pub fn layer_back_si() -> GdsLayer {
+    GdsLayer { layer: 2, datatype: 0 }
+}
+pub fn layer_pvdf() -> GdsLayer {
+    GdsLayer { layer: 3, datatype: 0 }
+}
+pub fn layer_marks() -> GdsLayer {
+    GdsLayer { layer: 10, datatype: 0 }
+}
+pub fn layer_annotation() -> GdsLayer {
+    GdsLayer { layer: 63, datatype: 0 }
+}
+pub fn layer_outline() -> GdsLayer {
+    GdsLayer { layer: 64, datatype: 0 }
+}
+pub fn edge_exclusion_mm() -> f64 {
+    3.0
+}
+pub fn label_pixel_um() -> f64 {
+    25.0
+}
+pub fn compensation_overlap_um() -> f64 {
+    10.0
+}
+pub fn drc_min_width_um() -> f64 {
+    10.0
+}
+pub fn drc_min_space_um() -> f64 {
+    10.0
+}
+pub fn drc_max_vertices() -> usize {
+    4000
+}
+pub fn drc_min_electrode_gap_um() -> f64 {
+    200.0
+}
+
 /// Every default with its provenance (reference/README.md tags).
 pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource { path: "wafer.thickness_tolerance_um", source: "[est] typical supplier tolerance, reference/process-physics.md" },
@@ -156,4 +196,12 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource { path: "steps[].spin_exponent", source: "[derived] from S1813 1.4 um @ 3915 rpm and 2.0 um @ 1950 rpm" },
     DefaultSource { path: "steps[].overetch_pct", source: "[est] 20 % over-etch" },
     DefaultSource { path: "steps[].compensation.ratio", source: "[paper] 002 a = h/0.544 (a KOH rule, Sato 1998)" },
+    DefaultSource { path: "layout.layers", source: "[est] tactfab layer map: 1/0 front Si, 2/0 back Si, 3/0 PVDF, 10/0 marks, 63/0 annotations, 64/0 die outline" },
+    DefaultSource { path: "layout.edge_exclusion_mm", source: "[est] 3 mm wafer edge exclusion (edge bead, clamp ring)" },
+    DefaultSource { path: "layout.label_pixel_um", source: "[est] 25 um pixel: 175 um capitals, above contact-litho resolution" },
+    DefaultSource { path: "layout.compensation_overlap_um", source: "[est] 10 um overlap: one simple polygon per tooth (a vertex-only contact is invalid, reference/layout-conventions.md)" },
+    DefaultSource { path: "drc.min_width_um", source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin" },
+    DefaultSource { path: "drc.min_space_um", source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin" },
+    DefaultSource { path: "drc.min_electrode_gap_um", source: "[est] 200 um: Al wet-etch undercut and conductive-epoxy spread between islands" },
+    DefaultSource { path: "drc.max_vertices", source: "reference/layout-conventions.md: <= 4000 vertices per polygon" },
 ];

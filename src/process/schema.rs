@@ -23,6 +23,12 @@ pub struct Process {
     /// Sensitivity checks: FE scenes with pass/fail limits.
     #[serde(default)]
     pub checks: Checks,
+    /// Mask-layout choices (layer map, wafer edge exclusion, label size).
+    #[serde(default)]
+    pub layout: Layout,
+    /// Design-rule limits and waivers for `tactfab masks`.
+    #[serde(default)]
+    pub drc: Drc,
     /// Steps in the order the cleanroom runs them. Deserialised per step by the loader
     /// (the `kind` field selects the parameter set), so errors point into the right step.
     #[serde(skip)]
@@ -601,4 +607,102 @@ pub struct Limits {
     pub min_safety_factor: Option<f64>,
     #[serde(default)]
     pub max_deflection_um: Option<f64>,
+}
+
+/// One GDS layer/datatype pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GdsLayer {
+    pub layer: i16,
+    pub datatype: i16,
+}
+
+/// GDS layer numbers of the mask set (layout-conventions.md defaults).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerMap {
+    #[serde(default = "d::layer_front_si")]
+    pub front_si: GdsLayer,
+    #[serde(default = "d::layer_back_si")]
+    pub back_si: GdsLayer,
+    #[serde(default = "d::layer_pvdf")]
+    pub pvdf: GdsLayer,
+    #[serde(default = "d::layer_marks")]
+    pub marks: GdsLayer,
+    #[serde(default = "d::layer_annotation")]
+    pub annotation: GdsLayer,
+    #[serde(default = "d::layer_outline")]
+    pub outline: GdsLayer,
+}
+
+impl Default for LayerMap {
+    fn default() -> Self {
+        LayerMap {
+            front_si: d::layer_front_si(),
+            back_si: d::layer_back_si(),
+            pvdf: d::layer_pvdf(),
+            marks: d::layer_marks(),
+            annotation: d::layer_annotation(),
+            outline: d::layer_outline(),
+        }
+    }
+}
+
+/// Mask-layout choices that are not device geometry: layers, wafer edge, label size.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Layout {
+    #[serde(default)]
+    pub layers: LayerMap,
+    /// Ring at the wafer edge where no die is placed.
+    #[serde(default = "d::edge_exclusion_mm")]
+    pub edge_exclusion_mm: f64,
+    /// Pixel of the 5x7 label font; a capital is 7 pixels high.
+    #[serde(default = "d::label_pixel_um")]
+    pub label_pixel_um: f64,
+    /// How far a corner-attached compensator reaches into its tooth, so that tooth and square
+    /// form one simple polygon instead of touching at a single vertex.
+    #[serde(default = "d::compensation_overlap_um")]
+    pub compensation_overlap_um: f64,
+}
+
+impl Default for Layout {
+    fn default() -> Self {
+        Layout {
+            layers: LayerMap::default(),
+            edge_exclusion_mm: d::edge_exclusion_mm(),
+            label_pixel_um: d::label_pixel_um(),
+            compensation_overlap_um: d::compensation_overlap_um(),
+        }
+    }
+}
+
+/// Design-rule limits of the mask set and the rules the designer waives on purpose.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Drc {
+    /// Rule codes to report but not fail on, e.g. `[STREET_TOO_NARROW]`.
+    #[serde(default)]
+    pub waive: Vec<String>,
+    #[serde(default = "d::drc_min_width_um")]
+    pub min_width_um: f64,
+    #[serde(default = "d::drc_min_space_um")]
+    pub min_space_um: f64,
+    #[serde(default = "d::drc_max_vertices")]
+    pub max_vertices: usize,
+    /// Smallest gap between two electrode islands (isolation, Al wet-etch undercut, epoxy spread).
+    #[serde(default = "d::drc_min_electrode_gap_um")]
+    pub min_electrode_gap_um: f64,
+}
+
+impl Default for Drc {
+    fn default() -> Self {
+        Drc {
+            waive: Vec::new(),
+            min_width_um: d::drc_min_width_um(),
+            min_space_um: d::drc_min_space_um(),
+            max_vertices: d::drc_max_vertices(),
+            min_electrode_gap_um: d::drc_min_electrode_gap_um(),
+        }
+    }
 }

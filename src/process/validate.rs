@@ -284,5 +284,24 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             StepParams::Strip(_) | StepParams::SiliconEtch(_) => {}
         }
     }
+    let lay = &p.layout;
+    v.range("layout.edge_exclusion_mm", lay.edge_exclusion_mm, 0.0, w.diameter_mm / 4.0, false, "mm");
+    v.positive("layout.label_pixel_um", lay.label_pixel_um, 1000.0, "um");
+    v.range("layout.compensation_overlap_um", lay.compensation_overlap_um, 0.0, t.top_um / 4.0, false, "um");
+    let l = &lay.layers;
+    let mut seen = std::collections::BTreeSet::new();
+    for (name, g) in [("front_si", l.front_si), ("back_si", l.back_si), ("pvdf", l.pvdf), ("marks", l.marks), ("annotation", l.annotation), ("outline", l.outline)] {
+        if !(0..=255).contains(&g.layer) || !(0..=255).contains(&g.datatype) {
+            v.push(format!("layout.layers.{name}"), format!("{}/{} is out of range", g.layer, g.datatype), "layer and datatype in [0, 255]");
+        }
+        if !seen.insert((g.layer, g.datatype)) {
+            v.push(format!("layout.layers.{name}"), format!("{}/{} is used by two layers", g.layer, g.datatype), "a distinct layer/datatype per layer");
+        }
+    }
+    let d = &p.drc;
+    v.positive("drc.min_width_um", d.min_width_um, 1000.0, "um");
+    v.positive("drc.min_space_um", d.min_space_um, 1000.0, "um");
+    v.range("drc.max_vertices", d.max_vertices as f64, 4.0, 8190.0, false, "");
+    v.range("drc.min_electrode_gap_um", d.min_electrode_gap_um, 0.0, g.die_width_um, false, "um");
     v.out
 }

@@ -125,6 +125,45 @@ impl SensorGeometry {
         }
     }
 
+    /// Electrode rectangles of the PVDF mask: what is drawn is what the model reads. Each island's
+    /// bounding box and its metallised area (pad included).
+    pub fn electrodes_from_masks(masks: &crate::layout::MaskSet) -> Vec<ElectrodeArea> {
+        use geo::{Area, BoundingRect};
+        let mut by_name: std::collections::BTreeMap<String, ElectrodeArea> = std::collections::BTreeMap::new();
+        for e in &masks.electrodes {
+            let Some(b) = e.polygon.bounding_rect() else { continue };
+            let side = match e.name.chars().nth(1) {
+                _ if e.name.starts_with("S1") => SupportSide::Support1,
+                _ if e.name.starts_with("S2") => SupportSide::Support2,
+                _ => SupportSide::Middle,
+            };
+            let a = e.polygon.unsigned_area();
+            let entry = by_name.entry(e.name.clone()).or_insert(ElectrodeArea {
+                name: e.name.clone(),
+                side,
+                x0_um: b.min().x,
+                y0_um: b.min().y,
+                x1_um: b.max().x,
+                y1_um: b.max().y,
+                area_um2: 0.0,
+            });
+            entry.x0_um = entry.x0_um.min(b.min().x);
+            entry.y0_um = entry.y0_um.min(b.min().y);
+            entry.x1_um = entry.x1_um.max(b.max().x);
+            entry.y1_um = entry.y1_um.max(b.max().y);
+            entry.area_um2 += a;
+        }
+        // Mask order: S1k, Mk, S2k.
+        let mut out: Vec<ElectrodeArea> = by_name.into_values().collect();
+        let rank = |e: &ElectrodeArea| match e.side {
+            SupportSide::Support1 => 0,
+            SupportSide::Middle => 1,
+            SupportSide::Support2 => 2,
+        };
+        out.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.name.cmp(&b.name)));
+        out
+    }
+
     /// Electrode rectangles computed from the process alone, for use without a mask set
     /// (same rules as the PVDF mask: units along x, islands split at the support edges).
     pub fn electrodes_from_process(p: &Process) -> Vec<ElectrodeArea> {

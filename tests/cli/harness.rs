@@ -41,3 +41,19 @@ pub fn tactfab_in(dir: &Path, args: &[&str]) -> Run {
 }
 
 pub const REFERENCE: &str = "process/mis-grasper.yaml";
+
+/// `tactfab ARGS` in the crate root with extra environment variables, as (code, stdout, stderr).
+pub fn run_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_tactfab"));
+    c.args(args).current_dir(root()).env_remove("SOURCE_DATE_EPOCH");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    let out = c.output().expect("the tactfab binary runs");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// `tactfab ARGS` in the crate root, as (code, stdout, stderr).
+pub fn run(args: &[&str]) -> (i32, String, String) {
+    run_env(args, &[])
+}

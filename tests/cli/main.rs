@@ -3,6 +3,7 @@
 
 mod bad_input;
 mod harness;
+mod masks;
 mod process_cli;
 mod properties;
 mod readme;

@@ -1,0 +1,70 @@
+//! One SVG per mask with the svg crate: width/height in mm, viewBox in um, one `<g>` per layer,
+//! y flipped numerically (a transform would mirror text and hide layers from Inkscape), path data
+//! written from integer nm with fixed decimals (svg's own path data stores f32).
+
+use geo::Polygon;
+use svg::node::element::{Group, Path, Rectangle};
+use svg::Document;
+
+use super::{mm_text, nm, um_text, ExportError};
+use crate::layout::{LayerKind, MaskEntry, MaskSet};
+
+/// Path data for polygons in a frame of height `height_nm` (y flipped): `M x y L ... Z` per ring.
+pub fn path_data(polys: &[Polygon], height_nm: i64) -> Result<String, ExportError> {
+    let mut d = String::new();
+    for p in polys {
+        let ring = &p.exterior().0;
+        let n = ring.len().saturating_sub(1);
+        for (k, c) in ring.iter().take(n).enumerate() {
+            let (x, y) = (i64::from(nm(c.x)?), height_nm - i64::from(nm(c.y)?));
+            if !d.is_empty() {
+                d.push(' ');
+            }
+            d.push_str(if k == 0 { "M" } else { "L" });
+            d.push(' ');
+            d.push_str(&um_text(x));
+            d.push(' ');
+            d.push_str(&um_text(y));
+        }
+        if n > 0 {
+            d.push_str(" Z");
+        }
+    }
+    Ok(d)
+}
+
+impl MaskSet {
+    /// The die as the shop receives `mask` (mirrored when it says so), as SVG text.
+    pub fn to_svg(&self, mask: &MaskEntry) -> Result<String, ExportError> {
+        let (l, w) = (self.die_length_um, self.die_width_um);
+        let h_nm = i64::from(nm(w)?);
+        let polys = self.die_mask(mask);
+        let layer = mask.layer;
+        let mut doc = Document::new()
+            .set("width", format!("{}mm", mm_text(i64::from(nm(l)?))))
+            .set("height", format!("{}mm", mm_text(h_nm)))
+            .set("viewBox", format!("0 0 {} {}", um_text(i64::from(nm(l)?)), um_text(h_nm)))
+            .set("data-device", self.device.clone())
+            .set("data-revision", self.revision.clone())
+            .set("data-mask", mask.name.clone())
+            .set("data-mirrored", if mask.mirrored { "x -> die_length - x" } else { "no" });
+        let g = Group::new()
+            .set("id", layer.name())
+            .set("data-gds-layer", format!("{}/{}", mask.gds.layer, mask.gds.datatype))
+            .set("fill", layer.colour())
+            .set("fill-rule", "nonzero")
+            .set("stroke", "none")
+            .add(Path::new().set("d", path_data(&polys, h_nm)?));
+        doc = doc.add(g);
+        let o = LayerKind::Outline;
+        let outline = Group::new()
+            .set("id", o.name())
+            .set("data-gds-layer", format!("{}/{}", o.gds(&self.layers).layer, o.gds(&self.layers).datatype))
+            .set("fill", "none")
+            .set("stroke", o.colour())
+            .set("stroke-width", "20.000")
+            .add(Rectangle::new().set("x", "0.000").set("y", "0.000").set("width", um_text(i64::from(nm(l)?))).set("height", um_text(h_nm)));
+        doc = doc.add(outline);
+        Ok(format!("{doc}\n"))
+    }
+}
