@@ -70,7 +70,17 @@ pub struct PlateSolution {
     ctx: Arc<SolutionContext>,
     u: Vec<f64>,
     reactions: Vec<GroupReaction>,
+    nodal: Vec<NodalReaction>,
     applied_force_n: f64,
+}
+
+/// Support force at one constrained node (w dof), in the load direction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NodalReaction {
+    pub group: String,
+    pub x_um: f64,
+    pub y_um: f64,
+    pub force_n: f64,
 }
 
 impl PlateSolution {
@@ -81,6 +91,7 @@ impl PlateSolution {
         applied_force_n: f64,
     ) -> Self {
         PlateSolution {
+            nodal: Vec::new(),
             ctx,
             u,
             reactions,
@@ -104,6 +115,17 @@ impl PlateSolution {
     pub fn reactions(&self) -> &[GroupReaction] {
         &self.reactions
     }
+    pub(crate) fn with_nodal(mut self, nodal: Vec<NodalReaction>) -> Self {
+        self.nodal = nodal;
+        self
+    }
+
+    /// Nodal support forces of one group, in mesh order (consistent nodal forces: each stands for
+    /// its node's tributary length of the line).
+    pub fn nodal_reactions(&self, group: &str) -> Vec<&NodalReaction> {
+        self.nodal.iter().filter(|r| r.group == group).collect()
+    }
+
     /// Support force of one group (N), None for an unknown group.
     pub fn reaction_n(&self, group: &str) -> Option<f64> {
         self.reactions

@@ -1,5 +1,6 @@
 //! Sparse Cholesky factorisation (faer) with a reusable symbolic analysis and multi-column solves.
 
+use crate::fe::solution::NodalReaction;
 use crate::fe::assemble::{ElementStiffness, Pattern};
 use crate::fe::dofs::DofMap;
 use crate::fe::error::{FeError, FeResult};
@@ -169,9 +170,14 @@ impl Factorised {
                 let ku = self.kel.apply(mesh, &u);
                 // Force carried by each support in the load direction: f - K u at constrained w dofs.
                 let mut by_group = vec![0.0; self.dofs.groups.len()];
+                let mut nodal = Vec::new();
                 for &(d, _, g) in &self.dofs.constrained {
                     if d % 4 == 0 {
-                        by_group[g] += forces[c][d] - ku[d];
+                        let r = forces[c][d] - ku[d];
+                        by_group[g] += r;
+                        let node = d / 4;
+                        let (i, j) = (node % (mesh.nx() + 1), node / (mesh.nx() + 1));
+                        nodal.push(NodalReaction { group: self.dofs.groups[g].clone(), x_um: mesh.x_um[i], y_um: mesh.y_um[j], force_n: r });
                     }
                 }
                 let applied_force_n = forces[c].iter().step_by(4).sum();
@@ -185,12 +191,7 @@ impl Factorised {
                         force_n: f,
                     })
                     .collect();
-                Ok(PlateSolution::new(
-                    self.ctx.clone(),
-                    u,
-                    reactions,
-                    applied_force_n,
-                ))
+                Ok(PlateSolution::new(self.ctx.clone(), u, reactions, applied_force_n).with_nodal(nodal))
             })
             .collect()
     }

@@ -338,26 +338,8 @@ fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize) 
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();
     for (side, y) in [(SupportSide::Support1, g.plate_y0_um), (SupportSide::Support2, g.plate_y1_um)] {
-        let mut cuts = vec![0.0, g.length_um];
-        let mut owned = Vec::new();
-        for e in g.electrodes.iter().filter(|e| e.side == side) {
-            cuts.extend([e.x0_um.max(0.0), e.x1_um.min(g.length_um)]);
-            owned.push(e);
-        }
-        cuts.sort_by(f64::total_cmp);
-        cuts.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-        for w in cuts.windows(2) {
-            let mid = (w[0] + w[1]) / 2.0;
-            let group = owned
-                .iter()
-                .find(|e| mid > e.x0_um && mid < e.x1_um)
-                .map(|e| group_for(side, &e.name))
-                .unwrap_or_else(|| match side {
-                    SupportSide::Support1 => "support1:edge".into(),
-                    _ => "support2:edge".into(),
-                });
-            p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: w[0], to_um: w[1] });
-        }
+        let group = group_for(side).to_string();
+        p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: 0.0, to_um: g.length_um });
     }
     p
 }

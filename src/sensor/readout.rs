@@ -26,13 +26,37 @@ pub struct Readout {
     pub support2_n: f64,
 }
 
-/// Reaction group name of the clamped-edge segment under an electrode.
-pub fn group_for(side: SupportSide, name: &str) -> String {
+/// Reaction group of a support's clamped inner edge.
+pub fn group_for(side: SupportSide) -> &'static str {
     match side {
-        SupportSide::Support1 => format!("support1:{name}"),
-        SupportSide::Support2 => format!("support2:{name}"),
-        SupportSide::Middle => unreachable!("middle electrodes carry no reaction"),
+        SupportSide::Support1 => "support1",
+        SupportSide::Support2 => "support2",
+        SupportSide::Middle => unreachable!("the middle carries no reaction"),
     }
+}
+
+/// Force through an electrode's x-extent: each nodal reaction spread over its tributary length
+/// (half-way to its neighbours) and counted by the overlap with [x0, x1], so a node on an
+/// electrode edge is shared, not given to one side.
+fn edge_force(sol: &PlateSolution, side: SupportSide, x0: f64, x1: f64) -> f64 {
+    let mut nodes: Vec<(f64, f64)> = sol.nodal_reactions(group_for(side)).iter().map(|r| (r.x_um, r.force_n)).collect();
+    nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = nodes.len();
+    let mut f = 0.0;
+    for i in 0..n {
+        let lo = if i == 0 { nodes[0].0 } else { 0.5 * (nodes[i - 1].0 + nodes[i].0) };
+        let hi = if i + 1 == n { nodes[n - 1].0 } else { 0.5 * (nodes[i].0 + nodes[i + 1].0) };
+        if hi <= lo {
+            // A lone end node: all of it if it lies inside.
+            if nodes[i].0 >= x0 && nodes[i].0 <= x1 {
+                f += nodes[i].1;
+            }
+            continue;
+        }
+        let overlap = (hi.min(x1) - lo.max(x0)).max(0.0);
+        f += nodes[i].1 * overlap / (hi - lo);
+    }
+    f
 }
 
 /// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
@@ -76,7 +100,7 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
                 (g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_, None)
             }
             side => {
-                let mut f = sol.and_then(|s| s.reaction_n(&group_for(side, &e.name))).unwrap_or(0.0);
+                let mut f = sol.map(|s| edge_force(s, side, e.x0_um, e.x1_um)).unwrap_or(0.0);
                 for d in direct.iter().filter(|d| d.side == side) {
                     let overlap = (d.x1_um.min(e.x1_um) - d.x0_um.max(e.x0_um)).max(0.0);
                     let span = d.x1_um - d.x0_um;

@@ -7,3 +7,4 @@ mod masks;
 mod process_cli;
 mod properties;
 mod readme;
+mod sensor;

@@ -1,0 +1,192 @@
+//! The sensor model against the papers' claims and physical invariants, and `tactfab fe` through
+//! the binary. Meshes are kept to two or three levels so the suite stays fast.
+
+use tactfab::etch;
+use tactfab::process::{load_str, Limits, Scene, SceneLoad};
+use tactfab::sensor::{evaluate, SceneReport, SensorGeometry};
+
+use super::harness::{tactfab, REFERENCE};
+
+const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
+
+fn geometry(sets: &[&str]) -> SensorGeometry {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let p = load_str(PROCESS, "mis-grasper.yaml", &sets).expect("valid process").process;
+    let plan = etch::plan(&p);
+    let masks = tactfab::layout::build(&p, &plan).expect("mask set");
+    SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks))
+}
+
+fn point(x_mm: f64, y_mm: f64, force_n: f64) -> Scene {
+    Scene {
+        name: "p".into(),
+        load: SceneLoad::Point { x_um: x_mm * 1e3, y_um: y_mm * 1e3, force_n, radius_um: 500.0 },
+        limits: Limits::default(),
+    }
+}
+
+fn solve(g: &SensorGeometry, s: &Scene, levels: usize) -> SceneReport {
+    evaluate(g, s, 1e-9, levels).expect("solves")
+}
+
+fn v(r: &SceneReport, name: &str) -> f64 {
+    r.electrodes.iter().find(|e| e.name == name).unwrap_or_else(|| panic!("no {name}")).voltage_mv
+}
+
+#[track_caller]
+fn rel_eq(a: f64, b: f64, tol: f64) {
+    assert!((a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-30), "{a} vs {b} (tol {tol})");
+}
+
+#[test]
+fn reactions_sum_to_the_load_and_symmetric_loads_read_symmetrically() {
+    // The matrix pattern is mirror-symmetric about both die centre lines (checkered is not in x).
+    let g = geometry(&["geometry.teeth.pattern=matrix"]);
+    let r = solve(&g, &point(15.0, 7.5, 1.0), 2);
+    rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
+    for j in 1..=3 {
+        rel_eq(v(&r, &format!("S1{j}")), v(&r, &format!("S2{j}")), 1e-6);
+    }
+    // Mirror-image units.
+    rel_eq(v(&r, "S11"), v(&r, "S13"), 1e-6);
+    rel_eq(v(&r, "M1"), v(&r, "M3"), 1e-6);
+}
+
+#[test]
+fn readings_are_linear_from_1_mn_to_5_n() {
+    let g = geometry(&[]);
+    let small = solve(&g, &point(12.0, 6.0, 1e-3), 2);
+    let big = solve(&g, &point(12.0, 6.0, 5.0), 2);
+    for (a, b) in small.electrodes.iter().zip(&big.electrodes) {
+        rel_eq(a.voltage_mv * 5000.0, b.voltage_mv, 1e-9);
+    }
+    rel_eq(small.max_stress_mpa * 5000.0, big.max_stress_mpa, 1e-9);
+}
+
+#[test]
+fn teeth_stiffen_the_plate_none_checkered_matrix() {
+    // Paper 002 Figs. 3-5: under the same load, deflection none > checkered > matrix.
+    let d = |pattern: &str| solve(&geometry(&[&format!("geometry.teeth.pattern={pattern}")]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
+    let (none, checkered, matrix) = (d("none"), d("checkered"), d("matrix"));
+    assert!(none > checkered && checkered > matrix, "none {none}, checkered {checkered}, matrix {matrix}");
+}
+
+#[test]
+fn middle_voltage_dominates_for_a_centre_load() {
+    // Paper 002 Fig. 6: the middle element (extension mode) reads far above the support pairs.
+    let r = solve(&geometry(&[]), &point(15.0, 7.5, 1.0), 2);
+    let m2 = v(&r, "M2").abs();
+    for s in ["S11", "S12", "S13", "S21", "S22", "S23"] {
+        assert!(m2 > 3.0 * v(&r, s).abs(), "M2 {m2} vs {s} {}", v(&r, s));
+    }
+    assert_eq!(r.most_sensitive, "M2");
+}
+
+#[test]
+fn support_pair_follows_the_load_across_y() {
+    // Paper 002 Figs. 12, 23: V12 falls and V22 rises as the load moves from support 1 to 2,
+    // equal at the centre line, including loads right on top of the supports.
+    let g = geometry(&[]);
+    let ys = [1.0, 2.0, 4.0, 6.0, 7.5, 9.0, 11.0, 13.0, 14.0];
+    let f12: Vec<f64> = ys.iter().map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S12")).collect();
+    let f22: Vec<f64> = ys.iter().map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S22")).collect();
+    for w in f12.windows(2) {
+        assert!(w[1] < w[0] + 1e-9, "V12 must fall with y: {f12:?}");
+    }
+    for w in f22.windows(2) {
+        assert!(w[1] > w[0] - 1e-9, "V22 must rise with y: {f22:?}");
+    }
+    rel_eq(f12[4], f22[4], 1e-6);
+    // On top of support 1 the plate carries nothing: the direct model answers.
+    let on_support = solve(&g, &point(15.0, 1.0, 1.0), 2);
+    assert_eq!(on_support.model.kind, "direct");
+    rel_eq(on_support.reactions_n.support1, 1.0, 1e-12);
+}
+
+#[test]
+fn support_units_follow_the_load_along_x() {
+    // Paper 002 Figs. 13, 25: VS1 = V11 + V21 is largest with the load near x = 4 mm, VS2 = V13 + V23
+    // near x = 26 mm, and they cross at the centre.
+    let g = geometry(&["geometry.teeth.pattern=matrix"]);
+    let vs = |x: f64| {
+        let r = solve(&g, &point(x, 7.5, 1.0), 2);
+        (-(v(&r, "S11") + v(&r, "S21")), -(v(&r, "S13") + v(&r, "S23")))
+    };
+    let (a1, a2) = vs(4.0);
+    let (c1, c2) = vs(15.0);
+    let (b1, b2) = vs(26.0);
+    assert!(a1 > a2 && b2 > b1, "VS1/VS2 at 4 mm: {a1}/{a2}; at 26 mm: {b1}/{b2}");
+    rel_eq(c1, c2, 1e-6);
+    rel_eq(a1, b2, 1e-6);
+}
+
+#[test]
+fn a_line_load_on_a_plain_plate_reproduces_the_beam_of_paper_001() {
+    // Paper 001 Eq. 3-6 with span lambda = 10 mm and y measured from support 1's inner edge.
+    let g = geometry(&["geometry.teeth.pattern=none"]);
+    for y_mm in [3.5, 5.0, 7.5, 10.0] {
+        let s = Scene { name: "line".into(), load: SceneLoad::Line { y_um: y_mm * 1e3, force_n: 1.0 }, limits: Limits::default() };
+        let r = solve(&g, &s, 3);
+        let beam = tactfab::fe::fixed_fixed_reactions(1.0, (y_mm - 2.5) * 1e-3, 10e-3);
+        // Free ends with Poisson coupling (Si nu ~ 0.06) perturb the split slightly.
+        rel_eq(r.reactions_n.support1, beam.r1, 0.01);
+        rel_eq(r.reactions_n.support2, beam.r2, 0.02);
+    }
+}
+
+#[test]
+fn isotropic_silicon_is_stiffer_than_anisotropic() {
+    // fe-validation.md: an isotropic (169 GPa, 0.064) plate is too stiff; G = E/2(1+nu) overstates Q66.
+    let aniso = solve(&geometry(&["geometry.teeth.pattern=none"]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
+    let iso = solve(&geometry(&["geometry.teeth.pattern=none", "materials.silicon.model=isotropic"]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
+    assert!(iso < aniso && iso > 0.8 * aniso, "isotropic {iso} vs anisotropic {aniso}");
+}
+
+#[test]
+fn error_estimate_comes_from_three_nested_meshes() {
+    let g = geometry(&[]);
+    let r = evaluate(&g, &point(15.0, 7.5, 1.0), 0.01, 4).unwrap();
+    assert!(r.converged && r.error_estimate.unwrap() < 0.01, "{:?}", r.error_estimate);
+    assert!(r.convergence.len() >= 3);
+    let c = &r.convergence;
+    for w in c.windows(2) {
+        assert_eq!(w[1].elements, 4 * w[0].elements, "nested levels quadruple the element count");
+    }
+    // The estimate brackets the truth: one more level moves the answer by less than twice the estimate.
+    let finer = evaluate(&g, &point(15.0, 7.5, 1.0), 1e-9, c.len() + 1).unwrap();
+    let change = (finer.deflection_at_load_um - r.deflection_at_load_um).abs() / finer.deflection_at_load_um;
+    assert!(change < 2.0 * r.error_estimate.unwrap(), "change {change} vs estimate {:?}", r.error_estimate);
+}
+
+#[test]
+fn fe_json_contract() {
+    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3", "--json"]);
+    run.expect_code(0);
+    let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let s = &j["scenes"][0];
+    for key in ["scene", "model", "solve_ms", "error_estimate", "deflection_at_load_um", "max_deflection_um", "max_stress_mpa", "reactions_n", "electrodes", "warnings"] {
+        assert!(!s[key].is_null(), "missing {key}");
+    }
+    for key in ["kind", "elements", "dofs"] {
+        assert!(!s["model"][key].is_null(), "missing model.{key}");
+    }
+    assert!(s["reactions_n"]["support1"].is_number() && s["reactions_n"]["support2"].is_number());
+    let names: Vec<&str> = s["electrodes"].as_array().unwrap().iter().map(|e| e["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["S11", "S12", "S13", "M1", "M2", "M3", "S21", "S22", "S23"]);
+    assert!(s["electrodes"][4]["charge_pc"].is_number() && s["electrodes"][4]["voltage_mv"].is_number());
+    // 36 um on a 92 um plate: linear theory is leaving its range, and the report says so.
+    assert!(s["warnings"].as_array().unwrap().iter().any(|w| w.as_str().unwrap().starts_with("LINEAR_RANGE")));
+}
+
+#[test]
+fn fe_rejects_a_bad_point_and_an_unknown_scene() {
+    tactfab(&["fe", REFERENCE, "--point", "15,abc,1"]).expect_code(2);
+    tactfab(&["fe", REFERENCE, "--scene", "no-such-scene"]).expect_code(2);
+}
+
+#[test]
+fn failed_limit_exits_1() {
+    let run = tactfab(&["fe", REFERENCE, "--scene", "centre-1n", "--max-levels", "3", "--set", "checks.scenes[0].limits.min_safety_factor=100"]);
+    run.expect_code(1);
+    assert!(run.stdout.contains("FAIL: safety factor"), "{}", run.stdout);
+}
