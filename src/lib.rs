@@ -30,6 +30,20 @@
 //! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
 //! The FE model takes its electrodes from the PVDF mask, so what is simulated is what is drawn.
 //!
+//! ```
+//! // The bundled process, with the etch time left for tactfab to compute.
+//! let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
+//! let loaded = tactfab::process::load_str(&text, "mis-grasper.yaml", &["steps.tmah-etch.time_h=null".into()]).unwrap();
+//! let plan = tactfab::etch::plan(&loaded.process);
+//! assert!((plan.steps[0].time_h - 200.0 / 24.0).abs() < 1e-12);
+//! assert!((plan.plate_thickness_um - 100.0).abs() < 1e-9);
+//! let a = plan.steps[0].compensation.unwrap().side_um; // a = h / 0.544
+//! assert!((a - 367.647).abs() < 1e-3);
+//! // A bad value is an error with its place, not a panic.
+//! let err = tactfab::process::load_str(&text, "f.yaml", &["wafer.thickness_um=-1".into()]).unwrap_err();
+//! assert!(err.to_string().contains("wafer.thickness_um"));
+//! ```
+//!
 //! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
 
