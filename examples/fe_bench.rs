@@ -40,11 +40,20 @@ fn plate_once(mesh: RectMesh) -> (f64, usize, usize) {
     let mut p = PlateProblem::new(mesh, THICKNESS_UM, m);
     p.support_all_edges(SupportKind::Clamped);
     let c = SIDE_UM / 2.0;
-    p.load_cases.push(vec![Load::Point { x_um: c, y_um: c, force_n: FORCE_N, radius_um: 0.0 }]);
+    p.load_cases.push(vec![Load::Point {
+        x_um: c,
+        y_um: c,
+        force_n: FORCE_N,
+        radius_um: 0.0,
+    }]);
     let f = Factorised::new(&p).expect("factorise");
     let s = f.solve(&p.load_cases).expect("solve");
     let w_m = s[0].deflection_m(c, c);
-    (w_m * d_nm / (FORCE_N * (SIDE_UM * 1e-6).powi(2)), n_el, f.n_free_dofs())
+    (
+        w_m * d_nm / (FORCE_N * (SIDE_UM * 1e-6).powi(2)),
+        n_el,
+        f.n_free_dofs(),
+    )
 }
 
 type MeshCase = (String, Box<dyn Fn() -> RectMesh>);
@@ -52,15 +61,34 @@ type MeshCase = (String, Box<dyn Fn() -> RectMesh>);
 fn plate_cases() -> Vec<MeshCase> {
     let mut cases: Vec<MeshCase> = Vec::new();
     for n in [4usize, 8, 12, 16, 24, 32, 48, 64] {
-        cases.push((format!("uniform {n}x{n}"), Box::new(move || RectMesh::uniform(SIDE_UM, SIDE_UM, n, n))));
+        cases.push((
+            format!("uniform {n}x{n}"),
+            Box::new(move || RectMesh::uniform(SIDE_UM, SIDE_UM, n, n)),
+        ));
     }
     // Graded towards the load: the point-load error lives near the centre.
-    for (max_el_um, h_min_um) in [(2500.0, 1250.0), (2500.0, 500.0), (2000.0, 250.0), (1250.0, 125.0), (1000.0, 60.0), (700.0, 30.0)] {
+    for (max_el_um, h_min_um) in [
+        (2500.0, 1250.0),
+        (2500.0, 500.0),
+        (2000.0, 250.0),
+        (1250.0, 125.0),
+        (1000.0, 60.0),
+        (700.0, 30.0),
+    ] {
         cases.push((
             format!("graded max {max_el_um} min {h_min_um}"),
             Box::new(move || {
                 let c = SIDE_UM / 2.0;
-                RectMesh::build(&[0.0, c, SIDE_UM], &[0.0, c, SIDE_UM], max_el_um, &[RefinePoint { x_um: c, y_um: c, h_min_um }])
+                RectMesh::build(
+                    &[0.0, c, SIDE_UM],
+                    &[0.0, c, SIDE_UM],
+                    max_el_um,
+                    &[RefinePoint {
+                        x_um: c,
+                        y_um: c,
+                        h_min_um,
+                    }],
+                )
             }),
         ));
     }
@@ -76,7 +104,10 @@ fn bench_plate(runs: usize) -> Vec<(f64, f64)> {
         SIDE_UM / 1e3,
         m.bending_stiffness(THICKNESS_UM * 1e-6).d11_nm
     );
-    println!("{:<28} {:>8} {:>8} {:>11} {:>12} {:>10}", "mesh", "elements", "dofs", "time_ms", "alpha", "rel_err");
+    println!(
+        "{:<28} {:>8} {:>8} {:>11} {:>12} {:>10}",
+        "mesh", "elements", "dofs", "time_ms", "alpha", "rel_err"
+    );
     let mut out = Vec::new();
     for (name, mk) in plate_cases() {
         let mut times_ms = Vec::with_capacity(runs);
@@ -96,19 +127,29 @@ fn bench_plate(runs: usize) -> Vec<(f64, f64)> {
 
 /// Smallest median time of a mesh whose error is at most `target`.
 fn time_to(rows: &[(f64, f64)], target: f64) -> Option<f64> {
-    rows.iter().filter(|r| r.1 <= target).map(|r| r.0).min_by(f64::total_cmp)
+    rows.iter()
+        .filter(|r| r.1 <= target)
+        .map(|r| r.0)
+        .min_by(f64::total_cmp)
 }
 
 /// (b): the full sensor, per tolerance.
 fn bench_sensor(runs: usize) {
-    let p = load_str(PROCESS, "mis-grasper.yaml", &[]).expect("valid process").process;
+    let p = load_str(PROCESS, "mis-grasper.yaml", &[])
+        .expect("valid process")
+        .process;
     let plan = tactfab::etch::plan(&p);
     let masks = tactfab::layout::build(&p, &plan).expect("mask set");
     let g = SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks));
     let (x_um, y_um) = (g.length_um / 2.0, (g.plate_y0_um + g.plate_y1_um) / 2.0);
     let scene = Scene {
         name: "centre".into(),
-        load: SceneLoad::Point { x_um, y_um, force_n: FORCE_N, radius_um: 500.0 },
+        load: SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n: FORCE_N,
+            radius_um: 500.0,
+        },
         limits: Limits::default(),
     };
     println!();
@@ -121,7 +162,10 @@ fn bench_sensor(runs: usize) {
         y_um / 1e3
     );
     println!("error = the three-mesh estimate of evaluate() (worst of deflection and the nine charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of evaluate()");
-    println!("{:>6} {:>7} {:>9} {:>9} {:>9} {:>10} {:>9}", "tol", "levels", "elements", "dofs", "solve_ms", "wall_ms", "est_err");
+    println!(
+        "{:>6} {:>7} {:>9} {:>9} {:>9} {:>10} {:>9}",
+        "tol", "levels", "elements", "dofs", "solve_ms", "wall_ms", "est_err"
+    );
     let mut finest = None;
     for tol in SENSOR_TOLS {
         let (mut solve_ms, mut wall_ms) = (Vec::new(), Vec::new());
@@ -134,7 +178,9 @@ fn bench_sensor(runs: usize) {
             last = Some(r);
         }
         let r = last.expect("at least one run");
-        let est = r.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
+        let est = r
+            .error_estimate
+            .map_or("-".to_string(), |e| format!("{e:.2e}"));
         let mark = if r.converged { "" } else { "  NOT CONVERGED" };
         println!(
             "{tol:>6} {:>7} {:>9} {:>9} {:>9.1} {:>10.1} {est:>9}{mark}",
@@ -147,11 +193,22 @@ fn bench_sensor(runs: usize) {
         finest = Some(r);
     }
     if let Some(r) = finest {
-        println!("per level, last run at tol = {}:", SENSOR_TOLS[SENSOR_TOLS.len() - 1]);
-        println!("{:>6} {:>10} {:>9} {:>9} {:>10} {:>9}", "level", "h_um", "elements", "dofs", "time_ms", "est_err");
+        println!(
+            "per level, last run at tol = {}:",
+            SENSOR_TOLS[SENSOR_TOLS.len() - 1]
+        );
+        println!(
+            "{:>6} {:>10} {:>9} {:>9} {:>10} {:>9}",
+            "level", "h_um", "elements", "dofs", "time_ms", "est_err"
+        );
         for (i, l) in r.convergence.iter().enumerate() {
-            let est = l.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
-            println!("{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9}", l.max_element_um, l.elements, l.dofs, l.time_ms);
+            let est = l
+                .error_estimate
+                .map_or("-".to_string(), |e| format!("{e:.2e}"));
+            println!(
+                "{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9}",
+                l.max_element_um, l.elements, l.dofs, l.time_ms
+            );
         }
     }
 }
@@ -161,7 +218,11 @@ fn bench_skfem(repeats: usize) -> Option<[Option<(f64, f64)>; 2]> {
     println!();
     println!("== (c) scikit-fem on the same plate (benches/skfem_plate.py {repeats})");
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/skfem_plate.py");
-    let out = match Command::new("python3").arg(script).arg(repeats.to_string()).output() {
+    let out = match Command::new("python3")
+        .arg(script)
+        .arg(repeats.to_string())
+        .output()
+    {
         Ok(o) => o,
         Err(e) => {
             println!("NOTE: could not run python3 ({e}); skipping the scikit-fem comparison");
@@ -177,7 +238,11 @@ fn bench_skfem(repeats: usize) -> Option<[Option<(f64, f64)>; 2]> {
     let mut res = [None, None];
     for line in text.lines() {
         if let Some(rest) = line.strip_prefix("RESULT ") {
-            let field = |k: &str| rest.split_whitespace().find_map(|f| f.strip_prefix(k)).and_then(|v| v.parse::<f64>().ok());
+            let field = |k: &str| {
+                rest.split_whitespace()
+                    .find_map(|f| f.strip_prefix(k))
+                    .and_then(|v| v.parse::<f64>().ok())
+            };
             let slot = if field("target=") == Some(0.01) { 0 } else { 1 };
             res[slot] = field("total_ms=").zip(field("asm_solve_ms="));
         } else {
@@ -198,7 +263,10 @@ fn main() {
     let ours = [time_to(&rows, 0.01), time_to(&rows, 0.001)];
     for (target, t) in [0.01, 0.001].iter().zip(ours) {
         match t {
-            Some(t) => println!("tactfab smallest time to {:.1} %: {t:.3} ms", target * 100.0),
+            Some(t) => println!(
+                "tactfab smallest time to {:.1} %: {t:.3} ms",
+                target * 100.0
+            ),
             None => println!("tactfab: {:.1} % not reached", target * 100.0),
         }
     }
