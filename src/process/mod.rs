@@ -93,7 +93,7 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
 
     let mut raw = Vec::new();
     let mut placeholders = Vec::new();
-    let (process, steps_value) = deserialize_process(value.clone(), &mut raw, &mut placeholders);
+    let process = deserialize_process(value.clone(), &mut raw, &mut placeholders);
     let mut problems: Vec<Problem> = raw
         .iter()
         .map(|r| Problem {
@@ -119,7 +119,6 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
         return Err(LoadError::Invalid(problems));
     }
     let process = process.expect("no problems means the process deserialised");
-    let _ = steps_value;
     let defaults_used = defaults_used(&value, &process);
     Ok(Loaded {
         process,
@@ -165,7 +164,7 @@ fn deserialize_process(
     mut value: Value,
     raw: &mut Vec<RawProblem>,
     placeholders: &mut Vec<String>,
-) -> (Option<Process>, Option<Value>) {
+) -> Option<Process> {
     let steps_value = match &mut value {
         Value::Mapping(m) => m.remove("steps"),
         _ => None,
@@ -205,9 +204,9 @@ fn deserialize_process(
     match (top, steps) {
         (Some(mut p), Some(s)) => {
             p.steps = s;
-            (Some(p), steps_value)
+            Some(p)
         }
-        _ => (None, steps_value),
+        _ => None,
     }
 }
 

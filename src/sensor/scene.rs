@@ -36,7 +36,7 @@ pub struct SceneLoads {
 
 /// Splits `load` between the plate and the supports by area.
 pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
-    let (py0, py1, l, w) = (g.plate_y0_um, g.plate_y1_um, g.length_um, g.width_um);
+    let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
     match *load {
         SceneLoad::Point { x_um, y_um, force_n, radius_um } => {
             // Square patch of equal area, as the FE point load with a radius uses.
@@ -80,7 +80,6 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
                 let side = if y_um <= py0 { SupportSide::Support1 } else { SupportSide::Support2 };
                 (vec![], vec![DirectLoad { side, x0_um: 0.0, x1_um: l, force_n }])
             };
-            let _ = w;
             SceneLoads {
                 plate,
                 direct,
