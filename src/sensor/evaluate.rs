@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::fe::{richardson, Factorised, FeError, LineSupport, PlateProblem, RectMesh, RefinePoint, SupportKind, ThicknessRegion};
 use crate::fe::problem::Axis as FeAxis;
+use crate::fe::solution::LINEAR_RANGE_LIMIT;
 use crate::process::Scene;
 
 use super::geometry::{SensorGeometry, SupportSide};
@@ -17,8 +18,6 @@ use super::scene::{split, SceneLoads};
 const COARSE_ELEMENT_UM: f64 = 1000.0;
 /// Feature lines closer than this are merged (the tooth edge moves to the electrode edge).
 const MIN_LINE_GAP_UM: f64 = 250.0;
-/// Deflection over this fraction of the plate thickness leaves linear theory (fe-validation.md).
-const LINEAR_LIMIT: f64 = 0.2;
 
 /// Which model answered and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -173,11 +172,11 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
             .map(|e| (e.name.clone(), if f != 0.0 { (e.voltage_mv / f).abs() } else { 0.0 }))
             .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a });
         let mut warnings = Vec::new();
-        let t_um = g.plate_thickness_um;
-        if w_max.abs() * 1e6 > LINEAR_LIMIT * t_um {
+        if let Some(s) = sol.filter(|s| s.exceeds_linear_range()) {
             warnings.push(format!(
-                "LINEAR_RANGE: maximum deflection {:.1} um exceeds {LINEAR_LIMIT} x the {t_um:.0} um plate: membrane stiffening is not modelled, readings overestimate",
-                w_max.abs() * 1e6
+                "LINEAR_RANGE: maximum deflection {:.1} um is {:.2} x the local thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings overestimate",
+                w_max.abs() * 1e6,
+                s.linear_range_ratio()
             ));
         }
         let converged = sol.is_none() || estimates[k].is_some_and(|e| e < tol);

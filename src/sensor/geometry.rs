@@ -164,37 +164,6 @@ impl SensorGeometry {
         out
     }
 
-    /// Electrode rectangles computed from the process alone, for use without a mask set
-    /// (same rules as the PVDF mask: units along x, islands split at the support edges).
-    pub fn electrodes_from_process(p: &Process) -> Vec<ElectrodeArea> {
-        let g = &p.geometry;
-        let e = &g.electrodes;
-        let n = e.units.max(1);
-        let (m, gap, sw, w, l) = (e.edge_margin_um, e.gap_um, g.support_width_um, g.die_width_um, g.die_length_um);
-        let unit_w = (l - 2.0 * m - f64::from(n - 1) * gap) / f64::from(n);
-        let rows = [
-            ("S1", SupportSide::Support1, m, sw - gap / 2.0),
-            ("M", SupportSide::Middle, sw + gap / 2.0, w - sw - gap / 2.0),
-            ("S2", SupportSide::Support2, w - sw + gap / 2.0, w - m),
-        ];
-        let mut out = Vec::new();
-        for (prefix, side, y0, y1) in rows {
-            for k in 0..n {
-                let x0 = m + f64::from(k) * (unit_w + gap);
-                out.push(ElectrodeArea {
-                    name: format!("{prefix}{}", k + 1),
-                    side,
-                    x0_um: x0,
-                    y0_um: y0,
-                    x1_um: x0 + unit_w,
-                    y1_um: y1,
-                    area_um2: unit_w * (y1 - y0),
-                });
-            }
-        }
-        out
-    }
-
     /// Lines every mesh keeps exactly: plate edges, electrode edges.
     pub fn exact_lines(&self) -> (Vec<f64>, Vec<f64>) {
         let mut xs = vec![0.0, self.length_um];
