@@ -33,6 +33,13 @@ pub struct ModelInfo {
     pub observed_order: Option<f64>,
 }
 
+impl ModelInfo {
+    /// The load lies wholly over the supports: no plate solve.
+    fn direct() -> Self {
+        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Reactions {
     pub support1: f64,
@@ -94,14 +101,14 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
-    let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo)> = None;
+    let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo, Vec<Readout>)> = None;
     let mut elapsed_ms = 0.0;
-    let mut estimates: Vec<Option<f64>> = vec![None; scenes.len()];
-    let mut orders: Vec<Option<f64>> = vec![None; scenes.len()];
     let levels = if needs_plate { max_levels } else { 1 };
     let mut base: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut level_cost: Vec<(f64, usize, usize, f64)> = Vec::new();
+    // Per scene and level: (estimate, observed order) after that level.
     let mut level_est: Vec<Vec<(Option<f64>, Option<f64>)>> = vec![Vec::new(); scenes.len()];
+    let latest = |est: &[(Option<f64>, Option<f64>)]| est.last().copied().unwrap_or((None, None));
     for level in 0..levels {
         let t0 = Instant::now();
         let h = COARSE_ELEMENT_UM / f64::powi(2.0, level as i32);
@@ -122,46 +129,44 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
             };
             (sols, info)
         } else {
-            (vec![None; scenes.len()], ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None })
+            (vec![None; scenes.len()], ModelInfo::direct())
         };
         let dt = t0.elapsed().as_secs_f64() * 1e3;
         elapsed_ms += dt;
         level_cost.push((h, info.elements, info.dofs, dt));
+        let mut readouts = Vec::with_capacity(loads.len());
         for (k, l) in loads.iter().enumerate() {
             let r = read(g, sols[k].as_ref(), &l.direct);
             let w = sols[k].as_ref().map(|s| s.deflection_m(l.at_um.0, l.at_um.1)).unwrap_or(0.0);
             let mut q = vec![w];
             q.extend(r.electrodes.iter().map(|e| e.charge_pc));
             history[k].push(q);
-            if history[k].len() >= 3 {
+            let est = if history[k].len() >= 3 {
                 let (e, p) = estimate(&history[k], g);
-                estimates[k] = Some(e);
-                orders[k] = p;
-            }
-            level_est[k].push((estimates[k], orders[k]));
+                (Some(e), p)
+            } else {
+                latest(&level_est[k])
+            };
+            level_est[k].push(est);
+            readouts.push(r);
         }
-        last = Some((sols, info));
-        let done = estimates.iter().zip(&loads).all(|(e, l)| l.plate.is_empty() || e.is_some_and(|e| e < tol));
+        last = Some((sols, info, readouts));
+        let done = level_est.iter().zip(&loads).all(|(est, l)| l.plate.is_empty() || latest(est).0.is_some_and(|e| e < tol));
         if done {
             break;
         }
     }
-    let (sols, info) = last.expect("at least one level ran");
+    let (sols, info, readouts) = last.expect("at least one level ran");
     let mut out = Vec::new();
-    for (k, (scene, l)) in scenes.iter().zip(&loads).enumerate() {
+    for (k, ((scene, l), r)) in scenes.iter().zip(&loads).zip(readouts).enumerate() {
         let sol = sols[k].as_ref();
-        let r: Readout = read(g, sol, &l.direct);
-        let mut info = info.clone();
-        if sol.is_none() {
-            info = ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None };
-        }
-        info.observed_order = orders[k];
-        let (w_load, w_max, stress_pa) = match sol {
-            Some(s) => {
-                let peak = s.max_principal_stress(l.patch).map(|p| p.sigma_pa).unwrap_or(0.0);
-                (s.deflection_m(l.at_um.0, l.at_um.1), s.max_deflection().w_m, peak)
-            }
-            None => (0.0, 0.0, 0.0),
+        let (estimate_k, order_k) = latest(&level_est[k]);
+        let mut info = if sol.is_some() { info.clone() } else { ModelInfo::direct() };
+        info.observed_order = order_k;
+        let w_load = history[k].last().map_or(0.0, |q| q[0]);
+        let (w_max, stress_pa) = match sol {
+            Some(s) => (s.max_deflection().w_m, s.max_principal_stress(l.patch).map(|p| p.sigma_pa).unwrap_or(0.0)),
+            None => (0.0, 0.0),
         };
         let f = l.total_force_n;
         let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
@@ -179,14 +184,14 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
                 s.linear_range_ratio()
             ));
         }
-        let converged = sol.is_none() || estimates[k].is_some_and(|e| e < tol);
+        let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
         if !converged {
-            warnings.push(match estimates[k] {
+            warnings.push(match estimate_k {
                 Some(e) => format!("NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} after {} mesh levels", info.levels),
                 None => format!("NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate", info.levels),
             });
         }
-        if info.observed_order.is_none() && estimates[k].is_some() && sol.is_some() {
+        if order_k.is_none() && estimate_k.is_some() && sol.is_some() {
             warnings.push("ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error estimate is the last change".into());
         }
         let largest = history[k].last().map(|q| {
@@ -212,7 +217,7 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
             force_n: f,
             model: info,
             solve_ms: elapsed_ms,
-            error_estimate: if sol.is_none() { Some(0.0) } else { estimates[k] },
+            error_estimate: if sol.is_none() { Some(0.0) } else { estimate_k },
             converged,
             deflection_at_load_um: w_load * 1e6,
             max_deflection_um: w_max * 1e6,
