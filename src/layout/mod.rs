@@ -26,7 +26,7 @@ use geo::{Coord, LineString, Polygon};
 pub use maskset::{Cell, Electrode, LayerKind, LayoutWarning, MaskEntry, MaskSet, Note, Placement, Tooth};
 
 use crate::etch::{CompensationDesign, EtchPlan};
-use crate::process::{MaskPurpose, Process, Side, TeethPattern, Tone};
+use crate::process::{CompensationGeometry, MaskPurpose, Process, Side, TeethPattern, Tone};
 
 use boolean::{rect, snap, translate};
 use marks::{mark, MarkKind, MARK_KEEPOUT_HALF_UM};
@@ -38,6 +38,9 @@ pub enum LayoutError {
     Electrodes(String),
     #[error("no die fits on the {diameter_mm} mm wafer with a {exclusion_mm} mm edge exclusion")]
     NoDie { diameter_mm: f64, exclusion_mm: f64 },
+    /// A corner-attached square pulled in by its whole side lies inside the tooth: no compensation.
+    #[error("layout.compensation_overlap_um = {overlap_um} um is not smaller than the {side_um:.1} um compensator: the square would lie inside the tooth\n  hint: keep the overlap a few um (default 10)")]
+    CompensationOverlap { overlap_um: f64, side_um: f64 },
 }
 
 /// The layer a mask of this purpose is made from.
@@ -69,6 +72,11 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
 
     // Front: tooth cell and its instances.
     let comp = front_compensation(plan);
+    if let Some(c) = comp.as_ref().filter(|c| c.kind == CompensationGeometry::CornerAttached) {
+        if lay.compensation_overlap_um >= c.side_um {
+            return Err(LayoutError::CompensationOverlap { overlap_um: lay.compensation_overlap_um, side_um: c.side_um });
+        }
+    }
     let teeth = teeth::teeth(&g.teeth);
     let tooth_name = cell_name(&p.device.name, "TOOTH");
     let die_name = cell_name(&p.device.name, "DIE");

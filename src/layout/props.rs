@@ -27,6 +27,8 @@ mod tests {
         ) {
             let kind = if centred { CompensationGeometry::Centred } else { CompensationGeometry::CornerAttached };
             let c = compensation_design(depth, ratio, kind);
+            // layout::build rejects an overlap that swallows the whole square (LayoutError::CompensationOverlap).
+            prop_assume!(kind == CompensationGeometry::Centred || overlap < c.side_um);
             let comp = tooth_cell(top, Some(&c), overlap);
             let plain = tooth_cell(top, None, overlap);
             let mut both = comp.clone();
