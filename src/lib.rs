@@ -52,6 +52,7 @@ pub mod etch;
 pub mod export;
 pub mod fe;
 pub mod layout;
+pub mod plot;
 pub mod process;
 pub mod sensor;
 pub mod units;

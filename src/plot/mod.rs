@@ -1,0 +1,9 @@
+//! Plots as SVG strings (plotters, SVG backend, no font files needed: text stays `<text>`).
+//!
+//! One small vocabulary for every chart tactfab draws (convergence, calibration, orientation,
+//! softness, design family), so they look alike and stay deterministic: the same data gives the
+//! same bytes.
+
+mod xy;
+
+pub use xy::{xy_svg, Axis, Series, Style, XyPlot};
