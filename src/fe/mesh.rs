@@ -159,6 +159,29 @@ impl RectMesh {
         }
     }
 
+    /// Required lines kept exactly and every gap split into equal parts no longer than
+    /// `max_element_um`; no grading. Nested refinement of such a mesh keeps every line, so a
+    /// sequence of them is the cheapest honest input to a three-mesh error estimate.
+    #[track_caller]
+    pub fn ungraded(x_lines_um: &[f64], y_lines_um: &[f64], max_element_um: f64) -> Self {
+        assert!(max_element_um > 0.0 && max_element_um.is_finite(), "max_element_um must be positive");
+        let axis = |lines: &[f64]| {
+            let mut l = lines.to_vec();
+            assert!(l.iter().all(|v| v.is_finite()), "mesh lines must be finite");
+            l.sort_by(f64::total_cmp);
+            l.dedup_by(|a, b| (*a - *b).abs() <= MERGE_TOL_UM);
+            assert!(l.len() >= 2, "a mesh axis needs at least two distinct lines");
+            let mut out = vec![l[0]];
+            for w in l.windows(2) {
+                let n = ((w[1] - w[0]) / max_element_um - 1e-9).ceil().max(1.0) as usize;
+                out.extend((1..n).map(|k| w[0] + (w[1] - w[0]) * k as f64 / n as f64));
+                out.push(w[1]);
+            }
+            out
+        };
+        RectMesh { x_um: axis(x_lines_um), y_um: axis(y_lines_um) }
+    }
+
     /// Uniform nx x ny mesh of a lx_um x ly_um plate with its corner at the origin.
     #[track_caller]
     pub fn uniform(lx_um: f64, ly_um: f64, nx: usize, ny: usize) -> Self {

@@ -30,8 +30,6 @@ pub struct SceneLoads {
     /// Where deflection "at the load" is read, and the contact patch the stress is reported for.
     pub at_um: (f64, f64),
     pub patch: RectUm,
-    /// Points that deserve graded refinement (concentrated loads), with the smallest element size.
-    pub refine: Vec<(f64, f64, f64)>,
 }
 
 /// Splits `load` between the plate and the supports by area.
@@ -49,7 +47,6 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
             }
             s.at_um = (x_um, y_um);
             s.patch = RectUm { x0_um: x_um - h, y0_um: y_um - h, x1_um: x_um + h, y1_um: y_um + h };
-            s.refine = vec![(x_um, y_um, (h / 2.0).max(10.0))];
             s
         }
         SceneLoad::Pressure { force_n, region } => {
@@ -86,7 +83,6 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
                 total_force_n: force_n,
                 at_um: (l / 2.0, y_um.clamp(py0, py1)),
                 patch: RectUm { x0_um: 0.0, y0_um: (y_um - 50.0).max(py0), x1_um: l, y1_um: (y_um + 50.0).min(py1) },
-                refine: vec![],
             }
         }
     }
@@ -115,5 +111,5 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
             direct.push(DirectLoad { side, x0_um: x0, x1_um: x1, force_n: f });
         }
     }
-    SceneLoads { plate, direct, total_force_n: force_n, at_um: (0.0, 0.0), patch: RectUm { x0_um: 0.0, y0_um: 0.0, x1_um: 0.0, y1_um: 0.0 }, refine: vec![] }
+    SceneLoads { plate, direct, total_force_n: force_n, at_um: (0.0, 0.0), patch: RectUm { x0_um: 0.0, y0_um: 0.0, x1_um: 0.0, y1_um: 0.0 } }
 }
