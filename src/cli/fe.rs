@@ -3,7 +3,7 @@
 use anyhow::{bail, Context};
 
 use tactfab::process::{Limits, Scene, SceneLoad};
-use tactfab::sensor::{evaluate_many, SceneReport, SensorGeometry};
+use tactfab::sensor::{convergence_svg, evaluate_many, SceneReport, SensorGeometry};
 
 use super::output::f;
 use super::{load, FeArgs, Outcome};
@@ -24,6 +24,13 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
             if args.convergence {
                 print!("{}", convergence_table(r));
             }
+        }
+    }
+    if args.convergence {
+        let svg = convergence_svg(&reports);
+        tactfab::export::write_atomic(&args.plot, svg.as_bytes()).with_context(|| format!("writing {}", args.plot.display()))?;
+        if !args.json {
+            println!("convergence plot: {}", args.plot.display());
         }
     }
     Ok(if failed { Outcome::CheckFailed } else { Outcome::Ok })

@@ -82,15 +82,19 @@ pub struct FeArgs {
     /// Relative error the answer must be under (estimated from three meshes).
     #[arg(long, default_value_t = 0.01)]
     pub tol: f64,
-    /// Most mesh levels to try (each halves the element size, starting at 1 mm).
+    /// Most mesh levels to try (each halves the element size, starting at 2 mm).
     #[arg(long, default_value_t = 6)]
     pub max_levels: usize,
     /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order).
+    /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)
+    /// and write the plot of error against dofs and time (see --plot).
     #[arg(long)]
     pub convergence: bool,
+    /// Where --convergence writes its SVG plot.
+    #[arg(long, value_name = "SVG", default_value = "fe-convergence.svg", requires = "convergence")]
+    pub plot: PathBuf,
 }
 
 #[derive(Debug, Args)]

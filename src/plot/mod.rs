@@ -4,6 +4,8 @@
 //! softness, design family), so they look alike and stay deterministic: the same data gives the
 //! same bytes.
 
+mod layout;
 mod xy;
 
+pub use layout::side_by_side;
 pub use xy::{xy_svg, Axis, Series, Style, XyPlot};

@@ -75,6 +75,23 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// The corner whose legend box (`box_w` x `box_h`, fractions of the plot area) covers the fewest
+/// data points, so the legend hides as little as it can.
+fn emptiest_corner<'a>(points: impl Iterator<Item = &'a (f64, f64)>, x: (f64, f64, bool), y: (f64, f64, bool), box_w: f64, box_h: f64) -> SeriesLabelPosition {
+    let unit = |v: f64, (lo, hi, log): (f64, f64, bool)| if log { (v / lo).ln() / (hi / lo).ln() } else { (v - lo) / (hi - lo) };
+    // upper right, upper left, lower right, lower left
+    let mut count = [0usize; 4];
+    for (u, v) in points.map(|p| (unit(p.0, x), unit(p.1, y))) {
+        let (right, left, upper, lower) = (u >= 1.0 - box_w, u <= box_w, v >= 1.0 - box_h, v <= box_h);
+        for (i, inside) in [right && upper, left && upper, right && lower, left && lower].into_iter().enumerate() {
+            count[i] += inside as usize;
+        }
+    }
+    let corners = [SeriesLabelPosition::UpperRight, SeriesLabelPosition::UpperLeft, SeriesLabelPosition::LowerRight, SeriesLabelPosition::LowerLeft];
+    let best = (0..4).min_by_key(|&i| count[i]).unwrap_or(0);
+    corners[best].clone()
+}
+
 /// Draw `plot` at `width` x `height` pixels and return the SVG text.
 ///
 /// Points that cannot be drawn (NaN, or <= 0 on a log axis) are skipped, never an error: a plot
@@ -91,6 +108,23 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
         let all = || plot.series.iter().flat_map(|s| s.points.iter()).filter(|p| drawable(p));
         let (x0, x1) = range(all().map(|p| p.0), plot.x.log);
         let (y0, y1) = range(all().map(|p| p.1), plot.y.log);
+        // Legend box size as plotters lays it out (about 6 px per character, 15 px per row).
+        let longest = plot.series.iter().map(|s| s.name.chars().count()).max().unwrap_or(0) as f64;
+        let box_w = ((longest * 6.5 + 60.0) / (width as f64 - 76.0)).min(1.0);
+        let box_h = ((plot.series.len() as f64 * 15.0 + 15.0) / (height as f64 - 80.0)).min(1.0);
+        // Lines count too: a few points along every drawn segment.
+        let mut samples: Vec<(f64, f64)> = all().copied().collect();
+        for s in plot.series.iter().filter(|s| s.style != Style::Markers) {
+            let pts: Vec<&(f64, f64)> = s.points.iter().filter(|p| drawable(p)).collect();
+            for w in pts.windows(2) {
+                let lerp = |a: f64, b: f64, t: f64, log: bool| if log { a * (b / a).powf(t) } else { a + (b - a) * t };
+                samples.extend((1..8).map(|k| {
+                    let t = k as f64 / 8.0;
+                    (lerp(w[0].0, w[1].0, t, plot.x.log), lerp(w[0].1, w[1].1, t, plot.y.log))
+                }));
+            }
+        }
+        let legend_corner = emptiest_corner(samples.iter(), (x0, x1, plot.x.log), (y0, y1, plot.y.log), box_w, box_h);
         let mut builder = ChartBuilder::on(&root);
         builder.caption(&plot.title, ("sans-serif", 18)).margin(12).x_label_area_size(42).y_label_area_size(64);
         macro_rules! draw {
@@ -119,7 +153,7 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                         .configure_series_labels()
                         .background_style(WHITE.mix(0.85))
                         .border_style(BLACK.mix(0.4))
-                        .position(SeriesLabelPosition::UpperRight)
+                        .position(legend_corner)
                         .draw();
                 }
             }};

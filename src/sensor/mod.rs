@@ -10,7 +10,9 @@ mod geometry;
 mod readout;
 mod scene;
 mod evaluate;
+mod convergence_plot;
 
+pub use convergence_plot::convergence_svg;
 pub use evaluate::{evaluate, evaluate_many, LevelRecord, ModelInfo, SceneReport};
 pub use geometry::{ElectrodeArea, SensorGeometry, SupportSide};
 pub use readout::{ElectrodeReading, Readout};
