@@ -26,6 +26,9 @@
 //!    electrodes, polygon validity) and returns violations as values; the process file may waive
 //!    codes on purpose.
 //! 7. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp.
+//! 8. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
+//!    provenance, targets, hold points, a cross-section after each step, checks, FE summary) as
+//!    Markdown and HTML, and `tactfab build`'s in-memory build and `build.json` summary.
 //!
 //! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
 //! The FE model takes its electrodes from the PVDF mask, so what is simulated is what is drawn.
@@ -54,5 +57,6 @@ pub mod fe;
 pub mod layout;
 pub mod plot;
 pub mod process;
+pub mod report;
 pub mod sensor;
 pub mod units;

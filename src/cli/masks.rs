@@ -34,12 +34,7 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
     let set = tactfab::layout::build(p, &plan)?;
     let drc = tactfab::drc::check(&set, p, &plan);
 
-    let epoch = match std::env::var("SOURCE_DATE_EPOCH") {
-        Ok(s) if !s.trim().is_empty() => {
-            Some(s.trim().parse::<i64>().with_context(|| format!("SOURCE_DATE_EPOCH=`{s}` is not an integer number of seconds"))?)
-        }
-        _ => None,
-    };
+    let epoch = super::source_date_epoch()?;
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     let formats = if args.format.is_empty() { vec![Format::Gds, Format::Svg] } else { args.format.clone() };
     if formats.contains(&Format::Gds) {

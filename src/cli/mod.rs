@@ -1,10 +1,12 @@
 //! Command-line types and dispatch; each subcommand lives in its own file.
 
+mod build;
 mod check;
 mod etch;
 mod fe;
 mod masks;
 mod output;
+mod traveler;
 
 use std::path::PathBuf;
 
@@ -44,6 +46,10 @@ enum Command {
     Fe(FeArgs),
     /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
     Masks(MasksArgs),
+    /// Everything for one process file into DIR: etch plan, masks, DRC, FE checks, traveler, build.json.
+    Build(BuildArgs),
+    /// The process traveler (run sheet) as Markdown and a self-contained HTML page.
+    Traveler(TravelerArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -109,6 +115,43 @@ pub struct MasksArgs {
     pub format: Vec<masks::Format>,
 }
 
+/// FE settings shared by `build` and `traveler`.
+#[derive(Debug, Args)]
+pub struct FeSettings {
+    /// Relative error each declared scene is refined to (estimated from three meshes).
+    #[arg(long, default_value_t = 0.01)]
+    pub tol: f64,
+    /// Most mesh levels to try (each halves the element size, starting at 1 mm).
+    #[arg(long, default_value_t = 6)]
+    pub max_levels: usize,
+}
+
+#[derive(Debug, Args)]
+pub struct BuildArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory, written atomically; an existing one is replaced only if it holds a
+    /// previous build (`build.json`) or is empty.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub fe: FeSettings,
+}
+
+#[derive(Debug, Args)]
+pub struct TravelerArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output path: writes PATH.md and PATH.html (a `.md` or `.html` extension is replaced).
+    #[arg(short = 'o', long = "out", value_name = "PATH")]
+    pub out: PathBuf,
+    /// Skip the FE solves: the traveler says the sensitivity was not computed.
+    #[arg(long)]
+    pub no_fe: bool,
+    #[command(flatten)]
+    pub fe: FeSettings,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -121,6 +164,8 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Etch(a) => etch::run(&a),
         Command::Fe(a) => fe::run(&a),
         Command::Masks(a) => masks::run(&a),
+        Command::Build(a) => build::run(&a),
+        Command::Traveler(a) => traveler::run(&a),
     }
 }
 
@@ -133,4 +178,55 @@ pub fn load(args: &ProcessArgs) -> anyhow::Result<tactfab::process::Loaded> {
 pub fn electrodes(p: &tactfab::process::Process, plan: &tactfab::etch::EtchPlan) -> anyhow::Result<Vec<tactfab::sensor::ElectrodeArea>> {
     let masks = tactfab::layout::build(p, plan).map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(tactfab::sensor::SensorGeometry::electrodes_from_masks(&masks))
+}
+
+/// SOURCE_DATE_EPOCH for GDS dates, if set (reproducible builds); an unparsable value is an error.
+pub fn source_date_epoch() -> anyhow::Result<Option<i64>> {
+    use anyhow::Context;
+    match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(s) if !s.trim().is_empty() => {
+            Ok(Some(s.trim().parse::<i64>().with_context(|| format!("SOURCE_DATE_EPOCH=`{s}` is not an integer number of seconds"))?))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// Validates FE settings given on the command line.
+pub fn fe_options(s: &FeSettings) -> anyhow::Result<tactfab::report::FeOptions> {
+    if !(s.tol > 0.0 && s.tol < 1.0) {
+        anyhow::bail!("--tol {}: expected a relative error between 0 and 1, e.g. 0.01", s.tol);
+    }
+    if s.max_levels == 0 {
+        anyhow::bail!("--max-levels 0: expected at least 1 mesh level");
+    }
+    Ok(tactfab::report::FeOptions { tol_rel: s.tol, max_levels: s.max_levels })
+}
+
+/// A spinner on stderr when it is a terminal; nothing otherwise.
+pub struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    pub fn new() -> Self {
+        use std::io::IsTerminal;
+        if std::io::stderr().is_terminal() {
+            let bar = indicatif::ProgressBar::new_spinner();
+            bar.enable_steady_tick(std::time::Duration::from_millis(120));
+            Progress(Some(bar))
+        } else {
+            Progress(None)
+        }
+    }
+    pub fn stage(&self, s: tactfab::report::Stage) {
+        if let Some(b) = &self.0 {
+            b.set_message(s.label());
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+        }
+    }
 }

@@ -2,6 +2,7 @@
 //! KLayout layer-properties file ([`lyp`]). This is the only place where f64 um become integer nm
 //! (database unit 1 nm, user unit 1 um).
 
+pub mod dir;
 pub mod gds;
 pub mod lyp;
 pub mod svg;

@@ -2,6 +2,7 @@
 //! plus property tests of the library.
 
 mod bad_input;
+mod build;
 mod harness;
 mod masks;
 mod process_cli;

@@ -1,0 +1,55 @@
+//! `tactfab build FILE -o DIR`: everything for one process file, written atomically.
+
+use anyhow::Context;
+
+use tactfab::export::dir::write_dir_atomic;
+use tactfab::report::{build, summary, Options};
+
+use super::{fe_options, load, source_date_epoch, BuildArgs, Outcome, Progress};
+
+/// The summary's name; also the marker that lets a later build replace DIR.
+pub const SUMMARY: &str = "build.json";
+
+pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
+    let loaded = load(&args.process)?;
+    let opts = Options {
+        process_file: args.process.file.display().to_string(),
+        fe: Some(fe_options(&args.fe)?),
+        gds_epoch_s: source_date_epoch()?,
+    };
+    let built = {
+        let progress = Progress::new();
+        build(&loaded, &opts, &mut |s| progress.stage(s))?
+    };
+    let mut files = built.files();
+    let s = summary(&built, &opts.process_file, &files);
+    files.push((SUMMARY.to_string(), (serde_json::to_string_pretty(&s)? + "\n").into_bytes()));
+    write_dir_atomic(&args.out, &files, SUMMARY).with_context(|| format!("cannot write {}", args.out.display()))?;
+
+    let mut out = String::new();
+    let errors = built.plan.warnings.iter().filter(|c| c.is_error()).count();
+    out.push_str(&format!("{} rev {}: {} files in {}\n", s.device, s.revision, files.len(), args.out.display()));
+    out.push_str(&format!("  checks: {errors} errors, {} warnings (see the traveler)\n", built.plan.warnings.len() - errors));
+    out.push_str(&format!("  DRC: {} violations, {} failing\n", s.drc_violations, s.drc_failing));
+    match &built.fe {
+        Some(fe) => {
+            for sc in &fe.scenes {
+                let limits = if sc.limits.is_empty() { "no limits".to_string() } else { sc.limits.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ") };
+                out.push_str(&format!("  FE `{}`: {:.3} mV/N ({}), safety factor {:.2}; {}\n", sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, sc.safety_factor, limits));
+            }
+        }
+        None => out.push_str("  FE: no scenes declared in checks.scenes\n"),
+    }
+    let (_, html) = built.traveler_names();
+    out.push_str(&format!("  traveler: {}\n", args.out.join(html).display()));
+    if s.failures.is_empty() {
+        out.push_str("build passed\n");
+    } else {
+        out.push_str(&format!("build FAILED: {} checks\n", s.failures.len()));
+        for f in &s.failures {
+            out.push_str(&format!("  FAIL: {f}\n"));
+        }
+    }
+    print!("{out}");
+    Ok(if s.passed { Outcome::Ok } else { Outcome::CheckFailed })
+}

@@ -1,0 +1,200 @@
+//! Everything for one process file, in memory: etch plan, masks (GDS, .lyp, SVG), DRC, the FE
+//! checks the file declares, the traveler (Markdown and HTML). Nothing is written here: the
+//! caller writes [`Built::files`] atomically, so a failure leaves no partial output.
+
+use geo::BoundingRect;
+
+use crate::drc::DrcReport;
+use crate::etch::EtchPlan;
+use crate::export::gds::GdsOptions;
+use crate::export::svg::path_data;
+use crate::export::{nm, um_text, ExportError};
+use crate::layout::{LayerKind, LayoutError, MaskSet};
+use crate::process::Loaded;
+use crate::sensor::{evaluate_many, SceneReport, SensorGeometry};
+
+use super::fe::{summarise, FeSummary};
+use super::html::{html, Figures};
+use super::inventory::{inventory, Inventory};
+use super::markdown::markdown;
+use super::traveler::{traveler, Traveler, TravelerInput};
+
+/// Why nothing could be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error("drc.waive: unknown rule code(s) {codes}\n  hint: codes are {known}")]
+    UnknownWaivers { codes: String, known: String },
+    #[error("layout: {0}")]
+    Layout(#[from] LayoutError),
+    #[error("export: {0}\n  hint: a coordinate or file could not be written; check the geometry and the output path")]
+    Export(#[from] ExportError),
+    #[error("finite-element solve failed: {0}")]
+    Fe(#[from] crate::fe::FeError),
+    #[error("JSON: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
+/// FE settings for the declared scenes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeOptions {
+    /// Relative error each scene is refined to (three-mesh estimate).
+    pub tol_rel: f64,
+    pub max_levels: usize,
+}
+
+/// What to build.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// The process file as the user named it (printed in the traveler).
+    pub process_file: String,
+    /// None: skip FE (the traveler says so).
+    pub fe: Option<FeOptions>,
+    /// GDS modification/access dates; None writes zeros (reproducible).
+    pub gds_epoch_s: Option<i64>,
+}
+
+/// Stages, for progress reporting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    Masks,
+    Drc,
+    /// FE solve of this many scenes (the long one).
+    Fe(usize),
+    Traveler,
+}
+
+impl Stage {
+    pub fn label(self) -> String {
+        match self {
+            Stage::Masks => "etch plan and masks".into(),
+            Stage::Drc => "DRC".into(),
+            Stage::Fe(n) => format!("FE: {n} scenes"),
+            Stage::Traveler => "traveler".into(),
+        }
+    }
+}
+
+/// Everything computed.
+#[derive(Debug, Clone)]
+pub struct Built {
+    pub plan: EtchPlan,
+    pub set: MaskSet,
+    pub drc: DrcReport,
+    /// `<device>.gds`, `<device>.lyp`, `<device>-<mask>.svg` in inventory order.
+    pub mask_files: Vec<(String, Vec<u8>)>,
+    pub inventory: Inventory,
+    /// Full FE reports (with timings) and their deterministic summary.
+    pub fe_reports: Vec<SceneReport>,
+    pub fe: Option<FeSummary>,
+    pub traveler: Traveler,
+    pub markdown: String,
+    pub html: String,
+    /// `tactfab etch --json` of the plan.
+    pub plan_json: String,
+}
+
+impl Built {
+    /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations,
+    /// declared FE limits.
+    pub fn failures(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.plan.warnings.iter().filter(|c| c.is_error()).map(|c| format!("etch plan: {c}")).collect();
+        for x in self.drc.violations.iter().filter(|x| !x.waived) {
+            v.push(format!("DRC: {x}"));
+        }
+        if let Some(fe) = &self.fe {
+            v.extend(fe.failures());
+        }
+        v
+    }
+
+    /// File names of the traveler.
+    pub fn traveler_names(&self) -> (String, String) {
+        (format!("{}-traveler.md", self.set.device), format!("{}-traveler.html", self.set.device))
+    }
+
+    /// Every output file except the summary: masks, etch plan, DRC report, traveler.
+    pub fn files(&self) -> Vec<(String, Vec<u8>)> {
+        let mut files = self.mask_files.clone();
+        let d = &self.set.device;
+        files.push((format!("{d}-etch-plan.json"), self.plan_json.clone().into_bytes()));
+        files.push((format!("{d}-drc.txt"), self.drc.summary(usize::MAX).into_bytes()));
+        let (md, html) = self.traveler_names();
+        files.push((md, self.markdown.clone().into_bytes()));
+        files.push((html, self.html.clone().into_bytes()));
+        files
+    }
+}
+
+/// Builds everything for `loaded`; `progress` hears each stage as it starts.
+pub fn build(loaded: &Loaded, opts: &Options, progress: &mut dyn FnMut(Stage)) -> Result<Built, ReportError> {
+    let p = &loaded.process;
+    let unknown = crate::drc::unknown_waivers(p);
+    if !unknown.is_empty() {
+        return Err(ReportError::UnknownWaivers {
+            codes: unknown.join(", "),
+            known: crate::drc::CODES.iter().map(|(c, _)| *c).collect::<Vec<_>>().join(", "),
+        });
+    }
+    progress(Stage::Masks);
+    let plan = crate::etch::plan(p);
+    let set = crate::layout::build(p, &plan)?;
+    let gds = set.to_gds(&GdsOptions { date_epoch_s: opts.gds_epoch_s })?;
+    let svgs: Vec<String> = set.masks.iter().map(|m| set.to_svg(m)).collect::<Result<_, _>>()?;
+    let inv = inventory(&set, &gds, &svgs);
+    let mut mask_files = vec![(inv.gds_file.clone(), gds), (inv.lyp_file.clone(), set.to_lyp().into_bytes())];
+    for (m, svg) in inv.masks.iter().zip(&svgs) {
+        mask_files.push((m.svg_file.clone(), svg.clone().into_bytes()));
+    }
+    progress(Stage::Drc);
+    let drc = crate::drc::check(&set, p, &plan);
+
+    let scenes = &p.checks.scenes;
+    let (fe_reports, fe) = match opts.fe {
+        Some(o) if !scenes.is_empty() => {
+            progress(Stage::Fe(scenes.len()));
+            let geometry = SensorGeometry::new(p, &plan, SensorGeometry::electrodes_from_masks(&set));
+            let reports = evaluate_many(&geometry, scenes, o.tol_rel, o.max_levels)?;
+            let summary = summarise(scenes, &reports, o.tol_rel, o.max_levels);
+            (reports, Some(summary))
+        }
+        _ => (Vec::new(), None),
+    };
+
+    progress(Stage::Traveler);
+    let figures = Figures { masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(), tooth: tooth_svg(&set)? };
+    let t = traveler(TravelerInput {
+        process: p,
+        process_file: &opts.process_file,
+        defaults_used: &loaded.defaults_used,
+        overrides: &loaded.overrides,
+        plan: &plan,
+        set: &set,
+        drc: &drc,
+        inventory: inv.clone(),
+        fe: fe.clone(),
+    });
+    let md = markdown(&t);
+    let page = html(&t, &figures);
+    let mut v = serde_json::to_value(&plan)?;
+    v["defaults_used"] = serde_json::to_value(&loaded.defaults_used)?;
+    let plan_json = serde_json::to_string_pretty(&v)? + "\n";
+    Ok(Built { plan, set, drc, mask_files, inventory: inv, fe_reports, fe, traveler: t, markdown: md, html: page, plan_json })
+}
+
+/// One tooth of the front mask (tooth top and compensators) as a small SVG, in um.
+fn tooth_svg(set: &MaskSet) -> Result<Option<String>, ExportError> {
+    let Some(cell) = set.tooth_cell.as_ref() else { return Ok(None) };
+    let polys = set.flatten(cell, LayerKind::FrontSi);
+    let Some(r) = geo::MultiPolygon::new(polys.clone()).bounding_rect() else { return Ok(None) };
+    let m = 0.05 * (r.width().max(r.height()));
+    let (x0, y0) = (r.min().x - m, r.min().y - m);
+    let shifted: Vec<geo::Polygon> = polys.iter().map(|p| geo::MapCoords::map_coords(p, |c| geo::coord! { x: c.x - x0, y: c.y - y0 })).collect();
+    let (w, h) = (r.width() + 2.0 * m, r.height() + 2.0 * m);
+    let h_nm = i64::from(nm(h)?);
+    Ok(Some(format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {} {}\" role=\"img\"><title>tooth with compensators</title><path d=\"{}\" fill=\"#3c6fb4\" stroke=\"none\"/></svg>",
+        um_text(i64::from(nm(w)?)),
+        um_text(h_nm),
+        path_data(&shifted, h_nm)?
+    )))
+}

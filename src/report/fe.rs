@@ -1,0 +1,169 @@
+//! The FE sensitivity summary of the declared scenes: the deterministic part of each
+//! [`SceneReport`] with its limits checked, and its plots. Solve times stay out (see
+//! [`timings_ms`]): the traveler must be byte-identical for the same input.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
+use crate::process::{Scene, SceneLoad};
+use crate::sensor::SceneReport;
+
+use super::limits::{check_limits, LimitCheck};
+
+/// One electrode's reading.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FeElectrode {
+    pub name: String,
+    pub charge_pc: f64,
+    pub voltage_mv: f64,
+}
+
+/// One scene: load, model, results and limits (no timings).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FeScene {
+    pub name: String,
+    pub load: String,
+    pub force_n: f64,
+    /// `plate` or `direct`.
+    pub model: String,
+    pub elements: usize,
+    pub dofs: usize,
+    pub levels: usize,
+    pub error_estimate: Option<f64>,
+    pub converged: bool,
+    pub deflection_at_load_um: f64,
+    pub max_deflection_um: f64,
+    pub max_stress_mpa: f64,
+    pub safety_factor: f64,
+    pub max_permissible_load_n: f64,
+    pub sensitivity_mv_per_n: f64,
+    pub most_sensitive: String,
+    pub electrodes: Vec<FeElectrode>,
+    pub limits: Vec<LimitCheck>,
+    pub warnings: Vec<String>,
+    /// (largest element um, deflection at the load per newton um/N) per mesh level: the
+    /// convergence the error estimate is made from.
+    pub deflection_by_level: Vec<(f64, f64)>,
+}
+
+impl FeScene {
+    pub fn passed(&self) -> bool {
+        self.limits.iter().all(|l| l.passed)
+    }
+}
+
+/// Every declared scene, solved to `tol_rel`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FeSummary {
+    pub tol_rel: f64,
+    pub max_levels: usize,
+    pub scenes: Vec<FeScene>,
+}
+
+impl FeSummary {
+    /// Failing limits as `scene `name`: what` lines.
+    pub fn failures(&self) -> Vec<String> {
+        self.scenes.iter().flat_map(|s| s.limits.iter().filter(|l| !l.passed).map(move |l| format!("scene `{}`: {l}", s.name))).collect()
+    }
+}
+
+/// The load in words, die coordinates in mm.
+pub fn describe_load(load: &SceneLoad) -> String {
+    match load {
+        SceneLoad::Point { x_um, y_um, force_n, radius_um } => {
+            format!("{force_n} N at ({}, {}) mm, contact radius {} mm", x_um / 1000.0, y_um / 1000.0, radius_um / 1000.0)
+        }
+        SceneLoad::Pressure { force_n, region: None } => format!("{force_n} N uniform pressure over the plate"),
+        SceneLoad::Pressure { force_n, region: Some(r) } => format!(
+            "{force_n} N uniform pressure over x {}..{} mm, y {}..{} mm",
+            r.x0_um / 1000.0,
+            r.x1_um / 1000.0,
+            r.y0_um / 1000.0,
+            r.y1_um / 1000.0
+        ),
+        SceneLoad::Probe { x_um, y_um, width_um, height_um, angle_deg, force_n } => format!(
+            "{force_n} N probe {} x {} mm at ({}, {}) mm, {angle_deg} deg",
+            width_um / 1000.0,
+            height_um / 1000.0,
+            x_um / 1000.0,
+            y_um / 1000.0
+        ),
+        SceneLoad::Line { y_um, force_n } => format!("{force_n} N line load along x at y = {} mm", y_um / 1000.0),
+    }
+}
+
+/// The summary of `reports`, solved for `scenes` in the same order.
+#[track_caller]
+pub fn summarise(scenes: &[Scene], reports: &[SceneReport], tol_rel: f64, max_levels: usize) -> FeSummary {
+    assert_eq!(scenes.len(), reports.len(), "one report per scene");
+    let scenes = scenes
+        .iter()
+        .zip(reports)
+        .map(|(s, r)| FeScene {
+            name: r.scene.clone(),
+            load: describe_load(&s.load),
+            force_n: r.force_n,
+            model: r.model.kind.clone(),
+            elements: r.model.elements,
+            dofs: r.model.dofs,
+            levels: r.model.levels,
+            error_estimate: r.error_estimate,
+            converged: r.converged,
+            deflection_at_load_um: r.deflection_at_load_um,
+            max_deflection_um: r.max_deflection_um,
+            max_stress_mpa: r.max_stress_mpa,
+            safety_factor: r.safety_factor,
+            max_permissible_load_n: r.max_permissible_load_n,
+            sensitivity_mv_per_n: r.sensitivity_mv_per_n,
+            most_sensitive: r.most_sensitive.clone(),
+            electrodes: r.electrodes.iter().map(|e| FeElectrode { name: e.name.clone(), charge_pc: e.charge_pc, voltage_mv: e.voltage_mv }).collect(),
+            limits: check_limits(r, &s.limits),
+            warnings: r.warnings.clone(),
+            deflection_by_level: r.convergence.iter().map(|l| (l.max_element_um, l.deflection_at_load_um / r.force_n)).collect(),
+        })
+        .collect();
+    FeSummary { tol_rel, max_levels, scenes }
+}
+
+/// Wall time per scene (ms): for the build summary's `timings_ms` only, never the traveler.
+/// Scenes solved together share their meshes and report the same total.
+pub fn timings_ms(reports: &[SceneReport]) -> BTreeMap<String, f64> {
+    reports.iter().map(|r| (r.scene.clone(), r.solve_ms)).collect()
+}
+
+/// Plots of the summary: voltage per newton by electrode, and deflection per newton by mesh level.
+pub fn plots(fe: &FeSummary) -> Vec<(String, String)> {
+    let names: Vec<String> = fe.scenes.first().map(|s| s.electrodes.iter().map(|e| e.name.clone()).collect()).unwrap_or_default();
+    let volts = XyPlot {
+        title: "voltage per newton by electrode".into(),
+        x: Axis::linear(format!("electrode 1-{}: {}", names.len(), names.join(" "))),
+        y: Axis::linear("V/F (mV/N)"),
+        series: fe
+            .scenes
+            .iter()
+            .map(|s| Series {
+                name: s.name.clone(),
+                points: s.electrodes.iter().enumerate().map(|(i, e)| ((i + 1) as f64, e.voltage_mv / s.force_n)).collect(),
+                style: Style::LineAndMarkers,
+            })
+            .collect(),
+    };
+    let conv = XyPlot {
+        title: "deflection at the load per newton by mesh level".into(),
+        x: Axis::log("largest element (um)"),
+        y: Axis::linear("deflection / F (um/N)"),
+        series: fe
+            .scenes
+            .iter()
+            .filter(|s| s.deflection_by_level.len() > 1)
+            .map(|s| Series { name: s.name.clone(), points: s.deflection_by_level.clone(), style: Style::LineAndMarkers })
+            .collect(),
+    };
+    let mut out = vec![(volts.title.clone(), xy_svg(&volts, 640, 320))];
+    if !conv.series.is_empty() {
+        out.push((conv.title.clone(), xy_svg(&conv, 640, 320)));
+    }
+    out
+}

@@ -1,0 +1,24 @@
+//! Reports of a process: the traveler (run sheet) as Markdown and self-contained HTML, and the
+//! one-command build with its JSON summary.
+//!
+//! [`build::build`] computes everything in memory (plan, masks, DRC, FE of the declared scenes,
+//! traveler); [`traveler`] is the run sheet as data, [`markdown`] and [`html`] format it,
+//! [`section`] draws the cross-section after each step from the etch plan, [`inventory`] lists
+//! the masks with their SHA-256, [`fe`] summarises the FE scenes, [`limits`] checks their
+//! pass/fail limits, [`summary`] is `build.json`. Outputs are byte-identical for the same input;
+//! FE wall times appear only in `build.json` under `timings_ms`.
+
+pub mod build;
+pub mod fe;
+pub mod html;
+pub mod inventory;
+pub mod limits;
+pub mod markdown;
+pub mod section;
+pub mod summary;
+pub mod traveler;
+
+pub use build::{build, Built, FeOptions, Options, ReportError, Stage};
+pub use limits::{check_limits, limit_failures, LimitCheck};
+pub use summary::{summary, BuildSummary};
+pub use traveler::Traveler;

@@ -1,0 +1,65 @@
+//! `build.json`: the machine-readable summary of a build. Everything in it is deterministic
+//! except `timings_ms` (wall times of the FE solves), which tools must not compare.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::etch::Check;
+
+use super::build::Built;
+use super::fe::{timings_ms, FeSummary};
+use super::inventory::{sha256_hex, Inventory};
+
+/// One file written by the build.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FileEntry {
+    pub name: String,
+    pub bytes: usize,
+    pub sha256: String,
+}
+
+/// The summary. Field names are a stable contract.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BuildSummary {
+    pub device: String,
+    pub revision: String,
+    pub process_file: String,
+    pub passed: bool,
+    /// Why it failed, one line each (etch-plan errors, DRC, FE limits).
+    pub failures: Vec<String>,
+    pub checks: Vec<Check>,
+    pub drc_passed: bool,
+    pub drc_violations: usize,
+    pub drc_failing: usize,
+    pub masks: Inventory,
+    pub plate_thickness_um: f64,
+    pub fe: Option<FeSummary>,
+    /// Every other file of the build, sorted by name.
+    pub files: Vec<FileEntry>,
+    /// NOT deterministic: wall time of each scene's FE solve (ms). Excluded from comparisons.
+    pub timings_ms: BTreeMap<String, f64>,
+}
+
+/// The summary of `built` whose other files are `files`.
+pub fn summary(built: &Built, process_file: &str, files: &[(String, Vec<u8>)]) -> BuildSummary {
+    let failures = built.failures();
+    let mut entries: Vec<FileEntry> = files.iter().map(|(n, b)| FileEntry { name: n.clone(), bytes: b.len(), sha256: sha256_hex(b) }).collect();
+    entries.sort_by(|a, b| a.name.cmp(&b.name));
+    BuildSummary {
+        device: built.set.device.clone(),
+        revision: built.set.revision.clone(),
+        process_file: process_file.to_string(),
+        passed: failures.is_empty(),
+        failures,
+        checks: built.traveler.checks.clone(),
+        drc_passed: built.drc.passed(),
+        drc_violations: built.drc.violations.len(),
+        drc_failing: built.drc.failing(),
+        masks: built.inventory.clone(),
+        plate_thickness_um: built.plan.plate_thickness_um,
+        fe: built.fe.clone(),
+        files: entries,
+        timings_ms: timings_ms(&built.fe_reports),
+    }
+}

@@ -1,0 +1,630 @@
+//! The traveler (run sheet) as data: header, starting material, masks, one row per step with what
+//! tactfab computed and its provenance, hold points, the stack after each step, checks, the places
+//! where the source disagrees with the computation, the FE summary and the compensation design.
+//! The writers ([`super::markdown`], [`super::html`]) only format it.
+
+use serde::Serialize;
+
+use crate::drc::DrcReport;
+use crate::etch::{Check, EtchPlan, EtchStep};
+use crate::layout::MaskSet;
+use crate::process::{Process, Provenance, Side, StepParams};
+
+use super::fe::FeSummary;
+use super::inventory::Inventory;
+use super::section::{stacks, Cut, Stack};
+
+/// Oxide thickness tolerance: the 5 % the plan's OXIDE_CLAIM check allows.
+pub const OXIDE_TOL_REL: f64 = 0.05;
+/// Etch depth tolerance: the 1 % beyond which the plan calls a depth "not what was asked".
+pub const DEPTH_TOL_REL: f64 = 0.01;
+/// Plate tolerance: the 5 % of the plan's PLATE_TOLERANCE check.
+pub const PLATE_TOL_REL: f64 = 0.05;
+/// Resist thickness tolerance [choice]: spin-coat repeatability of a few %; 10 % flags a wrong speed.
+pub const RESIST_TOL_REL: f64 = 0.10;
+/// Stop for a depth measurement at this fraction of the computed time (process-physics.md).
+pub const HOLD_FRACTION: f64 = 0.9;
+/// Oxide left after the silicon etch must stay above this share of the grown oxide
+/// (the plan's MASK_MARGIN_LOW threshold).
+pub const MASK_MARGIN_REL: f64 = 0.25;
+
+/// A computed number and where it comes from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Computed {
+    pub what: String,
+    pub value: String,
+    pub provenance: String,
+}
+
+/// What the operator measures against.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Target {
+    pub quantity: String,
+    /// `200.0 um +/- 2.0 um`.
+    pub value: String,
+    /// Why this tolerance.
+    pub basis: String,
+}
+
+/// One process step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepRow {
+    pub number: usize,
+    pub name: String,
+    /// The step kind in words.
+    pub process: String,
+    pub equipment: String,
+    pub parameters: String,
+    pub computed: Vec<Computed>,
+    pub target: Option<Target>,
+    /// Hold point ids that belong to this step.
+    pub holds: Vec<String>,
+}
+
+/// A stop with engineer sign-off.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HoldPoint {
+    pub id: String,
+    /// Step name (or `start`).
+    pub step: String,
+    pub when: String,
+    pub measure: String,
+    pub accept: String,
+    pub then: String,
+}
+
+/// A number of the source against what tactfab computes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Discrepancy {
+    pub code: String,
+    pub quantity: String,
+    pub source_says: String,
+    pub computed: String,
+}
+
+/// The compensation design of a silicon etch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CompensationRow {
+    pub step: String,
+    pub geometry: String,
+    pub depth_um: f64,
+    pub ratio: f64,
+    pub side_um: f64,
+    pub reach_um: f64,
+    pub min_gap_um: f64,
+    /// Street between facing tooth corners the pitch leaves (x, y).
+    pub street_um: (f64, f64),
+    /// Side range for a TMAH test die when the ratio is the KOH rule.
+    pub test_die_um: Option<(f64, f64)>,
+}
+
+/// The whole traveler.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Traveler {
+    pub device: String,
+    pub revision: String,
+    pub description: String,
+    pub process_file: String,
+    /// Fields the fab fills in.
+    pub header_fields: Vec<String>,
+    pub material: Vec<(String, String)>,
+    pub inventory: Inventory,
+    pub steps: Vec<StepRow>,
+    pub holds: Vec<HoldPoint>,
+    pub cut: Cut,
+    pub stacks: Vec<Stack>,
+    /// Etch-plan checks, errors first, then by code (stable order).
+    pub checks: Vec<Check>,
+    pub drc_summary: String,
+    pub drc_passed: bool,
+    pub layout_warnings: Vec<(String, String)>,
+    pub discrepancies: Vec<Discrepancy>,
+    pub compensation: Vec<CompensationRow>,
+    pub defaults_used: Vec<Provenance>,
+    pub overrides: Vec<(String, String)>,
+    pub fe: Option<FeSummary>,
+}
+
+/// What the traveler is made from.
+pub struct TravelerInput<'a> {
+    pub process: &'a Process,
+    /// The process file as the user named it.
+    pub process_file: &'a str,
+    pub defaults_used: &'a [Provenance],
+    pub overrides: &'a [(String, String)],
+    pub plan: &'a EtchPlan,
+    pub set: &'a MaskSet,
+    pub drc: &'a DrcReport,
+    pub inventory: Inventory,
+    pub fe: Option<FeSummary>,
+}
+
+/// The YAML spelling of an enum value (its serde name).
+fn label<T: Serialize>(t: &T) -> String {
+    match serde_json::to_value(t) {
+        Ok(serde_json::Value::String(s)) => s,
+        other => format!("{other:?}"),
+    }
+}
+
+fn side(s: Side) -> &'static str {
+    match s {
+        Side::Front => "front",
+        Side::Back => "back",
+        Side::Both => "both sides",
+    }
+}
+
+/// Assembles the traveler.
+pub fn traveler(input: TravelerInput<'_>) -> Traveler {
+    let p = input.process;
+    let plan = input.plan;
+    let prov = |path: &str| -> String {
+        input.defaults_used.iter().find(|d| d.path == path).map(|d| format!("default: {}", d.source)).unwrap_or_else(|| "process file".into())
+    };
+    let mut holds: Vec<HoldPoint> = Vec::new();
+    let w = &p.wafer;
+    let two_sided = plan.steps.iter().any(|s| s.side == Side::Both) || (plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0);
+    holds.push(HoldPoint {
+        id: "H1".into(),
+        step: "start".into(),
+        when: "before the first step".into(),
+        measure: "wafer thickness w at the centre and 4 points 10 mm from the edge (um)".into(),
+        accept: format!("{} +/- {} um (supplier tolerance)", w.thickness_um, w.thickness_tolerance_um),
+        then: format!(
+            "the tolerance goes straight into the plate ({:.0}-{:.0} um with the recipe as written); record w: the etch hold points finish to the plate target",
+            plan.plate_range_um[0], plan.plate_range_um[1]
+        ),
+    });
+
+    let (mut ox, mut rs, mut oe, mut si) = (plan.oxidations.iter(), plan.resists.iter(), plan.oxide_etches.iter(), plan.steps.iter());
+    let mut steps = Vec::new();
+    for (i, s) in p.steps.iter().enumerate() {
+        let mut computed = Vec::new();
+        let mut target = None;
+        let mut step_holds = Vec::new();
+        let (process, parameters) = match &s.params {
+            StepParams::Clean(g) | StepParams::Mount(g) => {
+                let kind = if matches!(s.params, StepParams::Clean(_)) { "clean" } else { "mount on carrier" };
+                let mut v = Vec::new();
+                if let Some(t) = g.temp_c {
+                    v.push(format!("{t} C"));
+                }
+                if let Some(t) = g.time_min {
+                    v.push(format!("{t} min"));
+                }
+                (kind.to_string(), v.join(", "))
+            }
+            StepParams::Oxidation(o) => {
+                let params = format!("{} ambient, {} C, {} h", label(&o.ambient), o.temp_c, o.time_h);
+                if let Some(r) = ox.next() {
+                    computed.push(Computed {
+                        what: "oxide per face".into(),
+                        value: format!("{:.3} um", r.thickness_um),
+                        provenance: format!(
+                            "Deal-Grove x^2 + A x = B (t + tau), B = {:.4} um2/h, B/A = {:.3} um/h (Plummer, Deal & Griffin Table 6-2)",
+                            r.b_um2_per_h, r.b_over_a_um_per_h
+                        ),
+                    });
+                    computed.push(Computed {
+                        what: "Si consumed".into(),
+                        value: format!("{:.3} um", r.silicon_consumed_um),
+                        provenance: "0.44-0.46 x oxide (process-physics.md)".into(),
+                    });
+                    target = Some(Target {
+                        quantity: "oxide thickness (ellipsometer), each face".into(),
+                        value: format!("{:.3} um +/- {:.3} um", r.thickness_um, OXIDE_TOL_REL * r.thickness_um),
+                        basis: "Deal-Grove; 5 % as the OXIDE_CLAIM check".into(),
+                    });
+                    // The oxide must outlive the next silicon etch it masks.
+                    if let Some(e) = plan.steps.iter().find(|e| e.mask == crate::process::EtchMask::Oxide && e.mask_consumed_um > 0.0) {
+                        let need = e.mask_consumed_um / (1.0 - MASK_MARGIN_REL);
+                        let id = format!("H{}", holds.len() + 1);
+                        holds.push(HoldPoint {
+                            id: id.clone(),
+                            step: s.name.clone(),
+                            when: "after oxidation, before lithography".into(),
+                            measure: "oxide thickness on both faces (ellipsometer, 5 points)".into(),
+                            accept: format!(
+                                ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and {:.0} % must be left",
+                                e.name,
+                                e.mask_consumed_um,
+                                e.time_h,
+                                if e.etchant == "TMAH" { p.etchants.tmah_oxide_rate_um_per_h } else { p.etchants.koh_oxide_rate_um_per_h },
+                                MASK_MARGIN_REL * 100.0
+                            ),
+                            then: "below: oxidise longer (re-run the plan with the measured thickness as initial_oxide_um)".into(),
+                        });
+                        step_holds.push(id);
+                    }
+                }
+                (format!("thermal oxidation ({})", label(&o.ambient)), params)
+            }
+            StepParams::SpinCoat(c) => {
+                let params = format!("{}, {} rpm, {} s, {}, on {}", c.resist, c.speed_rpm, c.time_s, side(c.side), label(&c.substrate));
+                if let Some(r) = rs.next() {
+                    computed.push(Computed {
+                        what: "resist".into(),
+                        value: format!("{:.2} um", r.thickness_um),
+                        provenance: format!(
+                            "spin curve t = t_ref (rpm / rpm_ref)^-n: {} um at {} rpm ({}), n = {:.3} ({})",
+                            c.ref_thickness_um,
+                            c.ref_speed_rpm,
+                            prov(&format!("steps[{i}].ref_thickness_um")),
+                            c.spin_exponent,
+                            prov(&format!("steps[{i}].spin_exponent"))
+                        ),
+                    });
+                    target = Some(Target {
+                        quantity: "resist thickness".into(),
+                        value: format!("{:.2} um +/- {:.2} um", r.thickness_um, RESIST_TOL_REL * r.thickness_um),
+                        basis: "[choice] 10 %: a larger error means a wrong speed or resist".into(),
+                    });
+                }
+                ("spin coat".into(), params)
+            }
+            StepParams::Bake(b) => ("bake".into(), format!("{} C, {} min", b.temp_c, b.time_min)),
+            StepParams::Expose(e) => {
+                for name in &e.masks {
+                    if let Some(m) = input.inventory.masks.iter().find(|m| &m.name == name) {
+                        computed.push(Computed {
+                            what: format!("mask {name}"),
+                            value: format!("{}, {}, {} side{}", m.svg_file, m.tone, side(m.side), if m.mirrored { ", MIRRORED" } else { "" }),
+                            provenance: format!("GDS layer {} of {}", m.gds_layer, input.inventory.gds_file),
+                        });
+                    }
+                }
+                ("UV exposure".into(), format!("masks {}; {} s", e.masks.join(", "), e.time_s))
+            }
+            StepParams::Develop(d) => ("develop".into(), format!("{}, {} s", d.developer, d.time_s)),
+            StepParams::OxideEtch(e) => {
+                if let Some(r) = oe.next() {
+                    computed.push(Computed {
+                        what: "etch time".into(),
+                        value: format!("{:.1} min", r.time_min),
+                        provenance: format!(
+                            "{:.3} um oxide at {} um/min ({}) + {} % over-etch",
+                            r.oxide_um,
+                            r.rate_um_per_min,
+                            prov("etchants.boe_rate_um_per_min"),
+                            e.overetch_pct
+                        ),
+                    });
+                    target = Some(Target {
+                        quantity: "openings clear".into(),
+                        value: "0 um oxide in the openings (the surface dewets)".into(),
+                        basis: "a hard mask needs bare Si in every opening".into(),
+                    });
+                }
+                ("oxide etch".into(), format!("{}, {}, over-etch {} %", e.etchant, side(e.side), e.overetch_pct))
+            }
+            StepParams::SiliconEtch(e) => {
+                let params = format!(
+                    "{} {} wt %, {} C, {}, {} mask{}",
+                    e.etchant.label(),
+                    e.concentration_wt_pct,
+                    e.temp_c,
+                    side(e.side),
+                    label(&e.mask),
+                    e.time_h.map(|t| format!(", recipe time {t} h")).unwrap_or_default()
+                );
+                if let Some(r) = si.next() {
+                    silicon_rows(r, &mut computed);
+                    let tol = DEPTH_TOL_REL * r.depth_um;
+                    target = Some(Target {
+                        quantity: format!("etch depth per face ({})", side(r.side)),
+                        value: format!("{:.1} um +/- {:.1} um", r.depth_um, tol),
+                        basis: "1 %, as the ETCH_TIME_DEPTH_MISMATCH check".into(),
+                    });
+                    let id = format!("H{}", holds.len() + 1);
+                    let t_hold = HOLD_FRACTION * r.time_for_depth_h;
+                    let finish = if two_sided && plan.steps.len() == 1 {
+                        format!(
+                            "for the {} um plate finish to depth D = (w - {})/2 per face (w from H1), remaining time = {:.3} h x (D / d - 1)",
+                            plan.plate_target_um, plan.plate_target_um, t_hold
+                        )
+                    } else {
+                        format!("remaining time = {t_hold:.3} h x ({} um / d - 1)", r.depth_um)
+                    };
+                    holds.push(HoldPoint {
+                        id: id.clone(),
+                        step: r.name.clone(),
+                        when: format!(
+                            "at {:.0} % of the computed time: {:.3} h = {:.0} min (not the recipe's {} h)",
+                            HOLD_FRACTION * 100.0,
+                            t_hold,
+                            t_hold * 60.0,
+                            r.time_h
+                        ),
+                        measure: format!("etch depth d on each etched face (microscope focus or profilometer), expected {:.1} um", HOLD_FRACTION * r.depth_um),
+                        accept: format!("d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h", HOLD_FRACTION * r.depth_um, HOLD_FRACTION * tol),
+                        then: finish,
+                    });
+                    step_holds.push(id);
+                }
+                ("anisotropic Si etch".into(), params)
+            }
+            StepParams::Strip(st) => (format!("strip {}", label(&st.target)), st.chemistry.clone()),
+            StepParams::MetalEtch(m) => {
+                let n = input.set.electrodes.len();
+                target = Some(Target {
+                    quantity: "electrode islands".into(),
+                    value: format!("{n} isolated islands ({})", input.set.electrodes.iter().map(|e| e.name.as_str()).collect::<Vec<_>>().join(", ")),
+                    basis: "PVDF mask; check no continuity between neighbours".into(),
+                });
+                ("metal etch".into(), format!("{}, {} C, {} min", m.etchant, m.temp_c, m.time_min))
+            }
+            StepParams::Assemble(a) => {
+                let mut v = Vec::new();
+                if let Some(t) = a.temp_c {
+                    v.push(format!("{t} C"));
+                }
+                if let Some(t) = a.time_min {
+                    v.push(format!("{t} min"));
+                }
+                if a.wires > 0 {
+                    v.push(format!("{} wires", a.wires));
+                }
+                ("assemble".into(), v.join(", "))
+            }
+        };
+        let parameters = match (parameters.is_empty(), s.notes.is_empty()) {
+            (_, true) => parameters,
+            (true, false) => s.notes.clone(),
+            (false, false) => format!("{parameters}; {}", s.notes),
+        };
+        steps.push(StepRow { number: i + 1, name: s.name.clone(), process, equipment: s.equipment.clone(), parameters, computed, target, holds: step_holds });
+    }
+
+    if plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0 {
+        let id = format!("H{}", holds.len() + 1);
+        let last_si = plan.steps.last().map(|s| s.name.clone()).unwrap_or_default();
+        holds.push(HoldPoint {
+            id: id.clone(),
+            step: last_si.clone(),
+            when: "after the last silicon etch, before stripping the oxide".into(),
+            measure: "plate thickness = w - front depth - back depth (um)".into(),
+            accept: format!("{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)", plan.plate_target_um, PLATE_TOL_REL * plan.plate_target_um),
+            then: "thicker: etch on (both faces); thinner: record, the FE sensitivity scales with the plate".into(),
+        });
+        if let Some(row) = steps.iter_mut().rev().find(|r| r.name == last_si) {
+            row.holds.push(id);
+        }
+    }
+
+    let mut checks = plan.warnings.clone();
+    checks.sort_by(|a, b| b.severity.cmp(&a.severity).then(a.code.cmp(b.code)));
+    let material = vec![
+        ("wafer".to_string(), format!("({}) Si, {} +/- {} um, {} mm diameter", label(&w.orientation), w.thickness_um, w.thickness_tolerance_um, w.diameter_mm)),
+        ("die edges".to_string(), format!("along <{}>", label(&w.die_edge))),
+        ("die".to_string(), format!("{} x {} mm", p.geometry.die_length_um / 1000.0, p.geometry.die_width_um / 1000.0)),
+        ("PVDF film".to_string(), format!("{} um, metallised both sides, drawn axis (d31) along {}", p.materials.pvdf.thickness_um, label(&p.geometry.electrodes.drawn_axis))),
+        ("plate".to_string(), format!("target {} um; the recipe leaves {:.1} um ({:.0}-{:.0} um over the wafer tolerance)", plan.plate_target_um, plan.plate_thickness_um, plan.plate_range_um[0], plan.plate_range_um[1])),
+    ];
+    Traveler {
+        device: p.device.name.clone(),
+        revision: p.device.revision.clone(),
+        description: p.device.description.clone(),
+        process_file: input.process_file.to_string(),
+        header_fields: ["Lot ID", "Wafer ID(s)", "Start date", "End date", "Engineer", "Operator(s)"].iter().map(|s| s.to_string()).collect(),
+        material,
+        inventory: input.inventory,
+        steps,
+        holds,
+        cut: Cut::new(p, input.set),
+        stacks: stacks(p, plan),
+        checks,
+        drc_summary: input.drc.summary(10),
+        drc_passed: input.drc.passed(),
+        layout_warnings: input.set.warnings.iter().map(|w| (w.code.to_string(), w.message.clone())).collect(),
+        discrepancies: discrepancies(p, plan),
+        compensation: compensation(p, plan),
+        defaults_used: input.defaults_used.to_vec(),
+        overrides: input.overrides.to_vec(),
+        fe: input.fe,
+    }
+}
+
+/// The computed column of a silicon etch.
+fn silicon_rows(r: &EtchStep, c: &mut Vec<Computed>) {
+    let mut push = |what: &str, value: String, provenance: String| c.push(Computed { what: what.into(), value, provenance });
+    push("(100) rate", format!("{:.2} um/h", r.rate_um_per_h), format!("{}; model {:.2} um/h", r.rate_source, r.model_rate_um_per_h));
+    push("time for target", format!("{:.3} h", r.time_for_depth_h), format!("{} um / {:.2} um/h", r.depth_um, r.rate_um_per_h));
+    push("depth at run time", format!("{:.1} um", r.achieved_depth_um), format!("{:.3} h x {:.2} um/h", r.time_h, r.rate_um_per_h));
+    push("sidewall run-out", format!("{:.1} um", r.sidewall_run_out_um), "h / tan 54.74 deg ({111} sidewalls)".into());
+    push("undercut", format!("{:.1} um", r.undercut_um), format!("R111 t / sin 54.74 deg, R111 = {:.3} um/h", r.rate_111_um_per_h));
+    if let Some(b) = r.mesa_base_um {
+        push("tooth base", format!("{b:.1} um"), "top + 2 h / tan 54.74 deg".into());
+    }
+    let erosion = if r.time_h > 0.0 { r.mask_consumed_um / r.time_h } else { 0.0 };
+    push(
+        "mask erosion",
+        format!("{:.3} um consumed, {:.3} um left", r.mask_consumed_um, r.mask_remaining_um),
+        format!("{} mask at {erosion:.3} um/h for {:.3} h", label(&r.mask), r.time_h),
+    );
+    if let Some(k) = &r.compensation {
+        push("compensation square", format!("{:.1} um", k.side_um), format!("a = h / {} ({})", k.ratio, label(&k.kind)));
+    }
+}
+
+/// Numbers the process file takes from its source that the computation contradicts.
+pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
+    let mut v = Vec::new();
+    for o in &plan.oxidations {
+        if let (Some(e), Some(t)) = (o.expected_thickness_um, o.time_for_expected_h) {
+            if (o.thickness_um - e).abs() / e > OXIDE_TOL_REL {
+                v.push(Discrepancy {
+                    code: "OXIDE_CLAIM".into(),
+                    quantity: format!("oxide of `{}`", o.name),
+                    source_says: format!("{e} um in {} h at {} C", o.time_h, o.temp_c),
+                    computed: format!("{:.3} um (Deal-Grove); {e} um needs {t:.2} h", o.thickness_um),
+                });
+            }
+        }
+    }
+    for (s, e) in plan.steps.iter().zip(p.steps.iter().filter_map(|s| match &s.params {
+        StepParams::SiliconEtch(e) => Some(e),
+        _ => None,
+    })) {
+        if let Some(t) = e.time_h {
+            if (s.achieved_depth_um - s.depth_um).abs() / s.depth_um > DEPTH_TOL_REL {
+                v.push(Discrepancy {
+                    code: "ETCH_TIME_DEPTH_MISMATCH".into(),
+                    quantity: format!("etch time of `{}`", s.name),
+                    source_says: format!("{t} h for {} um per face at {} um/h", s.depth_um, s.rate_um_per_h),
+                    computed: format!("{:.3} h for {} um; {t} h etches {:.1} um", s.time_for_depth_h, s.depth_um, s.achieved_depth_um),
+                });
+            }
+        }
+    }
+    if !plan.steps.is_empty() && (plan.plate_thickness_um - plan.plate_target_um).abs() / plan.plate_target_um > DEPTH_TOL_REL {
+        v.push(Discrepancy {
+            code: "PLATE_THICKNESS_MISMATCH".into(),
+            quantity: "plate thickness".into(),
+            source_says: format!("{} um", plan.plate_target_um),
+            computed: format!(
+                "{:.1} um = {} - {:.1} - {:.1} um with the recipe's times",
+                plan.plate_thickness_um, plan.wafer_thickness_um, plan.front_depth_um, plan.back_depth_um
+            ),
+        });
+    }
+    for c in plan.warnings.iter().filter(|c| matches!(c.code, "COMP_RATIO_FROM_KOH" | "PIEZO_CONSTANTS_INCONSISTENT" | "RATE_MODEL_DISAGREES")) {
+        let (quantity, source_says) = match c.code {
+            "COMP_RATIO_FROM_KOH" => ("corner compensation ratio", "a = h / 0.544 (a KOH rule) for TMAH"),
+            "PIEZO_CONSTANTS_INCONSISTENT" => ("PVDF g and d constants", "d, g and eps_r as given"),
+            _ => ("(100) etch rate", "the measured rate"),
+        };
+        v.push(Discrepancy { code: c.code.into(), quantity: quantity.into(), source_says: source_says.into(), computed: c.message.clone() });
+    }
+    v
+}
+
+/// Compensation designs of the etches that carry one.
+fn compensation(p: &Process, plan: &EtchPlan) -> Vec<CompensationRow> {
+    let t = &p.geometry.teeth;
+    plan.steps
+        .iter()
+        .filter_map(|s| {
+            let c = s.compensation?;
+            let street = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
+            let koh_rule = s.etchant == "TMAH" && (0.53..=0.56).contains(&c.ratio);
+            Some(CompensationRow {
+                step: s.name.clone(),
+                geometry: label(&c.kind),
+                depth_um: s.depth_um,
+                ratio: c.ratio,
+                side_um: c.side_um,
+                reach_um: c.reach_um,
+                min_gap_um: c.min_gap_um,
+                street_um: street,
+                test_die_um: koh_rule.then(|| (0.8 * s.depth_um / c.ratio, 1.5 * s.depth_um / c.ratio)),
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::inventory::inventory;
+
+    /// The bundled process without FE.
+    pub(crate) fn bundled(sets: &[&str]) -> Traveler {
+        let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let loaded = crate::process::load_str(&text, "process/mis-grasper.yaml", &sets).unwrap();
+        let p = &loaded.process;
+        let plan = crate::etch::plan(p);
+        let set = crate::layout::build(p, &plan).unwrap();
+        let drc = crate::drc::check(&set, p, &plan);
+        let svgs: Vec<String> = set.masks.iter().map(|m| set.to_svg(m).unwrap()).collect();
+        let inv = inventory(&set, b"gds bytes", &svgs);
+        traveler(TravelerInput {
+            process: p,
+            process_file: "process/mis-grasper.yaml",
+            defaults_used: &loaded.defaults_used,
+            overrides: &loaded.overrides,
+            plan: &plan,
+            set: &set,
+            drc: &drc,
+            inventory: inv,
+            fe: None,
+        })
+    }
+
+    fn computed<'a>(r: &'a StepRow, what: &str) -> &'a str {
+        &r.computed.iter().find(|c| c.what == what).unwrap_or_else(|| panic!("no `{what}` in {r:?}")).value
+    }
+
+    #[test]
+    fn etch_row_hold_and_paper_discrepancies() {
+        let t = bundled(&[]);
+        assert_eq!(t.steps.len(), 24);
+        assert!(t.steps.iter().enumerate().all(|(i, r)| r.number == i + 1));
+        let etch = t.steps.iter().find(|r| r.name == "tmah-etch").unwrap();
+        // 200 um at the measured 24 um/h: 8.333 h; the paper's 8.5 h gives 204 um.
+        assert_eq!(computed(etch, "time for target"), "8.333 h");
+        assert_eq!(computed(etch, "depth at run time"), "204.0 um");
+        assert_eq!(computed(etch, "compensation square"), "367.6 um");
+        assert_eq!(etch.target.as_ref().unwrap().value, "200.0 um +/- 2.0 um");
+        // Hold at 90 % of the computed time (7.5 h = 450 min), not of the recipe's 8.5 h.
+        let hold = t.holds.iter().find(|h| h.step == "tmah-etch").unwrap();
+        assert!(etch.holds.contains(&hold.id));
+        assert!(hold.when.contains("7.500 h = 450 min"), "{}", hold.when);
+        assert!(hold.then.contains("D = (w - 100)/2"), "{}", hold.then);
+        // The oxide hold asks for the TMAH erosion with a 25 % margin.
+        let ox = t.holds.iter().find(|h| h.step == "wet-oxidation").unwrap();
+        assert!(ox.accept.starts_with(">= "), "{}", ox.accept);
+        let codes: Vec<&str> = t.discrepancies.iter().map(|d| d.code.as_str()).collect();
+        for c in ["OXIDE_CLAIM", "ETCH_TIME_DEPTH_MISMATCH", "PLATE_THICKNESS_MISMATCH", "COMP_RATIO_FROM_KOH", "PIEZO_CONSTANTS_INCONSISTENT"] {
+            assert!(codes.contains(&c), "{c} missing from {codes:?}");
+        }
+        let oxide = t.discrepancies.iter().find(|d| d.code == "OXIDE_CLAIM").unwrap();
+        assert!(oxide.computed.starts_with("0.942 um"), "{}", oxide.computed);
+        let comp = &t.compensation[0];
+        assert_eq!(comp.test_die_um.map(|(a, b)| (a.round(), b.round())), Some((294.0, 551.0)));
+    }
+
+    #[test]
+    fn computed_time_leaves_no_etch_discrepancy() {
+        let t = bundled(&["steps.tmah-etch.time_h=null"]);
+        let codes: Vec<&str> = t.discrepancies.iter().map(|d| d.code.as_str()).collect();
+        assert!(!codes.contains(&"ETCH_TIME_DEPTH_MISMATCH") && !codes.contains(&"PLATE_THICKNESS_MISMATCH"), "{codes:?}");
+        assert!(codes.contains(&"OXIDE_CLAIM"));
+    }
+
+    #[test]
+    fn stacks_follow_the_plan() {
+        let t = bundled(&[]);
+        let by = |name: &str| t.stacks[t.steps.iter().position(|r| r.name == name).unwrap()];
+        let etched = by("tmah-etch");
+        assert!((etched.front_etch_um - 204.0).abs() < 1e-9 && (etched.back_etch_um - 204.0).abs() < 1e-9);
+        // The section's plate under the street between two teeth is the plan's plate.
+        let y = 0.5 * (t.cut.teeth[0].1 + t.cut.teeth[1].0);
+        let plate = t.cut.front_z(y, etched.front_etch_um) - t.cut.back_z(y, etched.back_etch_um);
+        assert!((plate - 92.0).abs() < 1e-9, "{plate}");
+        assert!(etched.oxide_front.patterned && etched.oxide_front.thickness_um > 0.0 && etched.oxide_front.thickness_um < 0.942);
+        assert_eq!(by("strip-oxide").oxide_front.thickness_um, 0.0);
+        let film = by("al-etch").pvdf.unwrap();
+        assert!(film.on_carrier && film.electrodes_patterned && !film.attached);
+        let last = t.stacks.last().unwrap().pvdf.unwrap();
+        assert!(last.attached && !last.on_carrier);
+        // The cut crosses teeth and three electrodes (one per support, one middle).
+        assert!(!t.cut.teeth.is_empty());
+        assert_eq!(t.cut.electrodes.len(), 3, "{:?}", t.cut.electrodes);
+    }
+
+    #[test]
+    fn writers_are_deterministic_and_self_contained() {
+        let t = bundled(&[]);
+        let md = crate::report::markdown::markdown(&t);
+        assert_eq!(md, crate::report::markdown::markdown(&bundled(&[])));
+        for h in ["## Header", "## Starting material", "## Masks", "## Steps", "## Hold points", "## Cross-sections", "## Checks and warnings", "## FE sensitivity", "## Corner compensation"] {
+            assert!(md.contains(h), "missing {h}");
+        }
+        let html = crate::report::html::html(&t, &Default::default());
+        assert_eq!(html.matches("<figure>").count(), t.steps.len(), "one cross-section per step");
+        assert!(!html.contains("<script") && !html.contains(" src=") && !html.contains("href="), "self-contained");
+        assert!(!html.contains("http://") || html.matches("http://").count() == html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count());
+    }
+}
