@@ -3,6 +3,7 @@
 use anyhow::{bail, Context};
 
 use tactfab::process::{Limits, Scene, SceneLoad};
+use tactfab::report::limit_failures;
 use tactfab::sensor::{convergence_svg, evaluate_many, SceneReport, SensorGeometry};
 
 use super::output::f;
@@ -78,31 +79,6 @@ fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
     Ok(chosen)
 }
 
-/// Limits of a scene that the report violates, as readable lines.
-pub fn limit_failures(r: &SceneReport, l: &Limits) -> Vec<String> {
-    let mut v = Vec::new();
-    if let Some(m) = l.min_sensitivity_mv_per_n {
-        if r.sensitivity_mv_per_n < m {
-            v.push(format!("sensitivity {:.3} mV/N < {m} mV/N", r.sensitivity_mv_per_n));
-        }
-    }
-    if let Some(m) = l.max_stress_mpa {
-        if r.max_stress_mpa > m {
-            v.push(format!("stress {:.1} MPa > {m} MPa", r.max_stress_mpa));
-        }
-    }
-    if let Some(m) = l.min_safety_factor {
-        if r.safety_factor < m {
-            v.push(format!("safety factor {:.2} < {m}", r.safety_factor));
-        }
-    }
-    if let Some(m) = l.max_deflection_um {
-        if r.max_deflection_um.abs() > m {
-            v.push(format!("deflection {:.1} um > {m} um", r.max_deflection_um));
-        }
-    }
-    v
-}
 
 fn text(r: &SceneReport, failures: &[String]) -> String {
     let mut s = format!(
