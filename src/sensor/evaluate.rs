@@ -8,7 +8,9 @@ use serde::Serialize;
 use crate::fe::{richardson, Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion};
 use crate::fe::problem::Axis as FeAxis;
 use crate::fe::solution::LINEAR_RANGE_LIMIT;
-use crate::process::Scene;
+use crate::process::{Scene, SceneLoad};
+
+use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 
 use super::geometry::{SensorGeometry, SupportSide};
 use super::readout::{group_for, read, ElectrodeReading, Readout};
@@ -23,7 +25,8 @@ const MIN_LINE_GAP_UM: f64 = 250.0;
 /// Which model answered and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModelInfo {
-    /// `plate` (Kirchhoff BFS plate) or `direct` (load wholly over a support).
+    /// `beam` (fixed-fixed strip, paper 001 Eq. 3-6), `plate` (Kirchhoff BFS plate) or `direct`
+    /// (load wholly over a support).
     pub kind: String,
     pub elements: usize,
     pub dofs: usize,
@@ -95,10 +98,68 @@ pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) 
     Ok(evaluate_many(g, std::slice::from_ref(scene), tol, max_levels)?.remove(0))
 }
 
-/// Solves all scenes on a shared sequence of meshes (one factorisation per level, all scenes as one
-/// multi-column solve) until every scene's estimated error is under `tol` or `max_levels` is reached.
+/// Answers every scene with the cheapest model whose estimated error is under `tol`: the
+/// fixed-fixed strip ([`super::beam_model`]) for line loads on plates without teeth when its bound
+/// allows, else the plate, all plate scenes on a shared sequence of meshes (one factorisation per
+/// level, all scenes as one multi-column solve) until every estimate is under `tol` or `max_levels`
+/// is reached.
 pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
     assert!(max_levels >= 1, "at least one mesh level");
+    let beam_error = beam_error_estimate(g);
+    let by_beam = |s: &Scene| match s.load {
+        SceneLoad::Line { y_um, .. } => beam_applies(g, y_um) && beam_error < tol,
+        _ => false,
+    };
+    let plate_scenes: Vec<Scene> = scenes.iter().filter(|s| !by_beam(s)).cloned().collect();
+    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels)? }.into_iter();
+    Ok(scenes
+        .iter()
+        .map(|s| match s.load {
+            SceneLoad::Line { y_um, force_n } if by_beam(s) => beam_report(g, s, y_um, force_n, beam_error, tol),
+            _ => plate.next().expect("one plate report per plate scene"),
+        })
+        .collect())
+}
+
+/// A scene answered by the strip model.
+fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error: f64, tol: f64) -> SceneReport {
+    let t0 = Instant::now();
+    let b = beam_answer(g, y_um, force_n);
+    let r = b.readout;
+    let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
+    let stress = b.stress_at_load_pa;
+    let (best, sens) = most_sensitive(&r, force_n);
+    SceneReport {
+        scene: scene.name.clone(),
+        force_n,
+        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None },
+        solve_ms: t0.elapsed().as_secs_f64() * 1e3,
+        error_estimate: Some(error),
+        converged: error < tol,
+        deflection_at_load_um: b.deflection_at_load_m * 1e6,
+        max_deflection_um: b.max_deflection_m * 1e6,
+        max_stress_mpa: stress * 1e-6,
+        safety_factor: if stress > 0.0 { g.fracture_strength_mpa * 1e6 / stress } else { f64::INFINITY },
+        max_permissible_load_n: if stress > 0.0 { force_n.abs() * allowed_pa / stress } else { f64::INFINITY },
+        sensitivity_mv_per_n: sens,
+        most_sensitive: best,
+        reactions_n: Reactions { support1: r.support1_n, support2: r.support2_n },
+        electrodes: r.electrodes,
+        warnings: Vec::new(),
+        convergence: Vec::new(),
+    }
+}
+
+/// Largest |V| / F over the electrodes, and which one.
+fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
+    r.electrodes
+        .iter()
+        .map(|e| (e.name.clone(), if force_n != 0.0 { (e.voltage_mv / force_n).abs() } else { 0.0 }))
+        .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a })
+}
+
+/// The plate path of [`evaluate_many`].
+fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
@@ -172,11 +233,7 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
         let f = l.total_force_n;
         let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
         let safety = if stress_pa > 0.0 { g.fracture_strength_mpa * 1e6 / stress_pa } else { f64::INFINITY };
-        let (best, sens) = r
-            .electrodes
-            .iter()
-            .map(|e| (e.name.clone(), if f != 0.0 { (e.voltage_mv / f).abs() } else { 0.0 }))
-            .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        let (best, sens) = most_sensitive(&r, f);
         let mut warnings = Vec::new();
         if let Some(s) = sol.filter(|s| s.exceeds_linear_range()) {
             warnings.push(format!(

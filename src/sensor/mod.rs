@@ -10,8 +10,10 @@ mod geometry;
 mod readout;
 mod scene;
 mod evaluate;
+mod beam_model;
 mod convergence_plot;
 
+pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{evaluate, evaluate_many, LevelRecord, ModelInfo, SceneReport};
 pub use geometry::{ElectrodeArea, SensorGeometry, SupportSide};

@@ -190,3 +190,48 @@ fn failed_limit_exits_1() {
     run.expect_code(1);
     assert!(run.stdout.contains("FAIL: safety factor"), "{}", run.stdout);
 }
+
+#[test]
+fn the_strip_model_answers_line_loads_within_its_own_bound() {
+    // The fixed-fixed strip (paper 001 Eq. 3-6) against the converged plate, on designs of
+    // different span, length and thickness: every reading within the strip's stated estimate
+    // plus the plate's own.
+    for sets in [
+        vec!["geometry.teeth.pattern=none"],
+        vec!["geometry.teeth.pattern=none", "geometry.die_width_um=20000"],
+        vec!["geometry.teeth.pattern=none", "geometry.die_length_um=20000", "geometry.plate_thickness_um=60"],
+    ] {
+        let g = geometry(&sets);
+        let bound = tactfab::sensor::beam_error_estimate(&g);
+        let span_mm = (g.plate_y1_um - g.plate_y0_um) / 1e3;
+        for frac in [0.25, 0.5] {
+            let y_um = g.plate_y0_um + frac * span_mm * 1e3;
+            let s = Scene { name: "line".into(), load: SceneLoad::Line { y_um, force_n: 1.0 }, limits: Limits::default() };
+            let beam = evaluate(&g, &s, 2.0 * bound, 1).unwrap();
+            assert_eq!(beam.model.kind, "beam", "{sets:?}");
+            assert_eq!(beam.error_estimate, Some(bound));
+            let plate = evaluate(&g, &s, 0.99 * bound, 3).unwrap();
+            assert_eq!(plate.model.kind, "plate", "a tolerance under the bound needs the plate");
+            let allowed = bound + plate.error_estimate.unwrap();
+            for (b, p) in beam.electrodes.iter().zip(&plate.electrodes) {
+                let kind_scale = plate
+                    .electrodes
+                    .iter()
+                    .filter(|e| e.name.starts_with('M') == p.name.starts_with('M'))
+                    .map(|e| e.charge_pc.abs())
+                    .fold(0.0, f64::max);
+                let err = (b.charge_pc - p.charge_pc).abs() / kind_scale;
+                assert!(err <= allowed, "{sets:?} y {frac}: {} beam {} plate {} ({err:.4} > {allowed:.4})", p.name, b.charge_pc, p.charge_pc);
+            }
+            for (what, b, p) in [
+                ("support 1", beam.reactions_n.support1, plate.reactions_n.support1),
+                ("deflection at load", beam.deflection_at_load_um, plate.deflection_at_load_um),
+                ("max deflection", beam.max_deflection_um, plate.max_deflection_um),
+                ("stress", beam.max_stress_mpa, plate.max_stress_mpa),
+            ] {
+                let err = (b - p).abs() / p.abs();
+                assert!(err <= allowed, "{sets:?} y {frac}: {what} beam {b} plate {p} ({err:.4} > {allowed:.4})");
+            }
+        }
+    }
+}
