@@ -26,6 +26,8 @@
 //!    electrodes, polygon validity) and returns violations as values; the process file may waive
 //!    codes on purpose.
 //! 7. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp.
+//! 8. [`sweep`] runs the design sweep of paper 001 (15,000 plates, sharded, one symbolic
+//!    factorisation per worker) and finds the family that matches the prototype.
 //!
 //! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
 //! The FE model takes its electrodes from the PVDF mask, so what is simulated is what is drawn.
@@ -55,4 +57,5 @@ pub mod layout;
 pub mod plot;
 pub mod process;
 pub mod sensor;
+pub mod sweep;
 pub mod units;
