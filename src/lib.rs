@@ -26,7 +26,9 @@
 //!    electrodes, polygon validity) and returns violations as values; the process file may waive
 //!    codes on purpose.
 //! 7. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp.
-//! 8. [`sweep`] runs the design sweep of paper 001 (15,000 plates, sharded, one symbolic
+//! 8. [`softness`] reads the tissue modulus from the middle electrode: composite beam (paper 001
+//!    Eq. 7-12) and a locking-free plane-strain FE of the tissue on the plate, and the inverse.
+//! 9. [`sweep`] runs the design sweep of paper 001 (15,000 plates, sharded, one symbolic
 //!    factorisation per worker) and finds the family that matches the prototype.
 //!
 //! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
@@ -57,5 +59,6 @@ pub mod layout;
 pub mod plot;
 pub mod process;
 pub mod sensor;
+pub mod softness;
 pub mod sweep;
 pub mod units;

@@ -5,6 +5,7 @@ mod etch;
 mod fe;
 mod masks;
 mod output;
+mod sweep;
 
 use std::path::PathBuf;
 
@@ -44,6 +45,8 @@ enum Command {
     Fe(FeArgs),
     /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
     Masks(MasksArgs),
+    /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype; sharded or merged.
+    Sweep(SweepArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -105,6 +108,47 @@ pub struct MasksArgs {
     pub format: Vec<masks::Format>,
 }
 
+#[derive(Debug, Args)]
+#[command(after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'")]
+pub struct SweepArgs {
+    /// Process file (YAML): Si stiffness, die size (the prototype), fracture strength and safety factor.
+    #[arg(required_unless_present = "merge")]
+    pub file: Option<PathBuf>,
+    /// Override a field of the process file (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory: sweep.csv (or sweep-i-of-n.csv) and family.svg.
+    #[arg(short = 'o', long = "out", value_name = "DIR", required_unless_present = "merge")]
+    pub out: Option<PathBuf>,
+    /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw DIR/family.svg.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "shard"])]
+    pub merge: Option<PathBuf>,
+    /// Relative tolerance on the elongation for the family (paper 001 gives none).
+    #[arg(long, default_value_t = 0.01)]
+    pub tol: f64,
+    /// Centre load (N) [paper 001 sec. 4.1].
+    #[arg(long, default_value_t = 4.0)]
+    pub force_n: f64,
+    /// Contact patch radius (um): the stress under a point is singular [choice, as `tactfab fe --point`].
+    #[arg(long, default_value_t = 250.0)]
+    pub contact_radius_um: f64,
+    /// Plate length range LO,HI,STEPS (um) [paper 001: 10-40 mm, 30 steps].
+    #[arg(long, default_value = "10000,40000,30", value_name = "LO,HI,STEPS")]
+    pub length_um: String,
+    /// Plate width (clamped span) range LO,HI,STEPS (um) [paper 001: 7.5-20 mm, 25 steps].
+    #[arg(long, default_value = "7500,20000,25", value_name = "LO,HI,STEPS")]
+    pub width_um: String,
+    /// Plate thickness range LO,HI,STEPS (um) [paper 001: 50-150 um, 20 steps].
+    #[arg(long, default_value = "50,150,20", value_name = "LO,HI,STEPS")]
+    pub thickness_um: String,
+    /// Skip the three-mesh error estimate at the grid corners and the prototype.
+    #[arg(long)]
+    pub no_error_estimate: bool,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -117,6 +161,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Etch(a) => etch::run(&a),
         Command::Fe(a) => fe::run(&a),
         Command::Masks(a) => masks::run(&a),
+        Command::Sweep(a) => sweep::run(&a),
     }
 }
 
