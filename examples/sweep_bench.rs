@@ -1,8 +1,9 @@
-//! Design-sweep benchmark: `cargo run --release --example sweep_bench [threads]`.
+//! Design-sweep benchmark: `cargo run --release --example sweep_bench [threads] [--direct]`.
 //!
 //! Runs the paper 001 sweep (15,000 designs, 4 N centre load, orthotropic <110> Si) with the
 //! standard sweep mesh through `tactfab::sweep::run_range` (rayon, one symbolic factorisation per
-//! worker, numeric refactorisation per design), and prints: the total wall-clock time, the median
+//! worker; by default one solve per (length, width) scaled by t^3, with `--direct` also one numeric
+//! refactorisation per design), and prints: the total wall-clock time, the median
 //! time per design (a sequential pass over 300 designs spread over the grid), the family size, and
 //! the estimated discretisation error of the sweep mesh (three nested meshes, Richardson) at the
 //! eight grid corners and the prototype. Wall-clock times on a shared machine: quote medians.
@@ -35,11 +36,14 @@ fn main() {
     per.sort_by(f64::total_cmp);
     println!("per design (sequential, 300 designs): median {:.2} ms, p90 {:.2} ms", per[150], per[270]);
 
-    let t = Instant::now();
-    let rows = run_range(&grid, &model, &matching, 0..grid.len(), &|_| {}).unwrap();
-    let total = t.elapsed().as_secs_f64();
-    let family = rows.iter().filter(|r| r.matches).count();
-    println!("sweep: {} designs in {:.1} s ({:.2} ms/design wall), family {} within 1 % of the prototype's elongation {:.3} um", rows.len(), total, 1e3 * total / rows.len() as f64, family, matching.prototype_response.elongation_um);
+    let direct = std::env::args().any(|a| a == "--direct");
+    for mode in if direct { vec![Mode::ScaledThickness, Mode::Direct] } else { vec![Mode::ScaledThickness] } {
+        let t = Instant::now();
+        let rows = run_range(&grid, &model, &matching, 0..grid.len(), mode, &|_| {}).unwrap();
+        let total = t.elapsed().as_secs_f64();
+        let family = rows.iter().filter(|r| r.matches).count();
+        println!("sweep {mode:?}: {} designs in {:.2} s ({:.3} ms/design wall), family {} within 1 % of the prototype's elongation {:.3} um", rows.len(), total, 1e3 * total / rows.len() as f64, family, matching.prototype_response.elongation_um);
+    }
 
     let mut sample = corner_designs(&grid);
     sample.push(proto);

@@ -5,6 +5,7 @@ mod etch;
 mod fe;
 mod masks;
 mod output;
+mod softness;
 mod sweep;
 
 use std::path::PathBuf;
@@ -47,6 +48,8 @@ enum Command {
     Masks(MasksArgs),
     /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype; sharded or merged.
     Sweep(SweepArgs),
+    /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam and FE; the inverse.
+    Softness(SoftnessArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -109,6 +112,30 @@ pub struct MasksArgs {
 }
 
 #[derive(Debug, Args)]
+pub struct SoftnessArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Tissue thickness (um) [choice: paper 001 gives none].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_THICKNESS_UM)]
+    pub tissue_thickness_um: f64,
+    /// Tissue Poisson's ratio [paper 001 sec. 4.3.2: 0.49].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_NU)]
+    pub tissue_nu: f64,
+    /// Distributed loads (N) [paper 001 Fig. 24: 1-5 N].
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5")]
+    pub forces_n: Vec<f64>,
+    /// Tissue modulus range LO,HI,POINTS (Pa, log spaced) [paper 001: 1e4-1e8 Pa].
+    #[arg(long, default_value = "1e4,1e8,17", value_name = "LO,HI,POINTS")]
+    pub e_range_pa: String,
+    /// E_t from a measured middle-electrode voltage and force: VOLTAGE_MV,FORCE_N.
+    #[arg(long, value_name = "VOLTAGE_MV,FORCE_N", allow_hyphen_values = true)]
+    pub invert: Option<String>,
+    /// Write softness.csv and softness.svg into DIR.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: Option<std::path::PathBuf>,
+}
+
+#[derive(Debug, Args)]
 #[command(after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'")]
 pub struct SweepArgs {
     /// Process file (YAML): Si stiffness, die size (the prototype), fracture strength and safety factor.
@@ -147,6 +174,9 @@ pub struct SweepArgs {
     /// Skip the three-mesh error estimate at the grid corners and the prototype.
     #[arg(long)]
     pub no_error_estimate: bool,
+    /// Refactorise per design instead of scaling one solve per (length, width) by t^3 (same results to ~1e-9, ~20x slower).
+    #[arg(long)]
+    pub direct: bool,
 }
 
 /// Parses the command line and runs the subcommand.
@@ -162,6 +192,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Fe(a) => fe::run(&a),
         Command::Masks(a) => masks::run(&a),
         Command::Sweep(a) => sweep::run(&a),
+        Command::Softness(a) => softness::run(&a),
     }
 }
 

@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use tactfab::export::write_atomic;
-use tactfab::sweep::{estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Range, Shard};
+use tactfab::sweep::{estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Mode, Range, Shard};
 
 use super::{load, Outcome, ProcessArgs, SweepArgs};
 
@@ -62,7 +62,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     let bar = if std::io::stderr().is_terminal() { ProgressBar::new(range.len() as u64) } else { ProgressBar::hidden() };
     bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} designs, {per_sec}, eta {eta}").unwrap_or_else(|_| ProgressStyle::default_bar()));
     let t = Instant::now();
-    let rows = tactfab::sweep::run_range(&grid, &model, &matching, range.clone(), &|n| bar.inc(n))?;
+    let mode = if a.direct { Mode::Direct } else { Mode::ScaledThickness };
+    let rows = tactfab::sweep::run_range(&grid, &model, &matching, range.clone(), mode, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     let secs = t.elapsed().as_secs_f64();
 

@@ -111,9 +111,10 @@ pub struct MeshSpec {
 }
 
 impl MeshSpec {
-    /// Default sweep mesh: 1/12 of the side, 1/48 at the centre (error estimate: see [`crate::sweep::run::estimate_error`]).
+    /// Default sweep mesh: 1/12 of the side, 1/160 at the centre, so the contact patch is resolved
+    /// (error estimate: [`crate::sweep::run::estimate_error`], `examples/sweep_bench.rs`).
     pub fn standard() -> Self {
-        MeshSpec { max_element_frac: 1.0 / 12.0, centre_element_frac: 1.0 / 48.0 }
+        MeshSpec { max_element_frac: 1.0 / 12.0, centre_element_frac: 1.0 / 160.0 }
     }
     /// Both sizes divided by `r` (a nested refinement for error estimates).
     pub fn refined(&self, r: f64) -> Self {
@@ -130,7 +131,9 @@ impl MeshSpec {
     }
     /// The mesh of a l x w plate.
     pub fn mesh(&self, length_um: f64, width_um: f64) -> RectMesh {
-        let axis = self.reference_axis();
+        Self::scaled(&self.reference_axis(), length_um, width_um)
+    }
+    fn scaled(axis: &[f64], length_um: f64, width_um: f64) -> RectMesh {
         let scale = |s: f64| -> Vec<f64> {
             let mut v: Vec<f64> = axis.iter().map(|a| a / 1000.0 * s).collect();
             *v.last_mut().unwrap() = s; // exact edge for the support lines
@@ -174,7 +177,10 @@ impl DesignModel {
 
     /// The plate problem of a design (one load case).
     pub fn problem(&self, d: &Design) -> PlateProblem {
-        let mesh = self.mesh.mesh(d.length_um, d.width_um);
+        self.problem_on(self.mesh.mesh(d.length_um, d.width_um), d)
+    }
+
+    fn problem_on(&self, mesh: RectMesh, d: &Design) -> PlateProblem {
         let mut p = PlateProblem::new(mesh, d.thickness_um, self.material);
         for (g, at) in [("support1", 0.0), ("support2", d.width_um)] {
             p.supports.push(LineSupport {
@@ -247,17 +253,18 @@ pub fn beam_limit(d: &Design, model: &DesignModel) -> (f64, f64) {
 #[derive(Debug)]
 pub struct DesignSolver {
     model: DesignModel,
+    axis: Vec<f64>,
     fact: Option<Factorised>,
 }
 
 impl DesignSolver {
     pub fn new(model: DesignModel) -> Self {
-        DesignSolver { model, fact: None }
+        DesignSolver { model, axis: model.mesh.reference_axis(), fact: None }
     }
 
     /// Response of one design: numeric refactorisation on the shared pattern, one solve.
     pub fn solve(&mut self, d: &Design) -> FeResult<Response> {
-        let p = self.model.problem(d);
+        let p = self.model.problem_on(MeshSpec::scaled(&self.axis, d.length_um, d.width_um), d);
         match &mut self.fact {
             Some(f) => f.refactor_topology(&p)?,
             None => self.fact = Some(Factorised::new(&p)?),

@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 pub use design::{Design, DesignModel, DesignSolver, Grid, MeshSpec, Range, Response};
-pub use run::{estimate_error, run_range, DesignError, Matching, Row};
+pub use run::{estimate_error, run_range, DesignError, Matching, Mode, Row};
 pub use shard::{merge_dir, Merged, Shard};
 
 /// Sweep errors; each carries a hint.

@@ -141,7 +141,7 @@ mod tests {
     use super::*;
     use crate::fe::{DieEdge, PlateMaterial};
     use crate::sweep::design::{DesignModel, Grid, MeshSpec, Range};
-    use crate::sweep::run::{run_range, Matching};
+    use crate::sweep::run::{run_range, Matching, Mode};
 
     #[test]
     fn parse_and_ranges_partition() {
@@ -174,15 +174,21 @@ mod tests {
         let model = DesignModel { material: PlateMaterial::silicon(DieEdge::Along110), force_n: 4.0, contact_radius_um: 250.0, mesh: MeshSpec::standard() };
         let proto = crate::sweep::Design { index: 0, length_um: 30_000.0, width_um: 15_000.0, thickness_um: 100.0 };
         let matching = Matching::new(proto, &model, 0.2, 4000.0 / 3.0).unwrap();
-        let all = run_range(&grid, &model, &matching, 0..grid.len(), &|_| {}).unwrap();
+        let all = run_range(&grid, &model, &matching, 0..grid.len(), Mode::ScaledThickness, &|_| {}).unwrap();
         let whole = csv(&all);
-        assert_eq!(whole, csv(&run_range(&grid, &model, &matching, 0..grid.len(), &|_| {}).unwrap()));
+        assert_eq!(whole, csv(&run_range(&grid, &model, &matching, 0..grid.len(), Mode::ScaledThickness, &|_| {}).unwrap()));
+        // The direct per-design path agrees with the thickness scaling (same CSV text at its precision).
+        let direct = run_range(&grid, &model, &matching, 0..grid.len(), Mode::Direct, &|_| {}).unwrap();
+        for (a, b) in all.iter().zip(&direct) {
+            assert!((a.response.elongation_um / b.response.elongation_um - 1.0).abs() < 1e-8, "{a:?} {b:?}");
+            assert!((a.response.max_stress_mpa / b.response.max_stress_mpa - 1.0).abs() < 1e-8, "{a:?} {b:?}");
+        }
         assert!(all.iter().any(|r| r.matches) && all.iter().any(|r| !r.matches));
         let dir = tempfile::tempdir().unwrap();
-        let n = 4;
+        let n = 4; // 18 designs in 4 shards: cuts fall inside thickness groups
         for i in (1..=n).rev() {
             let s = Shard { index: i, count: n };
-            let rows = run_range(&grid, &model, &matching, s.range(grid.len()), &|_| {}).unwrap();
+            let rows = run_range(&grid, &model, &matching, s.range(grid.len()), Mode::ScaledThickness, &|_| {}).unwrap();
             std::fs::write(dir.path().join(s.file_name()), csv(&rows)).unwrap();
         }
         let merged = merge_dir(dir.path()).unwrap();

@@ -8,3 +8,4 @@ mod process_cli;
 mod properties;
 mod readme;
 mod sensor;
+mod softsweep;
