@@ -43,7 +43,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     if !(a.tol > 0.0 && a.tol < 1.0) {
         bail!("--tol {}: expected a relative tolerance in (0, 1), e.g. 0.01", a.tol);
     }
-    if !(a.force_n > 0.0 && a.force_n.is_finite()) || !(a.contact_radius_um > 0.0 && a.contact_radius_um.is_finite()) {
+    let positive = |v: f64| v > 0.0 && v.is_finite();
+    if !positive(a.force_n) || !positive(a.contact_radius_um) {
         bail!("--force-n and --contact-radius-um must be positive");
     }
     let grid = Grid { length_um: range(&a.length_um, "length-um")?, width_um: range(&a.width_um, "width-um")?, thickness_um: range(&a.thickness_um, "thickness-um")? };

@@ -358,10 +358,10 @@ pub fn cantilever_tip(b: &TimoshenkoCantilever, order: Order, vol: Volumetric, n
     let (nxs, nys) = (mesh.node_x(), mesh.node_y());
     let mut exprs = Vec::with_capacity(2 * mesh.n_nodes());
     let mut n = 0;
-    for j in 0..nys.len() {
-        for i in 0..nxs.len() {
+    for &y in &nys {
+        for (i, &x) in nxs.iter().enumerate() {
             if i == nxs.len() - 1 {
-                let (u, v) = b.displacement(nxs[i], nys[j]);
+                let (u, v) = b.displacement(x, y);
                 exprs.push(DofExpr::fixed(u));
                 exprs.push(DofExpr::fixed(v));
             } else {

@@ -3,8 +3,11 @@
 
 use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
 
-/// One curve: name and (E_t Pa, voltage mV) points.
-pub fn softness_svg(curves: &[(String, Vec<(f64, f64)>, bool)]) -> String {
+/// One curve: name, (E_t Pa, voltage mV) points, and whether it is FE (markers) or the beam (line).
+pub type Curve = (String, Vec<(f64, f64)>, bool);
+
+/// The chart of all curves.
+pub fn softness_svg(curves: &[Curve]) -> String {
     let series = curves
         .iter()
         .map(|(name, pts, fe)| Series { name: name.clone(), points: pts.clone(), style: if *fe { Style::LineAndMarkers } else { Style::Line } })
