@@ -29,6 +29,10 @@
 //! 8. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points, a cross-section after each step, checks, FE summary) as
 //!    Markdown and HTML, and `tactfab build`'s in-memory build and `build.json` summary.
+//! 9. [`softness`] reads the tissue modulus from the middle electrode: composite beam (paper 001
+//!    Eq. 7-12) and a locking-free plane-strain FE of the tissue on the plate, and the inverse.
+//! 10. [`sweep`] runs the design sweep of paper 001 (15,000 plates, sharded, one symbolic
+//!    factorisation per worker) and finds the family that matches the prototype.
 //!
 //! Nothing flows back: later stages read the process, the plan and the mask set, never change them.
 //! The FE model takes its electrodes from the PVDF mask, so what is simulated is what is drawn.
@@ -59,4 +63,6 @@ pub mod plot;
 pub mod process;
 pub mod report;
 pub mod sensor;
+pub mod softness;
+pub mod sweep;
 pub mod units;

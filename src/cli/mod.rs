@@ -7,6 +7,8 @@ mod fe;
 mod masks;
 mod output;
 mod traveler;
+mod softness;
+mod sweep;
 
 use std::path::PathBuf;
 
@@ -50,6 +52,10 @@ enum Command {
     Build(BuildArgs),
     /// The process traveler (run sheet) as Markdown and a self-contained HTML page.
     Traveler(TravelerArgs),
+    /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype; sharded or merged.
+    Sweep(SweepArgs),
+    /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam and FE; the inverse.
+    Softness(SoftnessArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -150,6 +156,72 @@ pub struct TravelerArgs {
     pub no_fe: bool,
     #[command(flatten)]
     pub fe: FeSettings,
+#[derive(Debug, Args)]
+pub struct SoftnessArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Tissue thickness (um) [choice: paper 001 gives none].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_THICKNESS_UM)]
+    pub tissue_thickness_um: f64,
+    /// Tissue Poisson's ratio [paper 001 sec. 4.3.2: 0.49].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_NU)]
+    pub tissue_nu: f64,
+    /// Distributed loads (N) [paper 001 Fig. 24: 1-5 N].
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5")]
+    pub forces_n: Vec<f64>,
+    /// Tissue modulus range LO,HI,POINTS (Pa, log spaced) [paper 001: 1e4-1e8 Pa].
+    #[arg(long, default_value = "1e4,1e8,17", value_name = "LO,HI,POINTS")]
+    pub e_range_pa: String,
+    /// E_t from a measured middle-electrode voltage and force: VOLTAGE_MV,FORCE_N.
+    #[arg(long, value_name = "VOLTAGE_MV,FORCE_N", allow_hyphen_values = true)]
+    pub invert: Option<String>,
+    /// Write softness.csv and softness.svg into DIR.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: Option<std::path::PathBuf>,
+}
+
+#[derive(Debug, Args)]
+#[command(after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'")]
+pub struct SweepArgs {
+    /// Process file (YAML): Si stiffness, die size (the prototype), fracture strength and safety factor.
+    #[arg(required_unless_present = "merge")]
+    pub file: Option<PathBuf>,
+    /// Override a field of the process file (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory: sweep.csv (or sweep-i-of-n.csv) and family.svg.
+    #[arg(short = 'o', long = "out", value_name = "DIR", required_unless_present = "merge")]
+    pub out: Option<PathBuf>,
+    /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw DIR/family.svg.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "shard"])]
+    pub merge: Option<PathBuf>,
+    /// Relative tolerance on the elongation for the family (paper 001 gives none).
+    #[arg(long, default_value_t = 0.01)]
+    pub tol: f64,
+    /// Centre load (N) [paper 001 sec. 4.1].
+    #[arg(long, default_value_t = 4.0)]
+    pub force_n: f64,
+    /// Contact patch radius (um): the stress under a point is singular [choice, as `tactfab fe --point`].
+    #[arg(long, default_value_t = 250.0)]
+    pub contact_radius_um: f64,
+    /// Plate length range LO,HI,STEPS (um) [paper 001: 10-40 mm, 30 steps].
+    #[arg(long, default_value = "10000,40000,30", value_name = "LO,HI,STEPS")]
+    pub length_um: String,
+    /// Plate width (clamped span) range LO,HI,STEPS (um) [paper 001: 7.5-20 mm, 25 steps].
+    #[arg(long, default_value = "7500,20000,25", value_name = "LO,HI,STEPS")]
+    pub width_um: String,
+    /// Plate thickness range LO,HI,STEPS (um) [paper 001: 50-150 um, 20 steps].
+    #[arg(long, default_value = "50,150,20", value_name = "LO,HI,STEPS")]
+    pub thickness_um: String,
+    /// Skip the three-mesh error estimate at the grid corners and the prototype.
+    #[arg(long)]
+    pub no_error_estimate: bool,
+    /// Refactorise per design instead of scaling one solve per (length, width) by t^3 (same results to ~1e-9, ~20x slower).
+    #[arg(long)]
+    pub direct: bool,
 }
 
 /// Parses the command line and runs the subcommand.
@@ -166,6 +238,8 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Masks(a) => masks::run(&a),
         Command::Build(a) => build::run(&a),
         Command::Traveler(a) => traveler::run(&a),
+        Command::Sweep(a) => sweep::run(&a),
+        Command::Softness(a) => softness::run(&a),
     }
 }
 

@@ -129,6 +129,41 @@ impl Factorised {
         Ok(())
     }
 
+    /// New mesh coordinates (same node counts), thickness and material with the same constrained dof
+    /// indices: the sparsity pattern depends only on the mesh topology and the constraint set, so the
+    /// symbolic analysis is reused and only the numeric factorisation is redone (a design sweep over
+    /// plate sizes). Errors with [`FeError::PatternMismatch`] if the topology or constraints differ.
+    pub fn refactor_topology(&mut self, problem: &PlateProblem) -> FeResult<()> {
+        let mesh = &problem.mesh;
+        mesh.validate();
+        let same_counts = mesh.x_um.len() == self.ctx.mesh.x_um.len()
+            && mesh.y_um.len() == self.ctx.mesh.y_um.len();
+        let dofs = if same_counts { DofMap::new(problem)? } else { self.dofs.clone() };
+        if !same_counts
+            || dofs.free_dofs != self.dofs.free_dofs
+            || dofs.groups != self.dofs.groups
+            || !dofs.constrained.iter().zip(&self.dofs.constrained).all(|(a, b)| a.0 == b.0 && a.2 == b.2)
+        {
+            return Err(FeError::PatternMismatch {
+                hint: "refactor_topology needs the same node counts and the same constrained dofs; build a new Factorised otherwise",
+            });
+        }
+        let thickness = problem.element_thickness_um();
+        let kel = ElementStiffness::new(problem, &thickness)?;
+        let llt = numeric(&self.symbolic, &self.pattern, self.pattern.values(mesh, &dofs, &kel))?;
+        self.kel = kel;
+        self.llt = llt;
+        self.dofs = dofs;
+        self.key = pattern_key(problem);
+        self.ctx = Arc::new(SolutionContext {
+            mesh: mesh.clone(),
+            thickness_um: thickness,
+            material: problem.material,
+            groups: self.dofs.groups.clone(),
+        });
+        Ok(())
+    }
+
     /// Number of free (unknown) dofs.
     pub fn n_free_dofs(&self) -> usize {
         self.dofs.n_free()

@@ -9,3 +9,4 @@ mod process_cli;
 mod properties;
 mod readme;
 mod sensor;
+mod softsweep;
