@@ -54,6 +54,7 @@
 //! The binary (`src/main.rs`, `src/cli/`) only parses arguments, calls the library and maps
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
 
+pub mod analysis;
 pub mod drc;
 pub mod etch;
 pub mod export;

@@ -76,7 +76,7 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
 }
 
 /// Writes every file into a temporary directory beside `dir`, then renames into place.
-fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> anyhow::Result<()> {
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> anyhow::Result<()> {
     let parent: PathBuf = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),

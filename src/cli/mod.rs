@@ -1,10 +1,13 @@
 //! Command-line types and dispatch; each subcommand lives in its own file.
 
 mod build;
+mod calibrate;
 mod check;
 mod etch;
 mod fe;
+mod locate;
 mod masks;
+mod orient;
 mod output;
 mod traveler;
 mod softness;
@@ -56,6 +59,12 @@ enum Command {
     Sweep(SweepArgs),
     /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam and FE; the inverse.
     Softness(SoftnessArgs),
+    /// Calibration tables (force, y, x sweeps), the load inverse's error on held-out loads and under noise: CSV + SVG in DIR.
+    Calibrate(CalibrateArgs),
+    /// Force and position of a load from the electrode voltages (through the calibration grid).
+    Locate(LocateArgs),
+    /// Probe-orientation study (paper 000): charge against angle, fits, inverse angle, bivariate function.
+    Orient(OrientArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -127,8 +136,19 @@ pub struct FeSettings {
     /// Relative error each declared scene is refined to (estimated from three meshes).
     #[arg(long, default_value_t = 0.01)]
     pub tol: f64,
-    /// Most mesh levels to try (each halves the element size, starting at 1 mm).
+    /// Most mesh levels to try (each halves the element size, starting at 2 mm).
     #[arg(long, default_value_t = 6)]
+    pub max_levels: usize,
+}
+
+/// FE accuracy options shared by the studies.
+#[derive(Debug, Args)]
+pub struct StudyFe {
+    /// Relative error the FE answer should be under (three-mesh estimate; many scattered loads share one mesh).
+    #[arg(long, default_value_t = 0.05)]
+    pub tol: f64,
+    /// Most mesh levels (each halves the element size from 2 mm); 3 are needed for an error estimate.
+    #[arg(long, default_value_t = 3)]
     pub max_levels: usize,
 }
 
@@ -156,6 +176,8 @@ pub struct TravelerArgs {
     pub no_fe: bool,
     #[command(flatten)]
     pub fe: FeSettings,
+}
+
 #[derive(Debug, Args)]
 pub struct SoftnessArgs {
     #[command(flatten)]
@@ -224,6 +246,87 @@ pub struct SweepArgs {
     pub direct: bool,
 }
 
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory: force.csv, y-sweep.csv, x-sweep.csv, grid.csv, held-out.csv, noise.csv and SVG plots.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Spacing of the x sweep and of the inverse grid's x nodes.
+    #[arg(long, default_value_t = 2.0)]
+    pub x_step_mm: f64,
+    /// Spacing of the y sweep (support to support) and of the inverse grid's y nodes.
+    #[arg(long, default_value_t = 1.25)]
+    pub y_step_mm: f64,
+    /// Held-out loads (cell centres, forces 0.05/0.3/1.7/4.2 N) for the inverse's error table.
+    #[arg(long, default_value_t = 8)]
+    pub held_out: usize,
+    /// Contact radius of the point loads.
+    #[arg(long, default_value_t = 0.25)]
+    pub radius_mm: f64,
+    /// Gaussian noise levels (standard deviation, mV) added to every voltage in the noise study.
+    #[arg(long, value_delimiter = ',', default_value = "0,0.1,0.3,1,3,10")]
+    pub noise_mv: Vec<f64>,
+    /// Noisy copies of each held-out load per noise level.
+    #[arg(long, default_value_t = 50)]
+    pub trials: usize,
+    /// Seed of the noise generator (splitmix64 + Box-Muller): same seed, same numbers.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub fe: StudyFe,
+}
+
+#[derive(Debug, Args)]
+pub struct LocateArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// One voltage (mV) per electrode in the model's order (S11,S12,S13,M1,M2,M3,S21,S22,S23 on mis-grasper).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+    pub voltages: Vec<f64>,
+    /// Directory written by `tactfab calibrate` (reads its grid.csv); without it the grid is solved now.
+    #[arg(long, value_name = "DIR")]
+    pub calibration: Option<PathBuf>,
+    #[arg(long, default_value_t = 2.0)]
+    pub x_step_mm: f64,
+    #[arg(long, default_value_t = 1.25)]
+    pub y_step_mm: f64,
+    #[arg(long, default_value_t = 0.25)]
+    pub radius_mm: f64,
+    #[command(flatten)]
+    pub fe: StudyFe,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct OrientArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Angle step; must divide 180 (paper 000: 10).
+    #[arg(long, default_value_t = 10.0)]
+    pub step_deg: f64,
+    /// Degree of the Chebyshev fit (paper 000: 10).
+    #[arg(long, default_value_t = 10)]
+    pub degree: usize,
+    /// Harmonics of the Fourier-in-2-theta fit (2 k + 1 terms; at most 8 on 18 distinct angles).
+    #[arg(long, default_value_t = 4)]
+    pub fourier_degree: usize,
+    /// Electrode for the inverse angle (default: the one whose charge varies most with angle).
+    #[arg(long)]
+    pub electrode: Option<String>,
+    /// Also write orientation.csv and one SVG per electrode (FE points and both fits) here.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub fe: StudyFe,
+    /// Print the whole study as JSON (the cost fields hold wall-clock ms and vary run to run).
+    #[arg(long)]
+    pub json: bool,
+}
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
@@ -240,6 +343,9 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Traveler(a) => traveler::run(&a),
         Command::Sweep(a) => sweep::run(&a),
         Command::Softness(a) => softness::run(&a),
+        Command::Calibrate(a) => calibrate::run(&a),
+        Command::Locate(a) => locate::run(&a),
+        Command::Orient(a) => orient::run(&a),
     }
 }
 

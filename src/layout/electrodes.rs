@@ -2,14 +2,18 @@
 //! over the U-channel (Mk) and over support 2 (S2k). Islands are separated by `gap_um` (in x
 //! between units; in y centred on the support edges) and kept `edge_margin_um` from the film
 //! edge. Each island holds a square wire pad at its outer edge (part of the island).
+//! `pattern: four_cross` draws paper 000's four islands instead ([`four_cross`]).
 
-use crate::process::Electrodes;
+use crate::process::{ElectrodePattern, Electrodes};
 
 use super::boolean::{rect, union};
 use super::maskset::Electrode;
 
 /// The islands in die (= film) coordinates, named S11.., M1.., S21.. .
 pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_width_um: f64) -> Vec<Electrode> {
+    if e.pattern == ElectrodePattern::FourCross {
+        return four_cross(e, die_length_um, die_width_um, support_width_um);
+    }
     let n = e.units.max(1);
     let m = e.edge_margin_um;
     let g = e.gap_um;
@@ -43,4 +47,55 @@ pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_wi
         }
     }
     out
+}
+
+/// Four rectangular islands over the plate in a cross about the die centre: A (+x), B (+y),
+/// C (-x), D (-y). With s the span between the supports: width s / 4, inner end s / 8 + gap from
+/// the centre (so neighbouring corners stay `gap_um` apart in x and y), outer end s / 2 - gap (so
+/// B and D keep `gap_um` from the support edges). The wire pad sits at each island's outer end.
+pub fn four_cross(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_width_um: f64) -> Vec<Electrode> {
+    let (cx, cy) = (die_length_um / 2.0, die_width_um / 2.0);
+    let span = die_width_um - 2.0 * support_width_um;
+    let (half_w, r0, r1) = (span / 8.0, span / 8.0 + e.gap_um, span / 2.0 - e.gap_um);
+    let p = e.wire_pad_um;
+    // (name, island rectangle, pad lower-left)
+    let specs = [
+        ("A", (cx + r0, cy - half_w, cx + r1, cy + half_w), (cx + r1 - p, cy - p / 2.0)),
+        ("B", (cx - half_w, cy + r0, cx + half_w, cy + r1), (cx - p / 2.0, cy + r1 - p)),
+        ("C", (cx - r1, cy - half_w, cx - r0, cy + half_w), (cx - r1, cy - p / 2.0)),
+        ("D", (cx - half_w, cy - r1, cx + half_w, cy - r0), (cx - p / 2.0, cy - r1)),
+    ];
+    let mut out = Vec::new();
+    for (name, (x0, y0, x1, y1), (px, py)) in specs {
+        for polygon in union(&[rect(x0, y0, x1, y1), rect(px, py, px + p, py + p)]) {
+            out.push(Electrode { name: name.to_string(), polygon, pad: [px, py, p] });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::process::Axis;
+    use geo::{Area, BoundingRect};
+
+    #[test]
+    fn four_cross_islands_are_disjoint_symmetric_and_on_the_plate() {
+        let e = Electrodes { pattern: ElectrodePattern::FourCross, units: 1, gap_um: 500.0, edge_margin_um: 250.0, wire_pad_um: 1000.0, drawn_axis: Axis::X };
+        let v = four_cross(&e, 24_000.0, 22_000.0, 2500.0);
+        let names: Vec<&str> = v.iter().map(|i| i.name.as_str()).collect();
+        assert_eq!(names, ["A", "B", "C", "D"]);
+        let b: Vec<_> = v.iter().map(|i| i.polygon.bounding_rect().unwrap()).collect();
+        // Span 17 mm: 4.25 mm wide, from 2.625 mm to 8 mm off the centre (12, 11) mm.
+        assert!((b[0].min().x - 14_625.0).abs() < 1e-9 && (b[0].max().x - 20_000.0).abs() < 1e-9);
+        assert!((b[1].max().y - 19_000.0).abs() < 1e-9 && b[1].max().y <= 22_000.0 - 2500.0 - 250.0);
+        // A and C, B and D mirror about the centre; all four have the same area (pad inside).
+        assert!((b[0].min().x + b[2].max().x - 24_000.0).abs() < 1e-9);
+        assert!((b[1].min().y + b[3].max().y - 22_000.0).abs() < 1e-9);
+        let a0 = v[0].polygon.unsigned_area();
+        assert!(v.iter().all(|i| (i.polygon.unsigned_area() - a0).abs() < 1e-6) && (a0 - 4250.0 * 5375.0).abs() < 1e-6);
+        // Neighbouring corners (A and B) keep the gap in both x and y.
+        assert!(b[0].min().x - b[1].max().x >= 500.0 - 1e-9 && b[1].min().y - b[0].max().y >= 500.0 - 1e-9);
+    }
 }

@@ -135,11 +135,33 @@ pub enum Axis {
     Y,
 }
 
-/// The nine-island PVDF electrode pattern: three sensing units along x, each with one island
-/// under support 1, one under the middle (U-channel) and one under support 2.
+/// Which islands the PVDF mask carries.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElectrodePattern {
+    /// `units` sensing units along x, each S1k over support 1, Mk over the channel, S2k over support 2
+    /// (paper 002).
+    #[default]
+    Nine,
+    /// Four islands over the plate in a cross about the die centre: A (+x), B (+y), C (-x), D (-y)
+    /// (paper 000's four-element sensor; dimensions are a design choice, see process/four-element.yaml).
+    FourCross,
+}
+
+impl ElectrodePattern {
+    pub fn is_nine(&self) -> bool {
+        *self == ElectrodePattern::Nine
+    }
+}
+
+/// The PVDF electrode pattern: by default nine islands, three sensing units along x, each with one
+/// island under support 1, one under the middle (U-channel) and one under support 2.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Electrodes {
+    /// `nine` (default) or `four_cross`; left out of serialised output when it is the default.
+    #[serde(default, skip_serializing_if = "ElectrodePattern::is_nine")]
+    pub pattern: ElectrodePattern,
     pub units: u32,
     /// Gap between neighbouring islands (in x between units, in y between support and middle).
     pub gap_um: f64,

@@ -45,7 +45,8 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
             if inside {
                 s.plate = vec![Load::Point { x_um, y_um, force_n, radius_um }];
             }
-            s.at_um = (x_um, y_um);
+            // The centre may lie over a support while the patch reaches the plate: read there.
+            s.at_um = (x_um.clamp(0.0, l), y_um.clamp(py0, py1));
             s.patch = RectUm { x0_um: x_um - h, y0_um: y_um - h, x1_um: x_um + h, y1_um: y_um + h };
             s
         }

@@ -1,6 +1,7 @@
 //! The one integration-test binary: the real `tactfab` binary driven through a small harness,
 //! plus property tests of the library.
 
+mod analyses;
 mod bad_input;
 mod build;
 mod harness;
