@@ -235,3 +235,43 @@ fn the_strip_model_answers_line_loads_within_its_own_bound() {
         }
     }
 }
+
+#[test]
+fn hard_cases_solve_with_a_stated_error() {
+    // A 50 um plate over 40 mm: slow convergence (order ~1.2) still reaches the tolerance, and 1 N
+    // takes it far out of the linear range, which the report says; 10 mN does not.
+    let thin = geometry(&[
+        "geometry.die_length_um=40000",
+        "geometry.plate_thickness_um=50",
+        "wafer.thickness_um=450",
+        "steps.tmah-etch.time_h=null",
+    ]);
+    assert!((thin.plate_thickness_um - 50.0).abs() < 1e-9);
+    let r = evaluate(&thin, &point(20.0, 7.5, 1.0), 0.02, 4).unwrap();
+    assert!(r.converged, "{:?}", r.error_estimate);
+    assert!(r.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")), "{:?}", r.warnings);
+    let p = r.model.observed_order.expect("monotone convergence");
+    assert!(p > 0.5 && p < 3.0, "observed order {p}");
+    let small = evaluate(&thin, &point(20.0, 7.5, 0.01), 0.02, 4).unwrap();
+    assert!(!small.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")), "{:?}", small.warnings);
+
+    let g = geometry(&[]);
+    // At a free corner of the plate, next to support 1 and the x = 0 end: the near end unit of
+    // support 1 carries the most, and the reactions still balance the load.
+    let r = evaluate(&g, &point(0.6, 3.1, 1.0), 0.02, 4).unwrap();
+    assert!(r.converged, "{:?}", r.error_estimate);
+    rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
+    let support_max = r.electrodes.iter().filter(|e| e.name.starts_with('S')).max_by(|a, b| a.charge_pc.abs().total_cmp(&b.charge_pc.abs())).unwrap();
+    assert_eq!(support_max.name, "S11", "{:?}", r.electrodes);
+
+    // Straddling a tooth edge (the load patch's centre on the footprint edge).
+    let t = &g.teeth[g.teeth.len() / 2];
+    let r = evaluate(&g, &point(t.x0_um / 1e3, (t.y0_um + t.y1_um) / 2e3, 1.0), 0.02, 4).unwrap();
+    assert!(r.converged, "{:?}", r.error_estimate);
+    rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
+
+    // Wholly over a support: no plate solve, the support takes it all.
+    let r = evaluate(&g, &point(15.0, 1.0, 1.0), 0.02, 4).unwrap();
+    assert_eq!(r.model.kind, "direct");
+    rel_eq(r.reactions_n.support1, 1.0, 1e-12);
+}
