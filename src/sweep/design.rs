@@ -111,10 +111,10 @@ pub struct MeshSpec {
 }
 
 impl MeshSpec {
-    /// Default sweep mesh: 1/12 of the side, 1/160 at the centre, so the contact patch is resolved
+    /// Default sweep mesh: 1/16 of the side, 1/240 at the centre, so the contact patch is resolved
     /// (error estimate: [`crate::sweep::run::estimate_error`], `examples/sweep_bench.rs`).
     pub fn standard() -> Self {
-        MeshSpec { max_element_frac: 1.0 / 12.0, centre_element_frac: 1.0 / 160.0 }
+        MeshSpec { max_element_frac: 1.0 / 16.0, centre_element_frac: 1.0 / 240.0 }
     }
     /// Both sizes divided by `r` (a nested refinement for error estimates).
     pub fn refined(&self, r: f64) -> Self {
