@@ -90,18 +90,7 @@ impl SensorGeometry {
             }
         }
         let si = &p.materials.silicon;
-        let material = match si.model {
-            SiliconModel::Anisotropic => PlateMaterial::from_cubic(
-                si.c11_gpa * 1e9,
-                si.c12_gpa * 1e9,
-                si.c44_gpa * 1e9,
-                match p.wafer.die_edge {
-                    Direction::D110 => DieEdge::Along110,
-                    Direction::D100 => DieEdge::Along100,
-                },
-            ),
-            SiliconModel::Isotropic => PlateMaterial::isotropic(si.e_gpa * 1e9, si.nu),
-        };
+        let material = silicon_material(p);
         let f = &p.materials.pvdf;
         SensorGeometry {
             length_um: g.die_length_um,
@@ -187,5 +176,23 @@ impl SensorGeometry {
     /// Film capacitance C = eps0 eps_r A / t (parallel plate) in farads.
     pub fn capacitance_f(&self, area_um2: f64) -> f64 {
         crate::units::EPS0_F_PER_M * self.eps_r * area_um2 * 1e-12 / (self.film_thickness_um * 1e-6)
+    }
+}
+
+/// The silicon plate material the process asks for: orthotropic in die axes from C11, C12, C44
+/// and the die-edge direction, or the isotropic override.
+pub fn silicon_material(p: &Process) -> PlateMaterial {
+    let si = &p.materials.silicon;
+    match si.model {
+        SiliconModel::Anisotropic => PlateMaterial::from_cubic(
+            si.c11_gpa * 1e9,
+            si.c12_gpa * 1e9,
+            si.c44_gpa * 1e9,
+            match p.wafer.die_edge {
+                Direction::D110 => DieEdge::Along110,
+                Direction::D100 => DieEdge::Along100,
+            },
+        ),
+        SiliconModel::Isotropic => PlateMaterial::isotropic(si.e_gpa * 1e9, si.nu),
     }
 }

@@ -16,6 +16,6 @@ mod convergence_plot;
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{evaluate, evaluate_many, LevelRecord, ModelInfo, SceneReport};
-pub use geometry::{ElectrodeArea, SensorGeometry, SupportSide};
+pub use geometry::{silicon_material, ElectrodeArea, SensorGeometry, SupportSide};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};

@@ -158,20 +158,7 @@ impl DesignModel {
     /// The sweep model of a process: its Si stiffness in die axes (as the sensor model builds it),
     /// `force_n` (paper 001 sec. 4.1: 4 N), a contact patch of `contact_radius_um`, the standard mesh.
     pub fn from_process(p: &crate::process::Process, force_n: f64, contact_radius_um: f64) -> Self {
-        use crate::process::{Direction, SiliconModel};
-        let si = &p.materials.silicon;
-        let material = match si.model {
-            SiliconModel::Anisotropic => PlateMaterial::from_cubic(
-                si.c11_gpa * 1e9,
-                si.c12_gpa * 1e9,
-                si.c44_gpa * 1e9,
-                match p.wafer.die_edge {
-                    Direction::D110 => crate::fe::DieEdge::Along110,
-                    Direction::D100 => crate::fe::DieEdge::Along100,
-                },
-            ),
-            SiliconModel::Isotropic => PlateMaterial::isotropic(si.e_gpa * 1e9, si.nu),
-        };
+        let material = crate::sensor::silicon_material(p);
         DesignModel { material, force_n, contact_radius_um, mesh: MeshSpec::standard() }
     }
 
