@@ -4,7 +4,7 @@
 use super::fe::plots;
 use super::markdown::err_text;
 use super::section::{svg as section_svg, xml};
-use super::traveler::Traveler;
+use super::traveler::{CompensationRow, Traveler};
 
 /// Pictures that come from outside the model: each mask as the shop receives it, and one tooth
 /// of the front mask with its compensators.
@@ -52,6 +52,14 @@ fn table(head: &[&str], rows: &[Vec<String>]) -> String {
 }
 
 /// An SVG to inline: any XML declaration dropped.
+/// Opening of a run-sheet table: fixed column widths (%, so it prints on A4) and the headings,
+/// up to the open `<tbody>`.
+fn sheet_head(widths_pct: &[u32], headings: &[&str]) -> String {
+    let cols: String = widths_pct.iter().map(|w| format!("<col style=\"width: {w}%\">")).collect();
+    let heads: String = headings.iter().map(|h| format!("<th>{h}</th>")).collect();
+    format!("<table class=\"steps\"><colgroup>{cols}</colgroup><thead><tr>{heads}</tr></thead><tbody>")
+}
+
 fn inline(svg: &str) -> &str {
     match svg.find("<svg") {
         Some(i) => &svg[i..],
@@ -113,15 +121,11 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
     }
     b.push_str("</div></section>\n");
 
-    b.push_str("<section id=\"steps\" class=\"section-steps\"><h2>Steps</h2>\n<table class=\"steps\"><colgroup>");
-    for w in [11, 9, 10, 14, 26, 14, 8, 8] {
-        b.push_str(&format!("<col style=\"width: {w}%\">"));
-    }
-    b.push_str("</colgroup><thead><tr>");
-    for h in ["Step", "Process", "Equipment", "Parameters", "Computed (provenance)", "Target +/- tolerance", "Measured", "Operator/date"] {
-        b.push_str(&format!("<th>{h}</th>"));
-    }
-    b.push_str("</tr></thead><tbody>");
+    b.push_str("<section id=\"steps\" class=\"section-steps\"><h2>Steps</h2>\n");
+    b.push_str(&sheet_head(
+        &[11, 9, 10, 14, 26, 14, 8, 8],
+        &["Step", "Process", "Equipment", "Parameters", "Computed (provenance)", "Target +/- tolerance", "Measured", "Operator/date"],
+    ));
     for r in &t.steps {
         let computed: String = r.computed.iter().map(|c| format!("<div>{}: <b>{}</b> <span class=\"prov\">[{}]</span></div>", esc(&c.what), esc(&c.value), esc(&c.provenance))).collect();
         let target = r
@@ -141,15 +145,8 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
     }
     b.push_str("</tbody></table></section>\n");
 
-    b.push_str("<section id=\"holds\"><h2>Hold points</h2>\n<p>Stop at each hold point; continue only after the engineer signs.</p>\n<table class=\"steps\"><colgroup>");
-    for w in [6, 10, 16, 16, 16, 16, 10, 10] {
-        b.push_str(&format!("<col style=\"width: {w}%\">"));
-    }
-    b.push_str("</colgroup><thead><tr>");
-    for h in ["Hold", "Step", "When", "Measure", "Accept", "Then", "Measured", "Engineer sign-off/date"] {
-        b.push_str(&format!("<th>{h}</th>"));
-    }
-    b.push_str("</tr></thead><tbody>");
+    b.push_str("<section id=\"holds\"><h2>Hold points</h2>\n<p>Stop at each hold point; continue only after the engineer signs.</p>\n");
+    b.push_str(&sheet_head(&[6, 10, 16, 16, 16, 16, 10, 10], &["Hold", "Step", "When", "Measure", "Accept", "Then", "Measured", "Engineer sign-off/date"]));
     for h in &t.holds {
         b.push_str(&format!(
             "<tr><td><b>{}</b></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>{BLANK_CELL}{BLANK_CELL}</tr>",
@@ -255,23 +252,8 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
     if t.compensation.is_empty() {
         b.push_str("<p>No silicon etch carries a compensation design.</p>\n");
     } else {
-        let rows: Vec<Vec<String>> = t
-            .compensation
-            .iter()
-            .map(|c| {
-                vec![
-                    esc(&c.step),
-                    esc(&c.geometry),
-                    format!("{:.1}", c.depth_um),
-                    format!("{:.1} (h / {})", c.side_um, c.ratio),
-                    format!("{:.1}", c.reach_um),
-                    format!("{:.1}", c.min_gap_um),
-                    format!("{:.0} / {:.0}", c.street_um.0, c.street_um.1),
-                    c.test_die_um.map(|(a, b)| format!("a from {a:.0} to {b:.0} um")).unwrap_or_else(|| "-".into()),
-                ]
-            })
-            .collect();
-        b.push_str(&table(&["step", "geometry", "depth h (um)", "a = h / ratio (um)", "reach (um)", "needs between corners (um)", "street x / y (um)", "TMAH test die"], &rows));
+        let rows: Vec<Vec<String>> = t.compensation.iter().map(|c| c.cells().iter().map(|v| esc(v)).collect()).collect();
+        b.push_str(&table(&CompensationRow::HEADINGS, &rows));
         if let Some(svg) = &fig.tooth {
             b.push_str(&format!("<figure style=\"max-width: 60mm\">{}<figcaption>one tooth of the front mask with its compensators</figcaption></figure>\n", inline(svg)));
         }

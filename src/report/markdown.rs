@@ -1,7 +1,7 @@
 //! The traveler as Markdown (GitHub tables; `<br>` inside cells). Deterministic: fixed decimals,
 //! the model's order, no dates or timings.
 
-use super::traveler::Traveler;
+use super::traveler::{CompensationRow, Traveler};
 
 /// A table cell: pipes escaped, newlines as `<br>`.
 fn cell(s: &str) -> String {
@@ -167,18 +167,9 @@ pub fn markdown(t: &Traveler) -> String {
     if t.compensation.is_empty() {
         s.push_str("No silicon etch carries a compensation design.\n\n");
     } else {
-        s.push_str(&head(&["step", "geometry", "depth h (um)", "a = h / ratio (um)", "reach (um)", "needs between corners (um)", "street x / y (um)", "TMAH test die"]));
+        s.push_str(&head(&CompensationRow::HEADINGS));
         for c in &t.compensation {
-            s.push_str(&row(&[
-                c.step.clone(),
-                c.geometry.clone(),
-                format!("{:.1}", c.depth_um),
-                format!("{:.1} (h / {})", c.side_um, c.ratio),
-                format!("{:.1}", c.reach_um),
-                format!("{:.1}", c.min_gap_um),
-                format!("{:.0} / {:.0}", c.street_um.0, c.street_um.1),
-                c.test_die_um.map(|(a, b)| format!("a from {a:.0} to {b:.0} um")).unwrap_or_else(|| "-".into()),
-            ]));
+            s.push_str(&row(&c.cells()));
         }
         s.push('\n');
     }

@@ -98,6 +98,26 @@ pub struct CompensationRow {
     pub test_die_um: Option<(f64, f64)>,
 }
 
+impl CompensationRow {
+    /// Column titles of the compensation table, shared by the Markdown and HTML writers.
+    pub const HEADINGS: [&'static str; 8] =
+        ["step", "geometry", "depth h (um)", "a = h / ratio (um)", "reach (um)", "needs between corners (um)", "street x / y (um)", "TMAH test die"];
+
+    /// The row's cells as plain text (each writer escapes for its own format).
+    pub fn cells(&self) -> Vec<String> {
+        vec![
+            self.step.clone(),
+            self.geometry.clone(),
+            format!("{:.1}", self.depth_um),
+            format!("{:.1} (h / {})", self.side_um, self.ratio),
+            format!("{:.1}", self.reach_um),
+            format!("{:.1}", self.min_gap_um),
+            format!("{:.0} / {:.0}", self.street_um.0, self.street_um.1),
+            self.test_die_um.map(|(a, b)| format!("a from {a:.0} to {b:.0} um")).unwrap_or_else(|| "-".into()),
+        ]
+    }
+}
+
 /// The whole traveler.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Traveler {
