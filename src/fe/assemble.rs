@@ -69,14 +69,43 @@ impl ElementStiffness {
 #[derive(Debug, Clone)]
 pub struct Pattern {
     pub symbolic: SymbolicSparseColMat<usize>,
+    /// Position in the values of entry (row, col) for every free column, by the row's stencil
+    /// neighbour k (0..9) and dof (0..4): `slot[36 col + 4 k + dof]`, or [`NO_SLOT`] above the
+    /// diagonal or on a constrained row. Assembly is then indexing, not searching.
+    slot: Vec<u32>,
 }
+
+const NO_SLOT: u32 = u32::MAX;
+
+/// Stencil neighbour index (dy + 1) 3 + (dx + 1) of element corner `r` seen from corner `c`.
+const NEIGHBOUR: [[usize; 4]; 4] = {
+    let mut t = [[0; 4]; 4];
+    let mut r = 0;
+    while r < 4 {
+        let mut c = 0;
+        while c < 4 {
+            let (rx, ry) = bfs::CORNERS[r];
+            let (cx, cy) = bfs::CORNERS[c];
+            t[r][c] = (ry + 1 - cy) * 3 + (rx + 1 - cx);
+            c += 1;
+        }
+        r += 1;
+    }
+    t
+};
 
 impl Pattern {
     /// Build once per mesh and constraint set.
     pub fn new(mesh: &RectMesh, dofs: &DofMap) -> FeResult<Self> {
         let (nxl, nyl) = (mesh.x_um.len(), mesh.y_um.len());
-        let mut col_ptr = Vec::with_capacity(dofs.n_free() + 1);
-        let mut row_idx = Vec::with_capacity(dofs.n_free() * 20);
+        let n = dofs.n_free();
+        // Positions are u32: at most 36 entries per column.
+        if n >= (u32::MAX / 36) as usize {
+            return Err(FeError::Sparse { detail: format!("{n} free dofs"), hint: "too many dofs for one plate: use a coarser mesh" });
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(n * 20);
+        let mut slot = vec![NO_SLOT; 36 * n];
         col_ptr.push(0);
         for (c, &g) in dofs.free_dofs.iter().enumerate() {
             let node = g / 4;
@@ -85,9 +114,11 @@ impl Pattern {
             for jj in j.saturating_sub(1)..=(j + 1).min(nyl - 1) {
                 for ii in i.saturating_sub(1)..=(i + 1).min(nxl - 1) {
                     let nn = jj * nxl + ii;
+                    let k = (jj + 1 - j) * 3 + (ii + 1 - i);
                     for d in 0..4 {
                         let f = dofs.free_index[4 * nn + d];
                         if f != CONSTRAINED && f >= c {
+                            slot[36 * c + 4 * k + d] = row_idx.len() as u32;
                             row_idx.push(f);
                         }
                     }
@@ -95,16 +126,15 @@ impl Pattern {
             }
             col_ptr.push(row_idx.len());
         }
-        let n = dofs.n_free();
         Ok(Pattern {
             symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            slot,
         })
     }
 
     /// Assembled lower-triangle values (CSC order) from the element stiffness matrices.
     pub fn values(&self, mesh: &RectMesh, dofs: &DofMap, k: &ElementStiffness) -> Vec<f64> {
-        let (col_ptr, row_idx) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
-        let mut vals = vec![0.0; row_idx.len()];
+        let mut vals = vec![0.0; self.symbolic.row_idx().len()];
         for e in 0..mesh.n_elements() {
             let ed = element_dofs(mesh, e).map(|d| dofs.free_index[d]);
             let ke = &k.matrices[k.kind[e] as usize];
@@ -113,12 +143,11 @@ impl Pattern {
                 if c == CONSTRAINED {
                     continue;
                 }
-                let col = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                let base = 36 * c;
                 for i in 0..16 {
-                    let r = ed[i];
-                    if r != CONSTRAINED && r >= c {
-                        let pos = col.binary_search(&r).expect("entry in the stencil pattern");
-                        vals[col_ptr[c] + pos] += ke[i][j];
+                    let s = self.slot[base + 4 * NEIGHBOUR[i / 4][j / 4] + i % 4];
+                    if s != NO_SLOT {
+                        vals[s as usize] += ke[i][j];
                     }
                 }
             }

@@ -75,9 +75,11 @@ impl DofMap {
                     Axis::X => 1,
                     Axis::Y => 2,
                 };
+                let normal = 3 - tangential;
                 let dofs: &[usize] = match s.kind {
                     SupportKind::SimplySupported => &[0, tangential],
                     SupportKind::Clamped => &[0, 1, 2, 3],
+                    SupportKind::Symmetry => &[normal, 3],
                 };
                 for &d in dofs {
                     owner[4 * node + d].get_or_insert((0.0, g));

@@ -21,6 +21,7 @@
 pub mod assemble;
 pub mod beam;
 pub mod bfs;
+pub mod cholesky;
 pub mod clip;
 pub mod convergence;
 pub mod dofs;
@@ -28,6 +29,8 @@ pub mod error;
 pub mod loads;
 pub mod material;
 pub mod mesh;
+pub mod mirror;
+pub mod ordering;
 pub mod problem;
 pub mod solution;
 pub mod solve;

@@ -24,6 +24,9 @@ pub enum SupportKind {
     Clamped,
     /// w = 0 along the line (w and the tangential slope fixed).
     SimplySupported,
+    /// Mirror plane of a symmetric problem: the normal slope and the twist vanish, w is free
+    /// (w_y = w_xy = 0 on a line along x). Carries no force.
+    Symmetry,
 }
 
 /// Direction of a support line.

@@ -119,6 +119,12 @@ impl PlateSolution {
         self.nodal = nodal;
         self
     }
+    pub(crate) fn context(&self) -> &SolutionContext {
+        &self.ctx
+    }
+    pub(crate) fn all_nodal_reactions(&self) -> &[NodalReaction] {
+        &self.nodal
+    }
 
     /// Nodal support forces of one group, in mesh order (consistent nodal forces: each stands for
     /// its node's tributary length of the line).
@@ -217,14 +223,22 @@ impl PlateSolution {
         out
     }
 
-    /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped per element,
-    /// 4x4 Gauss per clipped part (exact for the BFS curvature field).
+    /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped per element:
+    /// whole elements in closed form ([`bfs::curvature_integral`]), partly covered ones by 4x4 Gauss
+    /// per clipped part (exact for the BFS curvature field).
     pub fn integrate_bottom_strain(&self, rect: RectUm) -> (f64, f64) {
         let (mut sx, mut sy) = (0.0, 0.0);
         for (e, x0, x1, y0, y1) in self.clipped(&rect) {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
             let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+            let whole = |lo: f64, hi: f64, len: f64| lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len;
+            if whole(x0, x1, a) && whole(y0, y1, b) {
+                let (ix, iy) = bfs::curvature_integral(&u, a, b);
+                sx += h * ix;
+                sy += h * iy;
+                continue;
+            }
             for (x, wx) in bfs::gauss4_on(x0, x1) {
                 for (y, wy) in bfs::gauss4_on(y0, y1) {
                     let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
@@ -304,6 +318,16 @@ impl PlateSolution {
         for e in 0..m.n_elements() {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
+            // |w| <= max |w_i| + sum (4a/27 |w_x,i| + 4b/27 |w_y,i| + 16ab/729 |w_xy,i|) in the
+            // element (the value Hermite cubics are in [0, 1] and sum to 1; the slope ones peak at
+            // len 4/27): elements that cannot beat the best so far are skipped.
+            let bound = (0..4).map(|c| u[4 * c].abs()).fold(0.0, f64::max)
+                + (0..4)
+                    .map(|c| 4.0 / 27.0 * (a * u[4 * c + 1].abs() + b * u[4 * c + 2].abs()) + 16.0 / 729.0 * a * b * u[4 * c + 3].abs())
+                    .sum::<f64>();
+            if bound <= best.w_m.abs() {
+                continue;
+            }
             let (ex0, ey0, _, _) = m.element_bounds_um(e);
             for (x, _) in bfs::gauss4_on(0.0, a) {
                 for (y, _) in bfs::gauss4_on(0.0, b) {
@@ -366,7 +390,11 @@ impl PlateSolution {
     /// max |w| / t at the location of the largest deflection; above [`LINEAR_RANGE_LIMIT`] membrane
     /// stiffening matters and the linear model is leaving its range.
     pub fn linear_range_ratio(&self) -> f64 {
-        let p = self.max_deflection();
+        self.linear_range_ratio_at(&self.max_deflection())
+    }
+
+    /// [`Self::linear_range_ratio`] for a peak already found by [`Self::max_deflection`].
+    pub fn linear_range_ratio_at(&self, p: &DeflectionPeak) -> f64 {
         let e = self.ctx.mesh.locate(p.x_um, p.y_um).map_or(0, |l| l.0);
         p.w_m.abs() / (self.ctx.thickness_um[e] * 1e-6)
     }

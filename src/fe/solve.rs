@@ -7,11 +7,10 @@ use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
 use crate::fe::problem::{Load, PlateProblem};
 use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::linalg::LltError;
+use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
+use crate::fe::ordering::free_dof_order;
 use faer::sparse::SparseColMat;
-use faer::{Mat, Side};
+use faer::Mat;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -22,25 +21,14 @@ pub struct Factorised {
     dofs: DofMap,
     pattern: Pattern,
     kel: ElementStiffness,
-    symbolic: SymbolicLlt<usize>,
-    llt: Llt<usize, f64>,
+    symbolic: SymbolicFactor,
+    llt: CholeskyFactor,
     ctx: Arc<SolutionContext>,
     key: PlateProblem,
 }
 
-fn numeric(
-    symbolic: &SymbolicLlt<usize>,
-    pattern: &Pattern,
-    vals: Vec<f64>,
-) -> FeResult<Llt<usize, f64>> {
-    let mat = SparseColMat::<usize, f64>::new(pattern.symbolic.clone(), vals);
-    Llt::try_new_with_symbolic(symbolic.clone(), mat.as_ref(), Side::Lower).map_err(|e| match e {
-        LltError::Numeric(n) => FeError::NotPositiveDefinite {
-            detail: format!("{n:?}"),
-            hint: "the plate is not fully constrained or has zero stiffness somewhere: check that supports exist and thicknesses are positive",
-        },
-        LltError::Generic(g) => FeError::Sparse { detail: format!("{g:?}"), hint: "out of memory: use a coarser mesh" },
-    })
+fn numeric(symbolic: &SymbolicFactor, pattern: &Pattern, vals: Vec<f64>) -> FeResult<CholeskyFactor> {
+    symbolic.factor(SparseColMat::<usize, f64>::new(pattern.symbolic.clone(), vals).as_ref())
 }
 
 fn pattern_key(p: &PlateProblem) -> PlateProblem {
@@ -59,6 +47,7 @@ impl Factorised {
     pub fn new(problem: &PlateProblem) -> FeResult<Self> {
         let mesh = &problem.mesh;
         mesh.validate();
+        let tt=std::time::Instant::now(); let pr=|n:&str,tt:&std::time::Instant| if std::env::var("PROF").is_ok(){eprintln!("  {n} {:.2}",tt.elapsed().as_secs_f64()*1e3)};
         let dofs = DofMap::new(problem)?;
         let free_modes = dofs.free_rigid_modes(mesh);
         if free_modes > 0 {
@@ -70,17 +59,20 @@ impl Factorised {
                 hint: "everything is constrained: use a finer mesh or fewer supports",
             });
         }
+        pr("modes",&tt);
         let pattern = Pattern::new(mesh, &dofs)?;
-        let symbolic =
-            SymbolicLlt::try_new(pattern.symbolic.as_ref(), Side::Lower).map_err(|e| {
-                FeError::Sparse {
-                    detail: format!("{e:?}"),
-                    hint: "out of memory or index overflow: use a coarser mesh",
-                }
-            })?;
+        pr("pattern",&tt);
+        let order = free_dof_order(&dofs, mesh.x_um.len(), mesh.y_um.len());
+        let symbolic = SymbolicFactor::new(pattern.symbolic.as_ref(), &order)?;
+        pr("symbolic",&tt);
+        if std::env::var("PROF").is_ok(){eprintln!("  Lnnz {} {:?}", symbolic.factor_len(), 0)};
         let thickness = problem.element_thickness_um();
         let kel = ElementStiffness::new(problem, &thickness)?;
-        let llt = numeric(&symbolic, &pattern, pattern.values(mesh, &dofs, &kel))?;
+        pr("kel",&tt);
+        let vals = pattern.values(mesh, &dofs, &kel);
+        pr("values",&tt);
+        let llt = numeric(&symbolic, &pattern, vals)?;
+        pr("numeric",&tt);
         let ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
             thickness_um: thickness,

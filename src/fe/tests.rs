@@ -1041,3 +1041,63 @@ fn probe_rotation_invariants() {
     assert!(rel(w(4), w(3)) < 1e-12);
     assert!(rel(w(3), w(0)) > 1e-4, "rotation must matter");
 }
+
+/// A plate symmetric about x = 5 mm and y = 3 mm: clamped along y = 0 and y = 6 mm, free at the
+/// x ends, a centred thicker region and a centred patch load; (x1, y1) is the corner of the part
+/// meshed (the whole plate, or the lower-left quarter with symmetry lines).
+fn symmetric_plate(x1: f64, y1: f64, nx: usize, ny: usize) -> PlateProblem {
+    let mut p = PlateProblem::new(RectMesh::uniform(x1, y1, nx, ny), 80.0, PlateMaterial::silicon(DieEdge::Along110));
+    p.thickness_regions.push(ThicknessRegion { x0_um: 3000.0, y0_um: 2000.0, x1_um: 7000.0, y1_um: 4000.0, thickness_um: 200.0 });
+    p.supports.push(LineSupport { group: "low".into(), kind: SupportKind::Clamped, along: Axis::X, at_um: 0.0, from_um: 0.0, to_um: x1 });
+    p
+}
+
+/// Half and quarter models with symmetry lines, mirrored back, equal the whole-plate solve on the
+/// mirrored mesh to round-off: dofs, reactions (per group and per node), strains, deflections.
+#[test]
+fn mirrored_quarter_equals_whole_plate() {
+    let (h, c) = (0.5 * std::f64::consts::PI.sqrt() * 600.0, (5000.0, 3000.0));
+    let mut whole = symmetric_plate(10_000.0, 6000.0, 20, 12);
+    whole.supports.push(LineSupport { group: "high".into(), kind: SupportKind::Clamped, along: Axis::X, at_um: 6000.0, from_um: 0.0, to_um: 10_000.0 });
+    whole.load_cases.push(vec![Load::Point { x_um: c.0, y_um: c.1, force_n: 1.0, radius_um: 600.0 }]);
+    let w = &whole.solve().unwrap()[0];
+
+    let mut quarter = symmetric_plate(5000.0, 3000.0, 10, 6);
+    for (along, at) in [(Axis::X, 3000.0), (Axis::Y, 5000.0)] {
+        quarter.supports.push(LineSupport { group: "mirror".into(), kind: SupportKind::Symmetry, along, at_um: at, from_um: 0.0, to_um: 10_000.0 });
+    }
+    let patch = vec![(c.0 - h, c.1 - h), (c.0, c.1 - h), c, (c.0 - h, c.1)];
+    quarter.load_cases.push(vec![Load::Polygon { points_um: patch, total_force_n: 0.25 }]);
+    let q = &quarter.solve().unwrap()[0];
+    let half = q.mirrored(Axis::Y, 5000.0, |g| g.to_string());
+    let m = half.mirrored(Axis::X, 3000.0, |g| if g == "low" { "high".into() } else { g.to_string() });
+
+    assert_eq!(m.mesh(), w.mesh());
+    let scale = w.dofs().iter().step_by(4).fold(0.0f64, |a, v| a.max(v.abs()));
+    for (k, (a, b)) in m.dofs().iter().zip(w.dofs()).enumerate() {
+        // Slopes and twist compared at the scale of w over the element size.
+        let s = if k % 4 == 0 { scale } else { scale / 500e-6 };
+        assert!((a - b).abs() <= 1e-9 * s, "dof {k}: {a} vs {b}");
+    }
+    for g in ["low", "high"] {
+        let (a, b) = (m.reaction_n(g).unwrap(), w.reaction_n(g).unwrap());
+        assert!((a - b).abs() < 1e-12 && (a - 0.5).abs() < 1e-12, "{g}: {a} vs {b}");
+    }
+    let nodal = |s: &PlateSolution, g: &str| {
+        let mut v: Vec<(f64, f64)> = s.nodal_reactions(g).iter().map(|r| (r.x_um, r.force_n)).collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
+    };
+    for g in ["low", "high"] {
+        let (a, b) = (nodal(&m, g), nodal(&w, g));
+        assert_eq!(a.len(), b.len(), "{g}: one reaction per node, the mirror line's counted once");
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-12, "{g}: {x:?} vs {y:?}");
+        }
+    }
+    let r = RectUm { x0_um: 1000.0, y0_um: 500.0, x1_um: 8000.0, y1_um: 5500.0 };
+    let (ia, ib) = (m.integrate_bottom_strain(r), w.integrate_bottom_strain(r));
+    assert!((ia.0 - ib.0).abs() <= 1e-9 * ib.0.abs() && (ia.1 - ib.1).abs() <= 1e-9 * ib.1.abs());
+    assert!((m.max_deflection().w_m - w.max_deflection().w_m).abs() <= 1e-9 * scale);
+    assert!((m.applied_force_n() - 1.0).abs() < 1e-12);
+}

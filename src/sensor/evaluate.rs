@@ -15,6 +15,7 @@ use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 use super::geometry::{SensorGeometry, SupportSide};
 use super::readout::{group_for, read, ElectrodeReading, Readout};
 use super::scene::{split, SceneLoads};
+use super::symmetry::Symmetry;
 
 /// Largest element of the coarsest mesh; each level halves it. Feature lines, not this size, set
 /// most of the coarsest mesh: 2 mm gives about 430 elements on the bundled design.
@@ -35,12 +36,15 @@ pub struct ModelInfo {
     pub max_element_um: f64,
     /// Observed convergence order of the deflection at the load (never assumed).
     pub observed_order: Option<f64>,
+    /// The part of the plate solved when the scenes are mirror-symmetric ("half, mirror y =
+    /// 7.500 mm"); elements and dofs are those of that part. None: the whole plate.
+    pub symmetry: Option<String>,
 }
 
 impl ModelInfo {
     /// The load lies wholly over the supports: no plate solve.
     fn direct() -> Self {
-        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None }
+        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None }
     }
 }
 
@@ -102,8 +106,14 @@ pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) 
 /// fixed-fixed strip ([`super::beam_model`]) for line loads on plates without teeth when its bound
 /// allows, else the plate, all plate scenes on a shared sequence of meshes (one factorisation per
 /// level, all scenes as one multi-column solve) until every estimate is under `tol` or `max_levels`
-/// is reached.
+/// is reached. Mirror symmetry is used when every plate scene has it ([`Symmetry`]).
 pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
+    evaluate_many_with(g, scenes, tol, max_levels, true)
+}
+
+/// [`evaluate_many`], with the use of mirror symmetry a choice (`false` solves the whole plate:
+/// the cross-check of the half model, `tactfab fe --no-symmetry`).
+pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, symmetry: bool) -> Result<Vec<SceneReport>, FeError> {
     assert!(max_levels >= 1, "at least one mesh level");
     let beam_error = beam_error_estimate(g);
     let by_beam = |s: &Scene| match s.load {
@@ -111,7 +121,7 @@ pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels:
         _ => false,
     };
     let plate_scenes: Vec<Scene> = scenes.iter().filter(|s| !by_beam(s)).cloned().collect();
-    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels)? }.into_iter();
+    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels, symmetry)? }.into_iter();
     Ok(scenes
         .iter()
         .map(|s| match s.load {
@@ -132,7 +142,7 @@ fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error
     SceneReport {
         scene: scene.name.clone(),
         force_n,
-        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None },
+        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None },
         solve_ms: t0.elapsed().as_secs_f64() * 1e3,
         error_estimate: Some(error),
         converged: error < tol,
@@ -159,9 +169,12 @@ fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
 }
 
 /// The plate path of [`evaluate_many`].
-fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
+fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, use_symmetry: bool) -> Result<Vec<SceneReport>, FeError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
+    let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
+    let sym = if use_symmetry { Symmetry::detect(g, &cases) } else { Symmetry::none(g) };
+    let part_cases: Vec<Vec<_>> = cases.iter().map(|c| sym.restrict(c)).collect();
     let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
     let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo, Vec<Readout>)> = None;
     let mut elapsed_ms = 0.0;
@@ -174,13 +187,12 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
     for level in 0..levels {
         let t0 = Instant::now();
         let h = COARSE_ELEMENT_UM / f64::powi(2.0, level as i32);
-        let base = base.get_or_insert_with(|| base_lines(g, &loads));
+        let base = base.get_or_insert_with(|| base_lines(g, &loads, &sym));
         let (sols, info) = if needs_plate {
-            let problem = build_problem(g, base, level);
+            let problem = build_problem(g, base, level, &sym);
             let fact = Factorised::new(&problem)?;
-            let cases: Vec<_> = loads.iter().map(|l| l.plate.clone()).collect();
-            let solved = fact.solve(&cases)?;
-            let sols: Vec<_> = solved.into_iter().zip(&loads).map(|(s, l)| (!l.plate.is_empty()).then_some(s)).collect();
+            let solved = fact.solve(&part_cases)?;
+            let sols: Vec<_> = solved.into_iter().zip(&loads).map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s))).collect();
             let info = ModelInfo {
                 kind: "plate".into(),
                 elements: problem.mesh.n_elements(),
@@ -188,6 +200,7 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
                 levels: level + 1,
                 max_element_um: h,
                 observed_order: None,
+                symmetry: sym.describe(),
             };
             (sols, info)
         } else {
@@ -226,20 +239,19 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
         let mut info = if sol.is_some() { info.clone() } else { ModelInfo::direct() };
         info.observed_order = order_k;
         let w_load = history[k].last().map_or(0.0, |q| q[0]);
-        let (w_max, stress_pa) = match sol {
-            Some(s) => (s.max_deflection().w_m, s.max_principal_stress(l.patch).map(|p| p.sigma_pa).unwrap_or(0.0)),
-            None => (0.0, 0.0),
-        };
+        let peak = sol.map(|s| s.max_deflection());
+        let w_max = peak.map_or(0.0, |p| p.w_m);
+        let stress_pa = sol.and_then(|s| s.max_principal_stress(l.patch)).map_or(0.0, |p| p.sigma_pa);
         let f = l.total_force_n;
         let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
         let safety = if stress_pa > 0.0 { g.fracture_strength_mpa * 1e6 / stress_pa } else { f64::INFINITY };
         let (best, sens) = most_sensitive(&r, f);
         let mut warnings = Vec::new();
-        if let Some(s) = sol.filter(|s| s.exceeds_linear_range()) {
+        let ratio = sol.zip(peak.as_ref()).map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
+        if ratio > LINEAR_RANGE_LIMIT {
             warnings.push(format!(
-                "LINEAR_RANGE: maximum deflection {:.1} um is {:.2} x the local thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings overestimate",
+                "LINEAR_RANGE: maximum deflection {:.1} um is {ratio:.2} x the local thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings overestimate",
                 w_max.abs() * 1e6,
-                s.linear_range_ratio()
             ));
         }
         let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
@@ -334,7 +346,9 @@ fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
 /// Lines of the coarsest mesh: every feature line (electrode, tooth, support and load-patch
 /// edges), intervals no longer than [`COARSE_ELEMENT_UM`], no grading. Grading towards short gaps
 /// and loads made the coarsest mesh 13x larger for an error the nested sequence measures anyway.
-fn base_lines(g: &SensorGeometry, loads: &[SceneLoads]) -> (Vec<f64>, Vec<f64>) {
+///
+/// On a symmetric problem the lines are folded into the part solved ([`Symmetry::fold`]).
+fn base_lines(g: &SensorGeometry, loads: &[SceneLoads], sym: &Symmetry) -> (Vec<f64>, Vec<f64>) {
     let (mut xs, mut ys) = g.exact_lines();
     for l in loads {
         let p = &l.patch;
@@ -344,8 +358,9 @@ fn base_lines(g: &SensorGeometry, loads: &[SceneLoads]) -> (Vec<f64>, Vec<f64>) 
         }
     }
     let (tx, ty) = g.tooth_lines();
-    let xs = merge_lines(xs, tx, 0.0, g.length_um);
-    let ys = merge_lines(ys, ty, g.plate_y0_um, g.plate_y1_um);
+    let (x0, x1, y0, y1) = sym.domain_um;
+    let xs = merge_lines(sym.fold(true, xs), sym.fold(true, tx), x0, x1);
+    let ys = merge_lines(sym.fold(false, ys), sym.fold(false, ty), y0, y1);
     let mesh = RectMesh::ungraded(&xs, &ys, COARSE_ELEMENT_UM);
     (mesh.x_um, mesh.y_um)
 }
@@ -381,9 +396,9 @@ fn subdivide(lines: &[f64], level: usize) -> Vec<f64> {
     out
 }
 
-/// The plate over the U-channel: clamped along both inner support edges (split per electrode so
-/// each support electrode gets its own reaction), teeth as thicker regions.
-fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize) -> PlateProblem {
+/// The plate over the U-channel (or the part of it solved): clamped along the inner support
+/// edges, teeth as thicker regions, symmetry lines on the mirrors.
+fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize, sym: &Symmetry) -> PlateProblem {
     let xs = subdivide(&base.0, level);
     let ys = subdivide(&base.1, level);
     let mesh = RectMesh { x_um: xs, y_um: ys };
@@ -402,9 +417,19 @@ fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize) 
         })
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();
+    let (x0, x1, y0, y1) = sym.domain_um;
     for (side, y) in [(SupportSide::Support1, g.plate_y0_um), (SupportSide::Support2, g.plate_y1_um)] {
-        let group = group_for(side).to_string();
-        p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: 0.0, to_um: g.length_um });
+        if y >= y0 && y <= y1 {
+            let group = group_for(side).to_string();
+            p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: x0, to_um: x1 });
+        }
+    }
+    for m in &sym.mirrors {
+        let (from_um, to_um) = match m.along {
+            FeAxis::X => (x0, x1),
+            FeAxis::Y => (y0, y1),
+        };
+        p.supports.push(LineSupport { group: "symmetry".into(), kind: SupportKind::Symmetry, along: m.along, at_um: m.at_um, from_um, to_um });
     }
     p
 }
