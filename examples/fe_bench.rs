@@ -24,8 +24,8 @@ const THICKNESS_UM: f64 = 100.0;
 const FORCE_N: f64 = 1.0;
 const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
 const SENSOR_TOLS: [f64; 4] = [0.05, 0.02, 0.01, 0.005];
-/// Levels 0..=5 halve a 1 mm coarse element down to 31 um; enough for the tolerances above.
-const SENSOR_MAX_LEVELS: usize = 6;
+/// Levels 0..=7 split the 2 mm coarse mesh up to 16 times (125 um); enough for the tolerances above.
+const SENSOR_MAX_LEVELS: usize = 8;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

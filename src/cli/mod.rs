@@ -103,12 +103,17 @@ pub struct FeArgs {
     /// Relative error the answer must be under (estimated from three meshes).
     #[arg(long, default_value_t = 0.01)]
     pub tol: f64,
-    /// Most mesh levels to try (each halves the element size, starting at 2 mm).
-    #[arg(long, default_value_t = 6)]
+    /// Most mesh levels to try (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, 8, 12, 16, 24
+    /// or 32 times; at most 10).
+    #[arg(long, default_value_t = 8)]
     pub max_levels: usize,
     /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Solve the whole plate even when the teeth and every scene are mirror-symmetric (by default
+    /// such scenes solve half or a quarter of it; this is the cross-check).
+    #[arg(long)]
+    pub no_symmetry: bool,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)
     /// and write the plot of error against dofs and time (see --plot).
     #[arg(long)]
@@ -136,8 +141,9 @@ pub struct FeSettings {
     /// Relative error each declared scene is refined to (estimated from three meshes).
     #[arg(long, default_value_t = 0.01)]
     pub tol: f64,
-    /// Most mesh levels to try (each halves the element size, starting at 2 mm).
-    #[arg(long, default_value_t = 6)]
+    /// Most mesh levels to try (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, 8, 12, 16, 24
+    /// or 32 times; at most 10).
+    #[arg(long, default_value_t = 8)]
     pub max_levels: usize,
 }
 
@@ -147,7 +153,8 @@ pub struct StudyFe {
     /// Relative error the FE answer should be under (three-mesh estimate; many scattered loads share one mesh).
     #[arg(long, default_value_t = 0.05)]
     pub tol: f64,
-    /// Most mesh levels (each halves the element size from 2 mm); 3 are needed for an error estimate.
+    /// Most mesh levels (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, ... times); 3 are
+    /// needed for an error estimate.
     #[arg(long, default_value_t = 3)]
     pub max_levels: usize,
 }
@@ -330,6 +337,10 @@ pub struct OrientArgs {
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();
+    // One thread per factorisation: on these plate meshes (up to ~60k dofs) faer's threaded
+    // Cholesky ran 1.3-1.8x slower on 2 cores (benches/README.md); studies run their scenes
+    // and designs in parallel with rayon instead.
+    faer::set_global_parallelism(faer::Par::Seq);
     dispatch(cli.command)
 }
 

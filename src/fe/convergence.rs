@@ -16,9 +16,9 @@ pub const GCI_SAFETY: f64 = 1.25;
 pub enum ConvergenceKind {
     /// Monotone: 0 < (f2-f1)/(f3-f2) < 1; Richardson applies.
     Monotonic,
-    /// Sign change of the differences; estimate falls back to |f1 - f2|.
+    /// Sign change of the differences; estimate falls back to |f1 - f2| / (r21 - 1).
     Oscillatory,
-    /// Differences not shrinking; estimate falls back to |f1 - f2|.
+    /// Differences not shrinking; estimate falls back to |f1 - f2| / (r21 - 1).
     Divergent,
     /// Differences at round-off level.
     RoundOff,
@@ -28,40 +28,63 @@ pub enum ConvergenceKind {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Richardson {
     pub kind: ConvergenceKind,
-    /// p = ln((f3 - f2)/(f2 - f1)) / ln r (Roache Eq. 5.10.6.1), only for monotone convergence.
+    /// p = ln((f3 - f2)/(f2 - f1)) / ln r (Roache Eq. 5.10.6.1) for a constant ratio, only for monotone
+    /// convergence ([`richardson_ratios`] for two ratios).
     pub observed_order: Option<f64>,
     /// f_ext = f1 + (f1 - f2)/(r^p - 1) (Richardson), else f1.
     pub extrapolated: f64,
     /// GCI_fine = Fs |(f2 - f1)/f1| / (r^p - 1) (Roache Eq. 5.6.1); |(f2-f1)/f1| Fs when p is unavailable.
     pub gci_fine: f64,
-    /// Absolute error estimate of f1: |f_ext - f1|, or |f1 - f2| when p is unavailable.
+    /// Absolute error estimate of f1: |f_ext - f1|, or |f1 - f2| / (r21 - 1) when p is unavailable.
     pub error_estimate: f64,
 }
 
 /// Observed order, Richardson value and GCI from coarse (f3), medium (f2) and fine (f1) values.
 pub fn richardson(f3: f64, f2: f64, f1: f64, r: f64) -> Richardson {
-    assert!(r > 1.0, "refinement ratio must exceed 1");
+    richardson_ratios(f3, f2, f1, r, r)
+}
+
+/// [`richardson`] for meshes refined by different ratios: r32 = h3/h2, r21 = h2/h1. The observed
+/// order solves e32/e21 = r21^p (r32^p - 1)/(r21^p - 1) (from f = f_ext + C h^p; Celik et al.,
+/// J. Fluids Eng. 130, 2008, Eqs. 3-5), by bisection: the right side grows with p from
+/// ln r32 / ln r21 at p -> 0. Without an order the estimate is the first-order one,
+/// |f1 - f2| / (r21 - 1).
+pub fn richardson_ratios(f3: f64, f2: f64, f1: f64, r32: f64, r21: f64) -> Richardson {
+    assert!(r32 > 1.0 && r21 > 1.0, "refinement ratios must exceed 1");
     let (e21, e32) = (f2 - f1, f3 - f2);
     let scale = f1.abs().max(f2.abs()).max(f3.abs()).max(f64::MIN_POSITIVE);
     let fallback = |kind| Richardson {
         kind,
         observed_order: None,
         extrapolated: f1,
-        gci_fine: GCI_SAFETY * (e21 / f1).abs(),
-        error_estimate: e21.abs(),
+        gci_fine: GCI_SAFETY * (e21 / f1).abs() / (r21 - 1.0),
+        error_estimate: e21.abs() / (r21 - 1.0),
     };
     if e21.abs() <= 1e-13 * scale {
         return fallback(ConvergenceKind::RoundOff);
     }
-    let ratio = e21 / e32;
-    if !ratio.is_finite() || ratio >= 1.0 {
-        return fallback(ConvergenceKind::Divergent);
-    }
-    if ratio <= 0.0 {
+    let ratio = e32 / e21;
+    if !ratio.is_finite() || ratio <= 0.0 {
         return fallback(ConvergenceKind::Oscillatory);
     }
-    let p = (e32 / e21).ln() / r.ln();
-    let rp1 = r.powf(p) - 1.0;
+    let g = |p: f64| r21.powf(p) * (r32.powf(p) - 1.0) / (r21.powf(p) - 1.0);
+    let (mut lo, mut hi) = (1e-9, 64.0);
+    if ratio <= g(lo) {
+        return fallback(ConvergenceKind::Divergent);
+    }
+    if ratio >= g(hi) {
+        lo = hi;
+    }
+    while hi - lo > 1e-12 * hi {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < ratio {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let p = 0.5 * (lo + hi);
+    let rp1 = r21.powf(p) - 1.0;
     let extrapolated = f1 + (f1 - f2) / rp1;
     Richardson {
         kind: ConvergenceKind::Monotonic,
@@ -228,6 +251,22 @@ mod tests {
         assert_eq!(e.kind, ConvergenceKind::Monotonic);
         assert!((e.observed_order.unwrap() - 2.0).abs() < 1e-10);
         assert!((e.extrapolated - 1.0).abs() < 1e-12);
+    }
+
+    /// Meshes subdivided 2, 3 and 4 times (ratios 1.5 and 4/3), orders from 0.7 to 4.
+    #[test]
+    fn unequal_ratios_recover_known_order() {
+        for p in [0.7, 1.2, 2.0, 4.0] {
+            let f = |n: f64| 3.0 - 0.8 * n.powf(-p);
+            let e = richardson_ratios(f(2.0), f(3.0), f(4.0), 1.5, 4.0 / 3.0);
+            assert_eq!(e.kind, ConvergenceKind::Monotonic);
+            assert!((e.observed_order.unwrap() - p).abs() < 1e-8, "p = {p}: {e:?}");
+            assert!((e.extrapolated - 3.0).abs() < 1e-10, "p = {p}: {e:?}");
+        }
+        // Below the smallest ratio of differences any positive order gives: no order, first-order estimate.
+        let e = richardson_ratios(1.0, 1.1, 1.17, 2.0, 1.5);
+        assert_eq!(e.kind, ConvergenceKind::Divergent);
+        assert!((e.error_estimate - 0.14).abs() < 1e-12);
     }
 
     #[test]

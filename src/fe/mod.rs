@@ -40,7 +40,7 @@ mod tests;
 
 pub use beam::{fixed_fixed_reactions, BeamReactions};
 pub use convergence::{
-    richardson, run_levels, solve_to_tolerance, ConvergenceKind, ConvergenceReport, LevelReport,
+    richardson, richardson_ratios, run_levels, solve_to_tolerance, ConvergenceKind, ConvergenceReport, LevelReport,
     Richardson,
 };
 pub use error::{FeError, FeResult};

@@ -1,6 +1,6 @@
 //! The convergence plot of `tactfab fe --convergence`: error against dofs and against time.
 
-use crate::fe::richardson;
+use crate::fe::richardson_ratios;
 use crate::plot::{side_by_side, xy_svg, Axis, Series, Style, XyPlot};
 
 use super::evaluate::SceneReport;
@@ -19,7 +19,8 @@ pub fn convergence_svg(reports: &[SceneReport]) -> String {
         let n = levels.len();
         if n >= 3 {
             let w = |k: usize| levels[k].deflection_at_load_um;
-            let ext = richardson(w(n - 3), w(n - 2), w(n - 1), 2.0).extrapolated;
+            let h = |k: usize| levels[k].max_element_um;
+            let ext = richardson_ratios(w(n - 3), w(n - 2), w(n - 1), h(n - 3) / h(n - 2), h(n - 2) / h(n - 1)).extrapolated;
             if ext != 0.0 {
                 let err: Vec<f64> = (0..n).map(|k| ((w(k) - ext) / ext).abs()).collect();
                 let name = format!("{}: deflection vs extrapolated", r.scene);

@@ -18,7 +18,7 @@ mod symmetry;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
-pub use evaluate::{evaluate, evaluate_many, evaluate_many_with, LevelRecord, ModelInfo, SceneReport};
+pub use evaluate::{evaluate, evaluate_many, evaluate_many_with, level_ratios, LevelRecord, ModelInfo, SceneReport, SUBDIVISIONS};
 pub use geometry::{silicon_material, ElectrodeArea, SensorGeometry, SupportSide};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};
