@@ -3,7 +3,8 @@
 //! (a) tactfab on the plain plate: clamped 10 x 10 mm square, isotropic E = 169 GPa, nu = 0.3,
 //!     t = 100 um, 1 N at the centre, error against alpha_P = 0.0056120 (fe-validation.md).
 //! (b) the full sensor (process/mis-grasper.yaml: nine electrodes, checkered teeth, orthotropic Si),
-//!     1 N point load of radius 0.5 mm at the die centre, the three-mesh error estimate per tolerance.
+//!     1 N point load of radius 0.5 mm at the die centre (half the plate solved, and the whole plate
+//!     for comparison) and off the centre, the three-mesh error estimate per tolerance.
 //! (c) `python3 benches/skfem_plate.py` (scikit-fem, Morley) on the same plate as (a), and the time ratio.
 //!
 //! Times are wall-clock medians of full runs (mesh + assembly + factorisation + solve + read-out);
@@ -14,7 +15,7 @@ use std::time::Instant;
 
 use tactfab::fe::*;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
-use tactfab::sensor::{evaluate, SensorGeometry};
+use tactfab::sensor::{evaluate_many_with, SensorGeometry};
 
 const ALPHA_P: f64 = 0.0056120;
 const SIDE_UM: f64 = 10_000.0;
@@ -133,7 +134,8 @@ fn time_to(rows: &[(f64, f64)], target: f64) -> Option<f64> {
         .min_by(f64::total_cmp)
 }
 
-/// (b): the full sensor, per tolerance.
+/// (b): the full sensor, per tolerance: the centre load (mirror-symmetric: half the plate is
+/// solved), the same with symmetry off, and an off-centre load (no symmetry).
 fn bench_sensor(runs: usize) {
     let p = load_str(PROCESS, "mis-grasper.yaml", &[])
         .expect("valid process")
@@ -141,74 +143,66 @@ fn bench_sensor(runs: usize) {
     let plan = tactfab::etch::plan(&p);
     let masks = tactfab::layout::build(&p, &plan).expect("mask set");
     let g = SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks));
-    let (x_um, y_um) = (g.length_um / 2.0, (g.plate_y0_um + g.plate_y1_um) / 2.0);
-    let scene = Scene {
-        name: "centre".into(),
-        load: SceneLoad::Point {
-            x_um,
-            y_um,
-            force_n: FORCE_N,
-            radius_um: 500.0,
-        },
-        limits: Limits::default(),
-    };
+    let (xc, yc) = (g.length_um / 2.0, (g.plate_y0_um + g.plate_y1_um) / 2.0);
     println!();
     println!(
-        "== (b) tactfab, full sensor (process/mis-grasper.yaml: {} electrodes, {} teeth, plate {:.0} um), {FORCE_N} N point load r = 0.5 mm at ({:.1}, {:.1}) mm, median of {runs} runs",
+        "== (b) tactfab, full sensor (process/mis-grasper.yaml: {} electrodes, {} teeth, plate {:.0} um), {FORCE_N} N point load r = 0.5 mm, median of {runs} runs",
         g.electrodes.len(),
         g.teeth.len(),
         g.plate_thickness_um,
-        x_um / 1e3,
-        y_um / 1e3
     );
     println!("error = the three-mesh estimate of evaluate() (worst of deflection and the nine charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of evaluate()");
-    println!(
-        "{:>6} {:>7} {:>9} {:>9} {:>9} {:>10} {:>9}",
-        "tol", "levels", "elements", "dofs", "solve_ms", "wall_ms", "est_err"
-    );
-    let mut finest = None;
-    for tol in SENSOR_TOLS {
-        let (mut solve_ms, mut wall_ms) = (Vec::new(), Vec::new());
-        let mut last = None;
-        for _ in 0..runs {
-            let t0 = Instant::now();
-            let r = evaluate(&g, &scene, tol, SENSOR_MAX_LEVELS).expect("sensor solves");
-            wall_ms.push(t0.elapsed().as_secs_f64() * 1e3);
-            solve_ms.push(r.solve_ms);
-            last = Some(r);
-        }
-        let r = last.expect("at least one run");
-        let est = r
-            .error_estimate
-            .map_or("-".to_string(), |e| format!("{e:.2e}"));
-        let mark = if r.converged { "" } else { "  NOT CONVERGED" };
+    for (label, (x_um, y_um), symmetry) in [
+        ("centre", (xc, yc), true),
+        ("centre, --no-symmetry", (xc, yc), false),
+        ("off-centre", (10_000.0, 5_000.0), true),
+    ] {
+        let scene = Scene {
+            name: label.into(),
+            load: SceneLoad::Point { x_um, y_um, force_n: FORCE_N, radius_um: 500.0 },
+            limits: Limits::default(),
+        };
+        println!();
+        println!("-- {label}: load at ({:.1}, {:.1}) mm", x_um / 1e3, y_um / 1e3);
         println!(
-            "{tol:>6} {:>7} {:>9} {:>9} {:>9.1} {:>10.1} {est:>9}{mark}",
-            r.model.levels,
-            r.model.elements,
-            r.model.dofs,
-            median(solve_ms),
-            median(wall_ms)
+            "{:>6} {:>7} {:>9} {:>9} {:>9} {:>10} {:>9}  model",
+            "tol", "levels", "elements", "dofs", "solve_ms", "wall_ms", "est_err"
         );
-        finest = Some(r);
-    }
-    if let Some(r) = finest {
-        println!(
-            "per level, last run at tol = {}:",
-            SENSOR_TOLS[SENSOR_TOLS.len() - 1]
-        );
-        println!(
-            "{:>6} {:>10} {:>9} {:>9} {:>10} {:>9}",
-            "level", "h_um", "elements", "dofs", "time_ms", "est_err"
-        );
-        for (i, l) in r.convergence.iter().enumerate() {
-            let est = l
-                .error_estimate
-                .map_or("-".to_string(), |e| format!("{e:.2e}"));
+        let mut finest = None;
+        for tol in SENSOR_TOLS {
+            let (mut solve_ms, mut wall_ms) = (Vec::new(), Vec::new());
+            let mut last = None;
+            for _ in 0..runs {
+                let t0 = Instant::now();
+                let r = evaluate_many_with(&g, std::slice::from_ref(&scene), tol, SENSOR_MAX_LEVELS, symmetry)
+                    .expect("sensor solves")
+                    .remove(0);
+                wall_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+                solve_ms.push(r.solve_ms);
+                last = Some(r);
+            }
+            let r = last.expect("at least one run");
+            let est = r.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
+            let mark = if r.converged { "" } else { "  NOT CONVERGED" };
             println!(
-                "{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9}",
-                l.max_element_um, l.elements, l.dofs, l.time_ms
+                "{tol:>6} {:>7} {:>9} {:>9} {:>9.1} {:>10.1} {est:>9}  {}{mark}",
+                r.model.levels,
+                r.model.elements,
+                r.model.dofs,
+                median(solve_ms),
+                median(wall_ms),
+                r.model.symmetry.as_deref().unwrap_or("whole plate"),
             );
+            finest = Some(r);
+        }
+        if let Some(r) = finest {
+            println!("per level, last run at tol = {}:", SENSOR_TOLS[SENSOR_TOLS.len() - 1]);
+            println!("{:>6} {:>10} {:>9} {:>9} {:>10} {:>9} {:>6}", "level", "h_um", "elements", "dofs", "time_ms", "est_err", "order");
+            for (i, l) in r.convergence.iter().enumerate() {
+                let est = l.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
+                let order = l.observed_order.map_or("-".to_string(), |p| format!("{p:.2}"));
+                println!("{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9} {order:>6}", l.max_element_um, l.elements, l.dofs, l.time_ms);
+            }
         }
     }
 }

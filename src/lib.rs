@@ -10,14 +10,16 @@
 //!    measured rate, KOH after Seidel), times, {111} sidewall run-out, undercut, streets, corner
 //!    compensation, the oxide mask budget, Deal-Grove oxidation and resist thickness, plus
 //!    [`etch::Check`]s: warnings and errors as values with stable codes.
-//! 3. [`fe`] is a Kirchhoff plate solver (Bogner-Fox-Schmit rectangles, faer sparse Cholesky) that
-//!    knows nothing of sensors: meshes, thickness regions, line supports, loads, reactions, strains
-//!    and three-mesh error estimates.
+//! 3. [`fe`] is a Kirchhoff plate solver (Bogner-Fox-Schmit rectangles, faer supernodal Cholesky in
+//!    a nested-dissection order from the mesh grid) that knows nothing of sensors: meshes, thickness
+//!    regions, line supports (clamped, simple, symmetry lines), loads, reactions, strains, mirroring
+//!    a half solution back to the whole plate, and three-mesh error estimates.
 //! 4. [`sensor`] builds the plate from the process, the plan (the plate thickness the recipe
 //!    leaves, the tooth footprints) and the electrode pattern, splits each scene's load between the
 //!    plate and the supports, and reads the nine electrodes: thickness mode Q = d33 F under the
 //!    supports, extension mode Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines
-//!    the mesh until the estimated error is under the tolerance and says what that cost.
+//!    the mesh until the estimated error is under the tolerance and says what that cost, solving
+//!    only half or a quarter of the plate when the teeth and the loads are mirror-symmetric.
 //! 5. [`layout`] turns process + plan into a [`layout::MaskSet`]: polygons per layer in f64 um
 //!    (geo types) for the front teeth with corner compensation, the back supports, the PVDF
 //!    electrodes, alignment marks and polygon labels, a die cell and a wafer of AREF-stepped dies.

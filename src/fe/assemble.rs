@@ -51,8 +51,14 @@ impl ElementStiffness {
 
     /// y = K x over all global dofs (element by element).
     pub fn apply(&self, mesh: &RectMesh, x: &[f64]) -> Vec<f64> {
+        self.apply_on(mesh, x, 0..mesh.n_elements())
+    }
+
+    /// The part of K x from the given elements: exact at every dof those elements cover alone
+    /// (the constrained dofs, when `elements` are all elements touching them).
+    pub fn apply_on(&self, mesh: &RectMesh, x: &[f64], elements: impl IntoIterator<Item = usize>) -> Vec<f64> {
         let mut y = vec![0.0; x.len()];
-        for e in 0..mesh.n_elements() {
+        for e in elements {
             let k = &self.matrices[self.kind[e] as usize];
             let dofs = element_dofs(mesh, e);
             for i in 0..16 {

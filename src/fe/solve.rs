@@ -25,6 +25,15 @@ pub struct Factorised {
     llt: CholeskyFactor,
     ctx: Arc<SolutionContext>,
     key: PlateProblem,
+    /// Elements with a constrained dof: K u there gives the reactions (and K u_fixed the
+    /// prescribed values' load) without a product over the whole plate.
+    support_elements: Vec<usize>,
+}
+
+fn support_elements(mesh: &crate::fe::mesh::RectMesh, dofs: &DofMap) -> Vec<usize> {
+    (0..mesh.n_elements())
+        .filter(|&e| crate::fe::dofs::element_dofs(mesh, e).iter().any(|&d| dofs.free_index[d] == crate::fe::dofs::CONSTRAINED))
+        .collect()
 }
 
 fn numeric(symbolic: &SymbolicFactor, pattern: &Pattern, vals: Vec<f64>) -> FeResult<CholeskyFactor> {
@@ -79,6 +88,7 @@ impl Factorised {
             material: problem.material,
             groups: dofs.groups.clone(),
         });
+        let support_elements = support_elements(mesh, &dofs);
         Ok(Factorised {
             dofs,
             pattern,
@@ -87,6 +97,7 @@ impl Factorised {
             llt,
             ctx,
             key: pattern_key(problem),
+            support_elements,
         })
     }
 
@@ -146,6 +157,7 @@ impl Factorised {
         self.kel = kel;
         self.llt = llt;
         self.dofs = dofs;
+        self.support_elements = support_elements(mesh, &self.dofs);
         self.key = pattern_key(problem);
         self.ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
@@ -174,7 +186,7 @@ impl Factorised {
         for &(d, v, _) in &self.dofs.constrained {
             u_fixed[d] = v;
         }
-        let k_fixed = self.kel.apply(mesh, &u_fixed);
+        let k_fixed = self.kel.apply_on(mesh, &u_fixed, self.support_elements.iter().copied());
         let mut rhs = Mat::<f64>::zeros(n_free, load_cases.len());
         for (c, f) in forces.iter().enumerate() {
             for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
@@ -194,7 +206,7 @@ impl Factorised {
                         hint: "check material constants, thickness and load values for NaN/inf",
                     });
                 }
-                let ku = self.kel.apply(mesh, &u);
+                let ku = self.kel.apply_on(mesh, &u, self.support_elements.iter().copied());
                 // Force carried by each support in the load direction: f - K u at constrained w dofs.
                 let mut by_group = vec![0.0; self.dofs.groups.len()];
                 let mut nodal = Vec::new();
