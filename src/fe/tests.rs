@@ -1089,7 +1089,7 @@ fn mirrored_quarter_equals_whole_plate() {
         v
     };
     for g in ["low", "high"] {
-        let (a, b) = (nodal(&m, g), nodal(&w, g));
+        let (a, b) = (nodal(&m, g), nodal(w, g));
         assert_eq!(a.len(), b.len(), "{g}: one reaction per node, the mirror line's counted once");
         for (x, y) in a.iter().zip(&b) {
             assert!((x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-12, "{g}: {x:?} vs {y:?}");
