@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use tactfab::fe::*;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
-use tactfab::sensor::{evaluate_many_with, SensorGeometry};
+use tactfab::sensor::{evaluate_many_with, MeshOptions, SensorGeometry};
 
 const ALPHA_P: f64 = 0.0056120;
 const SIDE_UM: f64 = 10_000.0;
@@ -135,7 +135,8 @@ fn time_to(rows: &[(f64, f64)], target: f64) -> Option<f64> {
 }
 
 /// (b): the full sensor, per tolerance: the centre load (mirror-symmetric: half the plate is
-/// solved), the same with symmetry off, and an off-centre load (no symmetry).
+/// solved), the same with symmetry off, and an off-centre load (no symmetry); both loads also on
+/// graded meshes.
 fn bench_sensor(runs: usize) {
     let p = load_str(PROCESS, "mis-grasper.yaml", &[])
         .expect("valid process")
@@ -152,10 +153,13 @@ fn bench_sensor(runs: usize) {
         g.plate_thickness_um,
     );
     println!("error = the three-mesh estimate of evaluate() (worst of deflection and the nine charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of evaluate()");
-    for (label, (x_um, y_um), symmetry) in [
-        ("centre", (xc, yc), true),
-        ("centre, --no-symmetry", (xc, yc), false),
-        ("off-centre", (10_000.0, 5_000.0), true),
+    let mesh_with = |symmetry: bool, graded: bool| MeshOptions { symmetry, graded };
+    for (label, (x_um, y_um), mesh) in [
+        ("centre", (xc, yc), MeshOptions::default()),
+        ("centre, --graded", (xc, yc), mesh_with(true, true)),
+        ("centre, --no-symmetry", (xc, yc), mesh_with(false, false)),
+        ("off-centre", (10_000.0, 5_000.0), MeshOptions::default()),
+        ("off-centre, --graded", (10_000.0, 5_000.0), mesh_with(true, true)),
     ] {
         let scene = Scene {
             name: label.into(),
@@ -174,7 +178,7 @@ fn bench_sensor(runs: usize) {
             let mut last = None;
             for _ in 0..runs {
                 let t0 = Instant::now();
-                let r = evaluate_many_with(&g, std::slice::from_ref(&scene), tol, SENSOR_MAX_LEVELS, symmetry)
+                let r = evaluate_many_with(&g, std::slice::from_ref(&scene), tol, SENSOR_MAX_LEVELS, mesh)
                     .expect("sensor solves")
                     .remove(0);
                 wall_ms.push(t0.elapsed().as_secs_f64() * 1e3);

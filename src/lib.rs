@@ -18,8 +18,9 @@
 //!    leaves, the tooth footprints) and the electrode pattern, splits each scene's load between the
 //!    plate and the supports, and reads the nine electrodes: thickness mode Q = d33 F under the
 //!    supports, extension mode Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines
-//!    the mesh until the estimated error is under the tolerance and says what that cost, solving
-//!    only half or a quarter of the plate when the teeth and the loads are mirror-symmetric.
+//!    the mesh (every feature line kept; on request graded towards loads and tooth corners) until
+//!    the estimated error is under the tolerance and says what that cost, solving only half or a
+//!    quarter of the plate when the teeth and the loads are mirror-symmetric.
 //! 5. [`layout`] turns process + plan into a [`layout::MaskSet`]: polygons per layer in f64 um
 //!    (geo types) for the front teeth with corner compensation, the back supports, the PVDF
 //!    electrodes, alignment marks and polygon labels, a die cell and a wafer of AREF-stepped dies.

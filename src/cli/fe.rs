@@ -4,7 +4,7 @@ use anyhow::{bail, Context};
 
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::report::limit_failures;
-use tactfab::sensor::{convergence_svg, evaluate_many_with, SceneReport, SensorGeometry};
+use tactfab::sensor::{convergence_svg, evaluate_many_with, MeshOptions, SceneReport, SensorGeometry};
 
 use super::output::f;
 use super::{load, FeArgs, Outcome};
@@ -15,7 +15,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     let plan = tactfab::etch::plan(p);
     let scenes = scenes(args, &p.checks.scenes)?;
     let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
-    let reports = evaluate_many_with(&geometry, &scenes, args.tol, args.max_levels, !args.no_symmetry).context("finite-element solve failed")?;
+    let reports = evaluate_many_with(&geometry, &scenes, args.tol, args.max_levels, MeshOptions { symmetry: !args.no_symmetry, graded: args.graded }).context("finite-element solve failed")?;
     let failed = reports.iter().zip(&scenes).any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
     if args.json {
         println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?);
@@ -94,6 +94,9 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
     );
     if let Some(sym) = &r.model.symmetry {
         s.push_str(&format!("  symmetric: solved the {sym}; readings on the mirrored whole plate\n"));
+    }
+    if let Some(grading) = &r.model.grading {
+        s.push_str(&format!("  graded mesh: {grading}\n"));
     }
     s.push_str(&format!(
         "  deflection {} um at the load, {} um max; stress {} MPa over the contact; safety factor {}; max load {} N\n",

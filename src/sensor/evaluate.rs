@@ -15,19 +15,8 @@ use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 use super::geometry::{SensorGeometry, SupportSide};
 use super::readout::{group_for, read, ElectrodeReading, Readout};
 use super::scene::{split, SceneLoads};
+use super::mesh_lines::{base_lines, grading_description, level_ratios, subdivide, MeshOptions, COARSE_ELEMENT_UM, SUBDIVISIONS};
 use super::symmetry::Symmetry;
-
-/// Largest element of the coarsest mesh; level k splits every interval of it into
-/// [`SUBDIVISIONS`]`[k]` parts. Feature lines, not this size, set
-/// most of the coarsest mesh: 2 mm gives about 430 elements on the bundled design.
-const COARSE_ELEMENT_UM: f64 = 2000.0;
-/// Subdivisions of the coarsest mesh per level: ratios 2, 1.5, 4/3, 1.5, 4/3, ... The third mesh
-/// has 9x, not 16x, the coarsest's elements, so the three-mesh estimate costs about half as
-/// much as with halving: on the bundled design 0.73 % estimated (0.58 % true) at 8,800 dofs,
-/// against 0.57 % (0.41 % true) at 15,400 dofs with subdivisions 1, 2, 4.
-pub const SUBDIVISIONS: [usize; 10] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32];
-/// Feature lines closer than this are merged (the tooth edge moves to the electrode edge).
-const MIN_LINE_GAP_UM: f64 = 250.0;
 
 /// Which model answered and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -45,12 +34,14 @@ pub struct ModelInfo {
     /// The part of the plate solved when the scenes are mirror-symmetric ("half, mirror y =
     /// 7.500 mm"); elements and dofs are those of that part. None: the whole plate.
     pub symmetry: Option<String>,
+    /// How the coarsest mesh was graded ([`MeshOptions::graded`]); None: only feature lines.
+    pub grading: Option<String>,
 }
 
 impl ModelInfo {
     /// The load lies wholly over the supports: no plate solve.
     fn direct() -> Self {
-        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None }
+        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None, grading: None }
     }
 }
 
@@ -114,12 +105,13 @@ pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) 
 /// level, all scenes as one multi-column solve) until every estimate is under `tol` or `max_levels`
 /// is reached. Mirror symmetry is used when every plate scene has it ([`Symmetry`]).
 pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
-    evaluate_many_with(g, scenes, tol, max_levels, true)
+    evaluate_many_with(g, scenes, tol, max_levels, MeshOptions::default())
 }
 
-/// [`evaluate_many`], with the use of mirror symmetry a choice (`false` solves the whole plate:
-/// the cross-check of the half model, `tactfab fe --no-symmetry`).
-pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, symmetry: bool) -> Result<Vec<SceneReport>, FeError> {
+/// [`evaluate_many`] with a choice of mesh sequence: symmetry off solves the whole plate (the
+/// cross-check of the half model, `tactfab fe --no-symmetry`); graded meshes refine towards the
+/// loads and tooth corners (`tactfab fe --graded`).
+pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, mesh: MeshOptions) -> Result<Vec<SceneReport>, FeError> {
     assert!(max_levels >= 1, "at least one mesh level");
     let max_levels = max_levels.min(SUBDIVISIONS.len());
     let beam_error = beam_error_estimate(g);
@@ -128,7 +120,7 @@ pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_le
         _ => false,
     };
     let plate_scenes: Vec<Scene> = scenes.iter().filter(|s| !by_beam(s)).cloned().collect();
-    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels, symmetry)? }.into_iter();
+    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels, mesh)? }.into_iter();
     Ok(scenes
         .iter()
         .map(|s| match s.load {
@@ -149,7 +141,7 @@ fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error
     SceneReport {
         scene: scene.name.clone(),
         force_n,
-        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None },
+        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None, grading: None },
         solve_ms: t0.elapsed().as_secs_f64() * 1e3,
         error_estimate: Some(error),
         converged: error < tol,
@@ -176,11 +168,11 @@ fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
 }
 
 /// The plate path of [`evaluate_many`].
-fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, use_symmetry: bool) -> Result<Vec<SceneReport>, FeError> {
+fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, mesh: MeshOptions) -> Result<Vec<SceneReport>, FeError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
-    let sym = if use_symmetry { Symmetry::detect(g, &cases) } else { Symmetry::none(g) };
+    let sym = if mesh.symmetry { Symmetry::detect(g, &cases) } else { Symmetry::none(g) };
     let part_cases: Vec<Vec<_>> = cases.iter().map(|c| sym.restrict(c)).collect();
     let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
     let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo, Vec<Readout>)> = None;
@@ -194,7 +186,7 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
     for (level, &n) in SUBDIVISIONS.iter().enumerate().take(levels) {
         let t0 = Instant::now();
         let h = COARSE_ELEMENT_UM / n as f64;
-        let base = base.get_or_insert_with(|| base_lines(g, &loads, &sym));
+        let base = base.get_or_insert_with(|| base_lines(g, &loads, &sym, mesh.graded));
         let (sols, info) = if needs_plate {
             let problem = build_problem(g, base, level, &sym);
             let fact = Factorised::new(&problem)?;
@@ -208,6 +200,7 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
                 max_element_um: h,
                 observed_order: None,
                 symmetry: sym.describe(),
+                grading: mesh.graded.then(|| grading_description(&loads)),
             };
             (sols, info)
         } else {
@@ -351,66 +344,6 @@ fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
     }
     let order = richardson_ratios(f3[0], f2[0], f1[0], r32, r21).observed_order;
     (worst, order)
-}
-
-/// Refinement ratios (h3/h2, h2/h1) of the three levels ending at `level`.
-pub fn level_ratios(level: usize) -> (f64, f64) {
-    assert!(level >= 2, "three levels");
-    let n = |k: usize| SUBDIVISIONS[k] as f64;
-    (n(level - 1) / n(level - 2), n(level) / n(level - 1))
-}
-
-/// Lines of the coarsest mesh: every feature line (electrode, tooth, support and load-patch
-/// edges), intervals no longer than [`COARSE_ELEMENT_UM`], no grading. Grading towards short gaps
-/// and loads made the coarsest mesh 13x larger for an error the nested sequence measures anyway.
-///
-/// On a symmetric problem the lines are folded into the part solved ([`Symmetry::fold`]).
-fn base_lines(g: &SensorGeometry, loads: &[SceneLoads], sym: &Symmetry) -> (Vec<f64>, Vec<f64>) {
-    let (mut xs, mut ys) = g.exact_lines();
-    for l in loads {
-        let p = &l.patch;
-        if p.x1_um > p.x0_um && p.y1_um > p.y0_um {
-            xs.extend([p.x0_um, p.x1_um]);
-            ys.extend([p.y0_um, p.y1_um]);
-        }
-    }
-    let (tx, ty) = g.tooth_lines();
-    let (x0, x1, y0, y1) = sym.domain_um;
-    let xs = merge_lines(sym.fold(true, xs), sym.fold(true, tx), x0, x1);
-    let ys = merge_lines(sym.fold(false, ys), sym.fold(false, ty), y0, y1);
-    let mesh = RectMesh::ungraded(&xs, &ys, COARSE_ELEMENT_UM);
-    (mesh.x_um, mesh.y_um)
-}
-
-/// Exact lines first, then snapped ones that are at least [`MIN_LINE_GAP_UM`] from every kept
-/// line: slivers between nearly coincident lines would force tiny, badly graded elements.
-fn merge_lines(exact: Vec<f64>, snapped: Vec<f64>, lo: f64, hi: f64) -> Vec<f64> {
-    let mut kept: Vec<f64> = exact.into_iter().filter(|x| *x >= lo && *x <= hi).collect();
-    kept.extend([lo, hi]);
-    kept.sort_by(f64::total_cmp);
-    kept.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-    let mut extra: Vec<f64> = snapped.into_iter().filter(|x| *x > lo && *x < hi).collect();
-    extra.sort_by(f64::total_cmp);
-    for x in extra {
-        if kept.iter().all(|k| (k - x).abs() >= MIN_LINE_GAP_UM) {
-            let i = kept.partition_point(|k| *k < x);
-            kept.insert(i, x);
-        }
-    }
-    kept
-}
-
-/// Every interval split into [`SUBDIVISIONS`]`[level]` equal parts.
-fn subdivide(lines: &[f64], level: usize) -> Vec<f64> {
-    let n = SUBDIVISIONS[level];
-    let mut out = Vec::with_capacity((lines.len() - 1) * n + 1);
-    for w in lines.windows(2) {
-        for k in 0..n {
-            out.push(w[0] + (w[1] - w[0]) * k as f64 / n as f64);
-        }
-    }
-    out.push(*lines.last().expect("a mesh has lines"));
-    out
 }
 
 /// The plate over the U-channel (or the part of it solved): clamped along the inner support

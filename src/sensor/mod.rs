@@ -12,13 +12,15 @@ mod geometry;
 mod readout;
 mod scene;
 mod evaluate;
+mod mesh_lines;
 mod beam_model;
 mod convergence_plot;
 mod symmetry;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
-pub use evaluate::{evaluate, evaluate_many, evaluate_many_with, level_ratios, LevelRecord, ModelInfo, SceneReport, SUBDIVISIONS};
+pub use evaluate::{evaluate, evaluate_many, evaluate_many_with, LevelRecord, ModelInfo, SceneReport};
+pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
 pub use geometry::{silicon_material, ElectrodeArea, SensorGeometry, SupportSide};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};

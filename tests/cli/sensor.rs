@@ -4,7 +4,7 @@
 use tactfab::etch;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::fe::richardson_ratios;
-use tactfab::sensor::{evaluate, evaluate_many_with, level_ratios, SceneReport, SensorGeometry, SUBDIVISIONS};
+use tactfab::sensor::{evaluate, evaluate_many_with, level_ratios, MeshOptions, SceneReport, SensorGeometry, SUBDIVISIONS};
 
 use super::harness::{tactfab, REFERENCE};
 
@@ -294,8 +294,8 @@ fn symmetric_scenes_solve_part_of_the_plate() {
     for (sets, part) in [(vec![], "half, mirror y = 7.500 mm"), (vec!["geometry.teeth.pattern=matrix"], "quarter, mirrors y = 7.500 mm and x = 15.000 mm")] {
         let g = geometry(&sets);
         let s = point(15.0, 7.5, 1.0);
-        let sym = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, true).unwrap().remove(0);
-        let whole = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, false).unwrap().remove(0);
+        let sym = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, MeshOptions::default()).unwrap().remove(0);
+        let whole = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, MeshOptions { symmetry: false, graded: false }).unwrap().remove(0);
         assert_eq!(sym.model.symmetry.as_deref(), Some(part));
         assert_eq!(whole.model.symmetry, None);
         assert!(sym.model.dofs < whole.model.dofs);
@@ -315,8 +315,31 @@ fn symmetric_scenes_solve_part_of_the_plate() {
     let g = geometry(&[]);
     let off = evaluate(&g, &point(15.0, 5.0, 1.0), 0.05, 3).unwrap();
     assert_eq!(off.model.symmetry, None);
-    let both = evaluate_many_with(&g, &[point(15.0, 7.5, 1.0), point(15.0, 5.0, 1.0)], 0.05, 3, true).unwrap();
+    let both = evaluate_many_with(&g, &[point(15.0, 7.5, 1.0), point(15.0, 5.0, 1.0)], 0.05, 3, MeshOptions::default()).unwrap();
     assert!(both.iter().all(|r| r.model.symmetry.is_none()));
+}
+
+/// Graded meshes (towards the load patch and the tooth edges) and the default ungraded sequence
+/// are two independent discretisations: their readings agree within the sum of their estimates,
+/// the graded one has more elements for the same number of levels, and says so.
+#[test]
+fn graded_and_ungraded_meshes_agree_within_their_estimates() {
+    let g = geometry(&[]);
+    for s in [point(15.0, 7.5, 1.0), point(10.0, 5.0, 1.0)] {
+        let plain = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 4, MeshOptions::default()).unwrap().remove(0);
+        let graded = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 4, MeshOptions { symmetry: true, graded: true }).unwrap().remove(0);
+        assert!(plain.converged && graded.converged, "{:?} {:?}", plain.error_estimate, graded.error_estimate);
+        assert_eq!(plain.model.grading, None);
+        assert!(graded.model.grading.as_deref().is_some_and(|d| d.contains("tooth edges")), "{:?}", graded.model.grading);
+        assert_eq!(plain.model.levels, graded.model.levels);
+        assert!(graded.model.elements > plain.model.elements);
+        let tol = plain.error_estimate.unwrap() + graded.error_estimate.unwrap();
+        let largest = plain.electrodes.iter().map(|e| e.charge_pc.abs()).fold(0.0, f64::max);
+        for (a, b) in plain.electrodes.iter().zip(&graded.electrodes) {
+            assert!((a.charge_pc - b.charge_pc).abs() <= tol * largest, "{}: {} vs {}", a.name, a.charge_pc, b.charge_pc);
+        }
+        rel_eq(plain.deflection_at_load_um, graded.deflection_at_load_um, tol);
+    }
 }
 
 #[test]
@@ -328,4 +351,8 @@ fn fe_cli_states_the_symmetry_used() {
     run.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     assert!(j["scenes"][0]["model"]["symmetry"].is_null());
+    assert!(j["scenes"][0]["model"]["grading"].is_null());
+    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3", "--graded"]);
+    run.expect_code(0);
+    assert!(run.stdout.contains("graded mesh: geometric (growth 2) towards 1 load patch(es)"), "{}", run.stdout);
 }
