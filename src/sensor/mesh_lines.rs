@@ -15,8 +15,9 @@ pub(super) const COARSE_ELEMENT_UM: f64 = 2000.0;
 /// Subdivisions of the coarsest mesh per level: ratios 2, 1.5, 4/3, 1.5, 4/3, ... The third mesh
 /// has 9x, not 16x, the coarsest's elements, so the three-mesh estimate costs about half as
 /// much as with halving: centre load on the bundled design (half model), deflection estimated at
-/// 0.73 % (0.58 % true; 0.83 % worst over the charges) on 8,800 dofs, against 0.57 % (0.41 % true)
-/// on 15,400 dofs with subdivisions 1, 2, 4.
+/// 0.73 % (0.60 % true; 0.83 % worst over the charges) on 8,800 dofs, against 0.57 % (0.43 % true)
+/// on 15,400 dofs with subdivisions 1, 2, 4. "True" is against the Richardson extrapolation of
+/// subdivisions 6-8-12 (35.983 um, benches/README.md).
 pub const SUBDIVISIONS: [usize; 10] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32];
 /// Feature lines closer than this are merged (the tooth edge moves to the electrode edge).
 const MIN_LINE_GAP_UM: f64 = 250.0;
