@@ -1,11 +1,13 @@
-//! Error against time, one command: `cargo run --release --example fe_bench [plate_runs] [sensor_runs]`.
+//! Error against time, one command: `cargo run --release --example fe_bench [plate_runs]
+//! [sensor_runs]`.
 //!
 //! (a) tactfab on the plain plate: clamped 10 x 10 mm square, isotropic E = 169 GPa, nu = 0.3,
 //!     t = 100 um, 1 N at the centre, error against alpha_P = 0.0056120 (fe-validation.md).
-//! (b) the full sensor (process/mis-grasper.yaml: nine electrodes, checkered teeth, orthotropic Si),
-//!     1 N point load of radius 0.5 mm at the die centre (half the plate solved, and the whole plate
-//!     for comparison) and off the centre, the three-mesh error estimate per tolerance.
-//! (c) `python3 benches/skfem_plate.py` (scikit-fem, Morley) on the same plate as (a), and the time ratio.
+//! (b) the full sensor (process/mis-grasper.yaml: nine electrodes, checkered teeth, orthotropic
+//! Si),     1 N point load of radius 0.5 mm at the die centre (half the plate solved, and the whole
+//! plate     for comparison) and off the centre, the three-mesh error estimate per tolerance.
+//! (c) `python3 benches/skfem_plate.py` (scikit-fem, Morley) on the same plate as (a), and the time
+//! ratio.
 //!
 //! Times are wall-clock medians of full runs (mesh + assembly + factorisation + solve + read-out);
 //! faer runs sequentially (`Par::Seq`) unless FE_PAR is set.
@@ -25,7 +27,8 @@ const THICKNESS_UM: f64 = 100.0;
 const FORCE_N: f64 = 1.0;
 const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
 const SENSOR_TOLS: [f64; 4] = [0.05, 0.02, 0.01, 0.005];
-/// Levels 0..=7 split the 2 mm coarse mesh up to 16 times (125 um); enough for the tolerances above.
+/// Levels 0..=7 split the 2 mm coarse mesh up to 16 times (125 um); enough for the tolerances
+/// above.
 const SENSOR_MAX_LEVELS: usize = 8;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -101,7 +104,8 @@ fn bench_plate(runs: usize) -> Vec<(f64, f64)> {
     let m = PlateMaterial::isotropic(E_PA, NU);
     println!("== (a) tactfab, plain plate (BFS bicubic rectangles), median of {runs} runs");
     println!(
-        "clamped square {} mm, isotropic E = {E_PA:.4e} Pa, nu = {NU}, t = {THICKNESS_UM} um, D = {:.6e} N m, P = {FORCE_N} N at the centre, alpha_ref = {ALPHA_P}",
+        "clamped square {} mm, isotropic E = {E_PA:.4e} Pa, nu = {NU}, t = {THICKNESS_UM} um, D = \
+         {:.6e} N m, P = {FORCE_N} N at the centre, alpha_ref = {ALPHA_P}",
         SIDE_UM / 1e3,
         m.bending_stiffness(THICKNESS_UM * 1e-6).d11_nm
     );
@@ -147,27 +151,45 @@ fn bench_sensor(runs: usize) {
     let (xc, yc) = (g.length_um / 2.0, (g.plate_y0_um + g.plate_y1_um) / 2.0);
     println!();
     println!(
-        "== (b) tactfab, full sensor (process/mis-grasper.yaml: {} electrodes, {} teeth, plate {:.0} um), {FORCE_N} N point load r = 0.5 mm, median of {runs} runs",
+        "== (b) tactfab, full sensor (process/mis-grasper.yaml: {} electrodes, {} teeth, plate \
+         {:.0} um), {FORCE_N} N point load r = 0.5 mm, median of {runs} runs",
         g.electrodes.len(),
         g.teeth.len(),
         g.plate_thickness_um,
     );
-    println!("error = the three-mesh estimate of evaluate() (worst of deflection and the nine charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of evaluate()");
+    println!(
+        "error = the three-mesh estimate of evaluate() (worst of deflection and the nine \
+         charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of \
+         evaluate()"
+    );
     let mesh_with = |symmetry: bool, graded: bool| MeshOptions { symmetry, graded };
     for (label, (x_um, y_um), mesh) in [
         ("centre", (xc, yc), MeshOptions::default()),
         ("centre, --graded", (xc, yc), mesh_with(true, true)),
         ("centre, --no-symmetry", (xc, yc), mesh_with(false, false)),
         ("off-centre", (10_000.0, 5_000.0), MeshOptions::default()),
-        ("off-centre, --graded", (10_000.0, 5_000.0), mesh_with(true, true)),
+        (
+            "off-centre, --graded",
+            (10_000.0, 5_000.0),
+            mesh_with(true, true),
+        ),
     ] {
         let scene = Scene {
             name: label.into(),
-            load: SceneLoad::Point { x_um, y_um, force_n: FORCE_N, radius_um: 500.0 },
+            load: SceneLoad::Point {
+                x_um,
+                y_um,
+                force_n: FORCE_N,
+                radius_um: 500.0,
+            },
             limits: Limits::default(),
         };
         println!();
-        println!("-- {label}: load at ({:.1}, {:.1}) mm", x_um / 1e3, y_um / 1e3);
+        println!(
+            "-- {label}: load at ({:.1}, {:.1}) mm",
+            x_um / 1e3,
+            y_um / 1e3
+        );
         println!(
             "{:>6} {:>7} {:>9} {:>9} {:>9} {:>10} {:>9}  model",
             "tol", "levels", "elements", "dofs", "solve_ms", "wall_ms", "est_err"
@@ -178,15 +200,23 @@ fn bench_sensor(runs: usize) {
             let mut last = None;
             for _ in 0..runs {
                 let t0 = Instant::now();
-                let r = evaluate_many_with(&g, std::slice::from_ref(&scene), tol, SENSOR_MAX_LEVELS, mesh)
-                    .expect("sensor solves")
-                    .remove(0);
+                let r = evaluate_many_with(
+                    &g,
+                    std::slice::from_ref(&scene),
+                    tol,
+                    SENSOR_MAX_LEVELS,
+                    mesh,
+                )
+                .expect("sensor solves")
+                .remove(0);
                 wall_ms.push(t0.elapsed().as_secs_f64() * 1e3);
                 solve_ms.push(r.solve_ms);
                 last = Some(r);
             }
             let r = last.expect("at least one run");
-            let est = r.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
+            let est = r
+                .error_estimate
+                .map_or("-".to_string(), |e| format!("{e:.2e}"));
             let mark = if r.converged { "" } else { "  NOT CONVERGED" };
             println!(
                 "{tol:>6} {:>7} {:>9} {:>9} {:>9.1} {:>10.1} {est:>9}  {}{mark}",
@@ -200,12 +230,25 @@ fn bench_sensor(runs: usize) {
             finest = Some(r);
         }
         if let Some(r) = finest {
-            println!("per level, last run at tol = {}:", SENSOR_TOLS[SENSOR_TOLS.len() - 1]);
-            println!("{:>6} {:>10} {:>9} {:>9} {:>10} {:>9} {:>6}", "level", "h_um", "elements", "dofs", "time_ms", "est_err", "order");
+            println!(
+                "per level, last run at tol = {}:",
+                SENSOR_TOLS[SENSOR_TOLS.len() - 1]
+            );
+            println!(
+                "{:>6} {:>10} {:>9} {:>9} {:>10} {:>9} {:>6}",
+                "level", "h_um", "elements", "dofs", "time_ms", "est_err", "order"
+            );
             for (i, l) in r.convergence.iter().enumerate() {
-                let est = l.error_estimate.map_or("-".to_string(), |e| format!("{e:.2e}"));
-                let order = l.observed_order.map_or("-".to_string(), |p| format!("{p:.2}"));
-                println!("{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9} {order:>6}", l.max_element_um, l.elements, l.dofs, l.time_ms);
+                let est = l
+                    .error_estimate
+                    .map_or("-".to_string(), |e| format!("{e:.2e}"));
+                let order = l
+                    .observed_order
+                    .map_or("-".to_string(), |p| format!("{p:.2}"));
+                println!(
+                    "{i:>6} {:>10.1} {:>9} {:>9} {:>10.1} {est:>9} {order:>6}",
+                    l.max_element_um, l.elements, l.dofs, l.time_ms
+                );
             }
         }
     }
@@ -229,7 +272,11 @@ fn bench_skfem(repeats: usize) -> Option<[Option<(f64, f64)>; 2]> {
     };
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
-        println!("NOTE: benches/skfem_plate.py failed (is scikit-fem installed? pip install -r benches/requirements.txt); skipping:\n{}", err.trim_end());
+        println!(
+            "NOTE: benches/skfem_plate.py failed (is scikit-fem installed? pip install -r \
+             benches/requirements.txt); skipping:\n{}",
+            err.trim_end()
+        );
         return None;
     }
     let text = String::from_utf8_lossy(&out.stdout);
@@ -271,11 +318,16 @@ fn main() {
     bench_sensor(sensor_runs);
     let Some(sk) = bench_skfem(5) else { return };
     println!();
-    println!("== time ratio tactfab / scikit-fem: same plate, same D, same 1 N centre load, same alpha_ref (medians; a mesh slower than 10 s in Python is a single run)");
+    println!(
+        "== time ratio tactfab / scikit-fem: same plate, same D, same 1 N centre load, same \
+         alpha_ref (medians; a mesh slower than 10 s in Python is a single run)"
+    );
     for (i, target) in [0.01, 0.001].iter().enumerate() {
         match (ours[i], sk[i]) {
             (Some(t), Some((total, asm))) => println!(
-                "{:>4.1} %: tactfab {t:.3} ms, scikit-fem {total:.1} ms total ({asm:.1} ms assemble+solve): ratio {:.2e} (vs assemble+solve {:.2e}; scikit-fem/tactfab = {:.0}x)",
+                "{:>4.1} %: tactfab {t:.3} ms, scikit-fem {total:.1} ms total ({asm:.1} ms \
+                 assemble+solve): ratio {:.2e} (vs assemble+solve {:.2e}; scikit-fem/tactfab = \
+                 {:.0}x)",
                 target * 100.0,
                 t / total,
                 t / asm,

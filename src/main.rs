@@ -1,9 +1,12 @@
-//! The `tactfab` binary: parse arguments, dispatch, map the outcome to an exit code.
+//! The `tactfab` binary: `main -> cli::run -> dispatch`, the outcome mapped to an exit code
+//! (0 ok, 1 a check failed, 2 bad input or error).
+
+mod cli;
 
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    match tactfab_cli::run() {
+    match cli::run() {
         Ok(code) => code.into(),
         Err(e) => {
             eprintln!("error: {e:#}");
@@ -11,6 +14,3 @@ fn main() -> ExitCode {
         }
     }
 }
-
-#[path = "cli/mod.rs"]
-mod tactfab_cli;

@@ -40,24 +40,48 @@ impl CalibrationPlan {
     /// Sweeps with `x_step_um` along the length and `y_step_um` across the width; the grid uses
     /// the x sweep's nodes and the y sweep's plate nodes plus the first and last positions with
     /// the contact wholly on the plate; `n_held_out` loads sit at cell centres.
-    pub fn new(g: &SensorGeometry, x_step_um: f64, y_step_um: f64, n_held_out: usize, radius_um: f64, tol: f64, max_levels: usize) -> Self {
+    pub fn new(
+        g: &SensorGeometry,
+        x_step_um: f64,
+        y_step_um: f64,
+        n_held_out: usize,
+        radius_um: f64,
+        tol: f64,
+        max_levels: usize,
+    ) -> Self {
         let h = contact_half_side_um(radius_um);
         // Contact wholly on the die (a patch over the die edge would lose the part outside).
         let ny = ((g.width_um - 2.0 * h) / y_step_um).round().max(1.0) as usize;
-        let y_sweep_um: Vec<f64> = (0..=ny).map(|j| h + (g.width_um - 2.0 * h) * j as f64 / ny as f64).collect();
+        let y_sweep_um: Vec<f64> = (0..=ny)
+            .map(|j| h + (g.width_um - 2.0 * h) * j as f64 / ny as f64)
+            .collect();
         let nx = (g.length_um / x_step_um).round().max(1.0) as usize;
-        let x_sweep_um: Vec<f64> = (0..nx).map(|i| g.length_um * (i as f64 + 0.5) / nx as f64).collect();
+        let x_sweep_um: Vec<f64> = (0..nx)
+            .map(|i| g.length_um * (i as f64 + 0.5) / nx as f64)
+            .collect();
         let (lo, hi) = (g.plate_y0_um + h, g.plate_y1_um - h);
         let mut grid_y_um = vec![lo];
-        grid_y_um.extend(y_sweep_um.iter().copied().filter(|&y| y > lo + 0.25 * y_step_um && y < hi - 0.25 * y_step_um));
+        grid_y_um.extend(
+            y_sweep_um
+                .iter()
+                .copied()
+                .filter(|&y| y > lo + 0.25 * y_step_um && y < hi - 0.25 * y_step_um),
+        );
         grid_y_um.push(hi);
         let grid_x_um = x_sweep_um.clone();
         // Held-out cells lie between the end units (x in [L/6, 5L/6]): beyond them u_x turns
         // towards the free ends and the inverse clamps x (reported, not hidden, by `locate`).
         let cells_x: Vec<usize> = (0..grid_x_um.len() - 1)
-            .filter(|&i| grid_x_um[i] >= g.length_um / 6.0 - 1e-6 && grid_x_um[i + 1] <= 5.0 * g.length_um / 6.0 + 1e-6)
+            .filter(|&i| {
+                grid_x_um[i] >= g.length_um / 6.0 - 1e-6
+                    && grid_x_um[i + 1] <= 5.0 * g.length_um / 6.0 + 1e-6
+            })
             .collect();
-        let cells_x = if cells_x.is_empty() { (0..grid_x_um.len() - 1).collect() } else { cells_x };
+        let cells_x = if cells_x.is_empty() {
+            (0..grid_x_um.len() - 1).collect()
+        } else {
+            cells_x
+        };
         let cy = grid_y_um.len() - 1;
         let held_out = (0..n_held_out)
             .map(|k| {
@@ -68,7 +92,17 @@ impl CalibrationPlan {
                 (x, y, HELD_OUT_FORCES_N[k % HELD_OUT_FORCES_N.len()])
             })
             .collect();
-        CalibrationPlan { radius_um, force_table_n: FORCE_TABLE_N.to_vec(), y_sweep_um, x_sweep_um, grid_x_um, grid_y_um, held_out, tol, max_levels }
+        CalibrationPlan {
+            radius_um,
+            force_table_n: FORCE_TABLE_N.to_vec(),
+            y_sweep_um,
+            x_sweep_um,
+            grid_x_um,
+            grid_y_um,
+            held_out,
+            tol,
+            max_levels,
+        }
     }
 }
 
@@ -119,7 +153,16 @@ pub struct Calibration {
 }
 
 fn point(name: String, x_um: f64, y_um: f64, force_n: f64, radius_um: f64) -> Scene {
-    Scene { name, load: SceneLoad::Point { x_um, y_um, force_n, radius_um }, limits: Limits::default() }
+    Scene {
+        name,
+        load: SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        },
+        limits: Limits::default(),
+    }
 }
 
 fn sample(r: &SceneReport, x_um: f64, y_um: f64) -> Sample {
@@ -164,12 +207,19 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
     let t0 = Instant::now();
     let reports = evaluate_many(g, &scenes, plan.tol, plan.max_levels)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let mut samples = reports.iter().zip(&at).map(|(rep, &(x, y))| sample(rep, x, y));
+    let mut samples = reports
+        .iter()
+        .zip(&at)
+        .map(|(rep, &(x, y))| sample(rep, x, y));
     let mut take = |n: usize| -> Vec<Sample> { samples.by_ref().take(n).collect() };
     let force_table = take(plan.force_table_n.len());
     let y_sweep = take(plan.y_sweep_um.len());
     let x_sweep = take(plan.x_sweep_um.len());
-    let grid: Vec<Vec<Sample>> = plan.grid_y_um.iter().map(|_| take(plan.grid_x_um.len())).collect();
+    let grid: Vec<Vec<Sample>> = plan
+        .grid_y_um
+        .iter()
+        .map(|_| take(plan.grid_x_um.len()))
+        .collect();
     let held_out = take(plan.held_out.len());
     let plate: Vec<&SceneReport> = reports.iter().filter(|r| r.model.kind == "plate").collect();
     let cost = Cost {
@@ -177,7 +227,10 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         wall_ms,
         dofs: plate.iter().map(|r| r.model.dofs).max().unwrap_or(0),
         levels: plate.iter().map(|r| r.model.levels).max().unwrap_or(1),
-        max_error_estimate: plate.iter().map(|r| r.error_estimate).try_fold(0f64, |a, e| e.map(|e| a.max(e))),
+        max_error_estimate: plate
+            .iter()
+            .map(|r| r.error_estimate)
+            .try_fold(0f64, |a, e| e.map(|e| a.max(e))),
     };
     let linearity_deviation = linearity(&force_table);
     Ok(Calibration {
@@ -196,11 +249,18 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
 
 /// Largest departure from V proportional to F, relative to the largest voltage per newton.
 fn linearity(table: &[Sample]) -> f64 {
-    let Some(unit) = table.iter().find(|s| (s.force_n - 1.0).abs() < 1e-12) else { return f64::NAN };
+    let Some(unit) = table.iter().find(|s| (s.force_n - 1.0).abs() < 1e-12) else {
+        return f64::NAN;
+    };
     let scale = unit.voltage_mv.iter().fold(0f64, |a, v| a.max(v.abs()));
     table
         .iter()
-        .flat_map(|s| s.voltage_mv.iter().zip(&unit.voltage_mv).map(move |(v, u)| (v / s.force_n - u).abs() / scale))
+        .flat_map(|s| {
+            s.voltage_mv
+                .iter()
+                .zip(&unit.voltage_mv)
+                .map(move |(v, u)| (v / s.force_n - u).abs() / scale)
+        })
         .fold(0.0, f64::max)
 }
 
@@ -216,14 +276,31 @@ pub struct SupportGroups {
 
 impl SupportGroups {
     pub fn of(g: &SensorGeometry) -> Result<Self, AnalysisError> {
-        let idx = |side: SupportSide| -> Vec<usize> { g.electrodes.iter().enumerate().filter(|(_, e)| e.side == side).map(|(i, _)| i).collect() };
+        let idx = |side: SupportSide| -> Vec<usize> {
+            g.electrodes
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| e.side == side)
+                .map(|(i, _)| i)
+                .collect()
+        };
         let (support1, support2) = (idx(SupportSide::Support1), idx(SupportSide::Support2));
         if support1.len() < 2 || support2.len() < 2 {
-            return Err(AnalysisError::Calibration { reason: "the load inverse needs at least two electrodes on each support".into() });
+            return Err(AnalysisError::Calibration {
+                reason: "the load inverse needs at least two electrodes on each support".into(),
+            });
         }
         let x = |i: usize| g.electrodes[i].x0_um;
         let pick = |set: &[usize], first: bool| -> usize {
-            *set.iter().min_by(|&&a, &&b| if first { x(a).total_cmp(&x(b)) } else { x(b).total_cmp(&x(a)) }).expect("non-empty")
+            *set.iter()
+                .min_by(|&&a, &&b| {
+                    if first {
+                        x(a).total_cmp(&x(b))
+                    } else {
+                        x(b).total_cmp(&x(a))
+                    }
+                })
+                .expect("non-empty")
         };
         Ok(SupportGroups {
             first_unit: vec![pick(&support1, true), pick(&support2, true)],
@@ -237,7 +314,8 @@ impl SupportGroups {
         set.iter().map(|&i| v[i]).sum()
     }
 
-    /// (S1 - S2) / (S1 + S2) of the support totals: 1 over support 1, -1 over support 2, force-free.
+    /// (S1 - S2) / (S1 + S2) of the support totals: 1 over support 1, -1 over support 2,
+    /// force-free.
     pub fn u_y(&self, v: &[f64]) -> f64 {
         let (a, b) = (Self::sum(&self.support1, v), Self::sum(&self.support2, v));
         (a - b) / (a + b)
@@ -247,7 +325,10 @@ impl SupportGroups {
     /// normalised by the support total. Not by VS1 + VS2: near mid-length the end units lift
     /// (opposite signs), so that sum passes through zero and the ratio is not monotone.
     pub fn u_x(&self, v: &[f64]) -> f64 {
-        let (a, b) = (Self::sum(&self.first_unit, v), Self::sum(&self.last_unit, v));
+        let (a, b) = (
+            Self::sum(&self.first_unit, v),
+            Self::sum(&self.last_unit, v),
+        );
         let total = Self::sum(&self.support1, v) + Self::sum(&self.support2, v);
         (a - b) / total
     }

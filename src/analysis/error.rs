@@ -10,8 +10,15 @@ pub enum AnalysisError {
     Fe(#[from] FeError),
     #[error("fit: {reason} (hint: use at least degree + 1 distinct samples and a degree >= 0)")]
     Fit { reason: String },
-    #[error("voltages: expected {expected} values in the electrode order {names}, got {got} (hint: --voltages takes one value per electrode, comma-separated)")]
-    VoltageCount { expected: usize, got: usize, names: String },
+    #[error(
+        "voltages: expected {expected} values in the electrode order {names}, got {got} (hint: \
+         --voltages takes one value per electrode, comma-separated)"
+    )]
+    VoltageCount {
+        expected: usize,
+        got: usize,
+        names: String,
+    },
     #[error("calibration: {reason} (hint: regenerate it with `tactfab calibrate FILE -o DIR`)")]
     Calibration { reason: String },
     #[error("the sensor has no electrode `{name}` (known: {known})")]

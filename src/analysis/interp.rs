@@ -15,8 +15,14 @@ impl Pchip {
     /// Panics (misuse) unless there are two or more points with strictly increasing x.
     #[track_caller]
     pub fn new(x: &[f64], y: &[f64]) -> Self {
-        assert!(x.len() >= 2 && x.len() == y.len(), "PCHIP needs >= 2 points and as many y as x");
-        assert!(x.windows(2).all(|w| w[1] > w[0]), "PCHIP needs strictly increasing x");
+        assert!(
+            x.len() >= 2 && x.len() == y.len(),
+            "PCHIP needs >= 2 points and as many y as x"
+        );
+        assert!(
+            x.windows(2).all(|w| w[1] > w[0]),
+            "PCHIP needs strictly increasing x"
+        );
         let n = x.len();
         let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
         let delta: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
@@ -35,7 +41,11 @@ impl Pchip {
             d[0] = end_slope(h[0], h[1], delta[0], delta[1]);
             d[n - 1] = end_slope(h[n - 2], h[n - 3], delta[n - 2], delta[n - 3]);
         }
-        Pchip { x: x.to_vec(), y: y.to_vec(), d }
+        Pchip {
+            x: x.to_vec(),
+            y: y.to_vec(),
+            d,
+        }
     }
 
     pub fn x_range(&self) -> (f64, f64) {
@@ -102,7 +112,10 @@ fn end_slope(h0: f64, h1: f64, del0: f64, del1: f64) -> f64 {
 /// Tensor-product PCHIP on a grid: values[j][i] at (xs[i], ys[j]); PCHIP in x along each row,
 /// then PCHIP in y through the row values.
 pub fn grid_eval(xs: &[f64], ys: &[f64], values: &[Vec<f64>], x: f64, y: f64) -> f64 {
-    let col: Vec<f64> = values.iter().map(|row| Pchip::new(xs, row).eval(x)).collect();
+    let col: Vec<f64> = values
+        .iter()
+        .map(|row| Pchip::new(xs, row).eval(x))
+        .collect();
     Pchip::new(ys, &col).eval(y)
 }
 
@@ -148,10 +161,15 @@ mod tests {
     fn converges_at_third_order_or_better_on_a_smooth_function() {
         // Max error on sin over [0, pi/2] with n and 2n intervals; PCHIP is O(h^3) at worst here.
         let err = |n: usize| {
-            let x: Vec<f64> = (0..=n).map(|i| std::f64::consts::FRAC_PI_2 * i as f64 / n as f64).collect();
+            let x: Vec<f64> = (0..=n)
+                .map(|i| std::f64::consts::FRAC_PI_2 * i as f64 / n as f64)
+                .collect();
             let y: Vec<f64> = x.iter().map(|t| t.sin()).collect();
             let p = Pchip::new(&x, &y);
-            (0..=1000).map(|k| std::f64::consts::FRAC_PI_2 * k as f64 / 1000.0).map(|t| (p.eval(t) - t.sin()).abs()).fold(0.0, f64::max)
+            (0..=1000)
+                .map(|k| std::f64::consts::FRAC_PI_2 * k as f64 / 1000.0)
+                .map(|t| (p.eval(t) - t.sin()).abs())
+                .fold(0.0, f64::max)
         };
         let (e1, e2) = (err(8), err(16));
         assert!(e2 < 1e-3 && e1 / e2 > 4.0, "{e1} {e2}");
@@ -162,7 +180,10 @@ mod tests {
         let xs = [0.0, 1.0, 3.0];
         let ys = [0.0, 2.0, 3.0, 5.0];
         let f = |x: f64, y: f64| 1.0 + 2.0 * x - y + 0.5 * x * y;
-        let v: Vec<Vec<f64>> = ys.iter().map(|&y| xs.iter().map(|&x| f(x, y)).collect()).collect();
+        let v: Vec<Vec<f64>> = ys
+            .iter()
+            .map(|&y| xs.iter().map(|&x| f(x, y)).collect())
+            .collect();
         for (x, y) in [(0.5, 1.0), (2.2, 4.1), (3.0, 0.0)] {
             assert!((grid_eval(&xs, &ys, &v, x, y) - f(x, y)).abs() < 1e-12);
         }

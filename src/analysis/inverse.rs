@@ -4,13 +4,13 @@
 //! Two force-free features (calibration.rs): u_y = (S1 - S2)/(S1 + S2) of the support totals,
 //! monotone in y (Figs. 12, 23), and u_x = (VS1 - VS2)/(S1 + S2) of the end units' support pairs,
 //! monotone in x between the end units (Fig. 26); beyond them (towards the free ends) it turns, so
-//! x is clamped there and the estimate says so. Each is a PCHIP surface over the calibration grid; y is solved on its
-//! curve at the current x, then x at the new y, until both settle (the cross-dependence is weak).
-//! The force is then the support total over its calibrated sensitivity at (x, y):
-//! F = (S1 + S2) / (s_S1 + s_S2)(x, y). By equilibrium the supports carry the whole load, so that
-//! sensitivity only changes with the electrodes' coverage of the support length and barely with
-//! position; the middle electrodes' sensitivities change steeply with position, so a least-squares
-//! scale over all nine would turn every position error into a force error.
+//! x is clamped there and the estimate says so. Each is a PCHIP surface over the calibration grid;
+//! y is solved on its curve at the current x, then x at the new y, until both settle (the
+//! cross-dependence is weak). The force is then the support total over its calibrated sensitivity
+//! at (x, y): F = (S1 + S2) / (s_S1 + s_S2)(x, y). By equilibrium the supports carry the whole
+//! load, so that sensitivity only changes with the electrodes' coverage of the support length and
+//! barely with position; the middle electrodes' sensitivities change steeply with position, so a
+//! least-squares scale over all nine would turn every position error into a force error.
 
 use serde::Serialize;
 
@@ -70,34 +70,79 @@ fn branch(u: &[f64]) -> (usize, usize) {
 impl Locator {
     pub fn new(cal: &Calibration, groups: SupportGroups) -> Result<Self, AnalysisError> {
         let (xs, ys) = (cal.grid_x_um.clone(), cal.grid_y_um.clone());
-        if xs.len() < 2 || ys.len() < 2 || cal.grid.len() != ys.len() || cal.grid.iter().any(|r| r.len() != xs.len()) {
-            return Err(AnalysisError::Calibration { reason: format!("the grid must be at least 2 x 2 and complete ({} x nodes, {} y nodes)", xs.len(), ys.len()) });
+        if xs.len() < 2
+            || ys.len() < 2
+            || cal.grid.len() != ys.len()
+            || cal.grid.iter().any(|r| r.len() != xs.len())
+        {
+            return Err(AnalysisError::Calibration {
+                reason: format!(
+                    "the grid must be at least 2 x 2 and complete ({} x nodes, {} y nodes)",
+                    xs.len(),
+                    ys.len()
+                ),
+            });
         }
         if !xs.windows(2).all(|w| w[1] > w[0]) || !ys.windows(2).all(|w| w[1] > w[0]) {
-            return Err(AnalysisError::Calibration { reason: "grid nodes must increase strictly".into() });
+            return Err(AnalysisError::Calibration {
+                reason: "grid nodes must increase strictly".into(),
+            });
         }
         let ne = cal.electrodes.len();
-        let per_n = |s: &Sample| -> Vec<f64> { s.voltage_mv.iter().map(|v| v / s.force_n).collect() };
-        let sens = (0..ne).map(|e| cal.grid.iter().map(|row| row.iter().map(|s| per_n(s)[e]).collect()).collect()).collect();
-        let feature = |f: &dyn Fn(&[f64]) -> f64| -> Vec<Vec<f64>> { cal.grid.iter().map(|row| row.iter().map(|s| f(&s.voltage_mv)).collect()).collect() };
+        let per_n =
+            |s: &Sample| -> Vec<f64> { s.voltage_mv.iter().map(|v| v / s.force_n).collect() };
+        let sens = (0..ne)
+            .map(|e| {
+                cal.grid
+                    .iter()
+                    .map(|row| row.iter().map(|s| per_n(s)[e]).collect())
+                    .collect()
+            })
+            .collect();
+        let feature = |f: &dyn Fn(&[f64]) -> f64| -> Vec<Vec<f64>> {
+            cal.grid
+                .iter()
+                .map(|row| row.iter().map(|s| f(&s.voltage_mv)).collect())
+                .collect()
+        };
         let ux = feature(&|v| groups.u_x(v));
         let uy = feature(&|v| groups.u_y(v));
         if ux.iter().chain(&uy).flatten().any(|u| !u.is_finite()) {
-            return Err(AnalysisError::Calibration { reason: "a grid load gives no support signal (zero support sum)".into() });
+            return Err(AnalysisError::Calibration {
+                reason: "a grid load gives no support signal (zero support sum)".into(),
+            });
         }
         let mid_row = &ux[ys.len() / 2];
         let mid_col: Vec<f64> = uy.iter().map(|row| row[xs.len() / 2]).collect();
-        Ok(Locator { electrodes: cal.electrodes.clone(), x_branch: branch(mid_row), y_branch: branch(&mid_col), groups, xs, ys, sens, ux, uy })
+        Ok(Locator {
+            electrodes: cal.electrodes.clone(),
+            x_branch: branch(mid_row),
+            y_branch: branch(&mid_col),
+            groups,
+            xs,
+            ys,
+            sens,
+            ux,
+            uy,
+        })
     }
 
     /// Range of positions the inverse covers (x0, x1, y0, y1).
     pub fn domain_um(&self) -> (f64, f64, f64, f64) {
-        (self.xs[self.x_branch.0], self.xs[self.x_branch.1], self.ys[self.y_branch.0], self.ys[self.y_branch.1])
+        (
+            self.xs[self.x_branch.0],
+            self.xs[self.x_branch.1],
+            self.ys[self.y_branch.0],
+            self.ys[self.y_branch.1],
+        )
     }
 
     /// Sensitivities s_i(x, y) in mV/N.
     pub fn sensitivity(&self, x: f64, y: f64) -> Vec<f64> {
-        self.sens.iter().map(|s| grid_eval(&self.xs, &self.ys, s, x, y)).collect()
+        self.sens
+            .iter()
+            .map(|s| grid_eval(&self.xs, &self.ys, s, x, y))
+            .collect()
     }
 
     /// Solves `curve(t) = target` on [lo, hi], clamping to the nearer end outside the range.
@@ -106,18 +151,31 @@ impl Locator {
             Some(t) => (t, false),
             None => {
                 let (a, b) = (curve.eval(lo), curve.eval(hi));
-                (if (target - a).abs() < (target - b).abs() { lo } else { hi }, true)
+                (
+                    if (target - a).abs() < (target - b).abs() {
+                        lo
+                    } else {
+                        hi
+                    },
+                    true,
+                )
             }
         }
     }
 
     pub fn locate(&self, v: &[f64]) -> Result<Estimate, AnalysisError> {
         if v.len() != self.electrodes.len() {
-            return Err(AnalysisError::VoltageCount { expected: self.electrodes.len(), got: v.len(), names: self.electrodes.join(",") });
+            return Err(AnalysisError::VoltageCount {
+                expected: self.electrodes.len(),
+                got: v.len(),
+                names: self.electrodes.join(","),
+            });
         }
         let (tx, ty) = (self.groups.u_x(v), self.groups.u_y(v));
         if !tx.is_finite() || !ty.is_finite() {
-            return Err(AnalysisError::Calibration { reason: "the support voltages sum to zero: no load to locate".into() });
+            return Err(AnalysisError::Calibration {
+                reason: "the support voltages sum to zero: no load to locate".into(),
+            });
         }
         let (x0, x1, y0, y1) = self.domain_um();
         let (mut x, mut y) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
@@ -126,9 +184,17 @@ impl Locator {
         let mut iterations = 0;
         for it in 1..=100 {
             iterations = it;
-            let col: Vec<f64> = self.uy.iter().map(|row| Pchip::new(&self.xs, row).eval(x)).collect();
+            let col: Vec<f64> = self
+                .uy
+                .iter()
+                .map(|row| Pchip::new(&self.xs, row).eval(x))
+                .collect();
             let (ny, cy) = Self::solve_clamped(&Pchip::new(&self.ys, &col), ty, y0, y1);
-            let row: Vec<f64> = (0..self.xs.len()).map(|i| Pchip::new(&self.ys, &self.ux.iter().map(|r| r[i]).collect::<Vec<_>>()).eval(ny)).collect();
+            let row: Vec<f64> = (0..self.xs.len())
+                .map(|i| {
+                    Pchip::new(&self.ys, &self.ux.iter().map(|r| r[i]).collect::<Vec<_>>()).eval(ny)
+                })
+                .collect();
             let (nx, cx) = Self::solve_clamped(&Pchip::new(&self.xs, &row), tx, x0, x1);
             let step = (nx - x).abs().max((ny - y).abs());
             (x, y, clamped_x, clamped_y) = (nx, ny, cx, cy);
@@ -139,8 +205,23 @@ impl Locator {
         }
         let s = self.sensitivity(x, y);
         let force_n = self.groups.total(v) / self.groups.total(&s);
-        let residual_mv = (s.iter().zip(v).map(|(a, b)| (b - force_n * a).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
-        Ok(Estimate { force_n, x_um: x, y_um: y, iterations, converged, clamped_x, clamped_y, residual_mv })
+        let residual_mv = (s
+            .iter()
+            .zip(v)
+            .map(|(a, b)| (b - force_n * a).powi(2))
+            .sum::<f64>()
+            / v.len() as f64)
+            .sqrt();
+        Ok(Estimate {
+            force_n,
+            x_um: x,
+            y_um: y,
+            iterations,
+            converged,
+            clamped_x,
+            clamped_y,
+            residual_mv,
+        })
     }
 }
 
@@ -157,7 +238,10 @@ pub struct HeldOutError {
     pub error_force_rel: f64,
 }
 
-pub fn held_out_errors(loc: &Locator, held_out: &[Sample]) -> Result<Vec<HeldOutError>, AnalysisError> {
+pub fn held_out_errors(
+    loc: &Locator,
+    held_out: &[Sample],
+) -> Result<Vec<HeldOutError>, AnalysisError> {
     held_out
         .iter()
         .map(|s| {
@@ -191,7 +275,14 @@ pub struct NoiseRow {
 /// `trials` noisy copies of every held-out load per sigma, from one seeded stream. The held-out
 /// voltages are first scaled to `force_n` (exact: the model is linear), so sigma compares with one
 /// force for every position; the error at another force F is that at sigma F_ref / F.
-pub fn noise_study(loc: &Locator, held_out: &[Sample], force_n: f64, sigmas_mv: &[f64], trials: usize, seed: u64) -> Result<Vec<NoiseRow>, AnalysisError> {
+pub fn noise_study(
+    loc: &Locator,
+    held_out: &[Sample],
+    force_n: f64,
+    sigmas_mv: &[f64],
+    trials: usize,
+    seed: u64,
+) -> Result<Vec<NoiseRow>, AnalysisError> {
     let mut rng = Gaussian::new(seed);
     let mut rows = Vec::new();
     for &sigma in sigmas_mv {
@@ -199,7 +290,11 @@ pub fn noise_study(loc: &Locator, held_out: &[Sample], force_n: f64, sigmas_mv: 
         for s in held_out {
             let k = force_n / s.force_n;
             for _ in 0..trials {
-                let v: Vec<f64> = s.voltage_mv.iter().map(|v| k * v + sigma * rng.sample()).collect();
+                let v: Vec<f64> = s
+                    .voltage_mv
+                    .iter()
+                    .map(|v| k * v + sigma * rng.sample())
+                    .collect();
                 let e = loc.locate(&v)?;
                 ex.push(e.x_um - s.x_um);
                 ey.push(e.y_um - s.y_um);

@@ -10,7 +10,10 @@ pub struct Gaussian {
 
 impl Gaussian {
     pub fn new(seed: u64) -> Self {
-        Gaussian { state: seed, spare: None }
+        Gaussian {
+            state: seed,
+            spare: None,
+        }
     }
 
     /// splitmix64: one 64-bit output per call.
@@ -55,7 +58,10 @@ mod tests {
         assert!(mean.abs() < 0.012, "mean {mean}");
         assert!((var - 1.0).abs() < 0.016, "variance {var}");
         let within_1 = xs.iter().filter(|x| x.abs() < 1.0).count() as f64 / n as f64;
-        assert!((within_1 - 0.682_689).abs() < 0.006, "P(|z| < 1) = {within_1}");
+        assert!(
+            (within_1 - 0.682_689).abs() < 0.006,
+            "P(|z| < 1) = {within_1}"
+        );
         let mut again = Gaussian::new(7);
         assert!(xs[..100].iter().all(|&x| x == again.sample()));
         assert_ne!(Gaussian::new(8).sample(), xs[0]);

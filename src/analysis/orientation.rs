@@ -129,7 +129,14 @@ pub struct Orientation {
 fn probe(plan: &OrientationPlan, name: String, angle_deg: f64, force_n: f64) -> Scene {
     Scene {
         name,
-        load: SceneLoad::Probe { x_um: plan.x_um, y_um: plan.y_um, width_um: plan.width_um, height_um: plan.height_um, angle_deg, force_n },
+        load: SceneLoad::Probe {
+            x_um: plan.x_um,
+            y_um: plan.y_um,
+            width_um: plan.width_um,
+            height_um: plan.height_um,
+            angle_deg,
+            force_n,
+        },
         limits: Limits::default(),
     }
 }
@@ -141,14 +148,19 @@ fn cost_of(reports: &[SceneReport], wall_ms: f64) -> Cost {
         wall_ms,
         dofs: plate.iter().map(|r| r.model.dofs).max().unwrap_or(0),
         levels: plate.iter().map(|r| r.model.levels).max().unwrap_or(1),
-        max_error_estimate: plate.iter().map(|r| r.error_estimate).try_fold(0f64, |a, e| e.map(|e| a.max(e))),
+        max_error_estimate: plate
+            .iter()
+            .map(|r| r.error_estimate)
+            .try_fold(0f64, |a, e| e.map(|e| a.max(e))),
     }
 }
 
 /// The longest interval between consecutive extrema of `f` on [lo, hi] (dense sampling, 0.05 deg).
 pub fn monotone_branch(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
     let n = ((hi - lo) / 0.05).ceil() as usize;
-    let t: Vec<f64> = (0..=n).map(|k| lo + (hi - lo) * k as f64 / n as f64).collect();
+    let t: Vec<f64> = (0..=n)
+        .map(|k| lo + (hi - lo) * k as f64 / n as f64)
+        .collect();
     let v: Vec<f64> = t.iter().map(|&a| f(a)).collect();
     let mut cuts = vec![0];
     for k in 1..n {
@@ -157,7 +169,14 @@ pub fn monotone_branch(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
         }
     }
     cuts.push(n);
-    let best = cuts.windows(2).max_by(|a, b| (v[a[1]] - v[a[0]]).abs().total_cmp(&(v[b[1]] - v[b[0]]).abs())).expect("two cuts");
+    let best = cuts
+        .windows(2)
+        .max_by(|a, b| {
+            (v[a[1]] - v[a[0]])
+                .abs()
+                .total_cmp(&(v[b[1]] - v[b[0]]).abs())
+        })
+        .expect("two cuts");
     (t[best[0]], t[best[1]])
 }
 
@@ -183,8 +202,17 @@ pub fn invert_angle(fit: &Fit, scale: f64, charge: f64, lo: f64, hi: f64) -> Opt
 
 pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, AnalysisError> {
     let fref = plan.reference_force_n;
-    let others: Vec<f64> = plan.forces_n.iter().copied().filter(|f| (f - fref).abs() > 1e-12).collect();
-    let mut scenes: Vec<Scene> = plan.angles_deg.iter().map(|&a| probe(plan, format!("probe-{a}deg-{fref}N"), a, fref)).collect();
+    let others: Vec<f64> = plan
+        .forces_n
+        .iter()
+        .copied()
+        .filter(|f| (f - fref).abs() > 1e-12)
+        .collect();
+    let mut scenes: Vec<Scene> = plan
+        .angles_deg
+        .iter()
+        .map(|&a| probe(plan, format!("probe-{a}deg-{fref}N"), a, fref))
+        .collect();
     for &f in &others {
         for &a in &plan.check_angles_deg {
             scenes.push(probe(plan, format!("probe-{a}deg-{f}N"), a, f));
@@ -193,30 +221,61 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
     let t0 = Instant::now();
     let reports = evaluate_many(g, &scenes, plan.tol, plan.max_levels)?;
     let cost = cost_of(&reports, t0.elapsed().as_secs_f64() * 1e3);
-    let charges = |r: &SceneReport| -> Vec<f64> { r.electrodes.iter().map(|e| e.charge_pc).collect() };
+    let charges =
+        |r: &SceneReport| -> Vec<f64> { r.electrodes.iter().map(|e| e.charge_pc).collect() };
     let na = plan.angles_deg.len();
     let reference: Vec<Vec<f64>> = reports[..na].iter().map(charges).collect();
     let cmax = reference.iter().flatten().fold(0f64, |a, c| a.max(c.abs()));
     // Linearity: real solves at the other forces against the scaled reference.
     let mut linearity_deviation: f64 = 0.0;
     for (k, r) in reports[na..].iter().enumerate() {
-        let (fi, ai) = (k / plan.check_angles_deg.len(), k % plan.check_angles_deg.len());
+        let (fi, ai) = (
+            k / plan.check_angles_deg.len(),
+            k % plan.check_angles_deg.len(),
+        );
         let f = others[fi];
-        let Some(ia) = plan.angles_deg.iter().position(|a| (a - plan.check_angles_deg[ai]).abs() < 1e-9) else { continue };
+        let Some(ia) = plan
+            .angles_deg
+            .iter()
+            .position(|a| (a - plan.check_angles_deg[ai]).abs() < 1e-9)
+        else {
+            continue;
+        };
         for (c, c1) in charges(r).iter().zip(&reference[ia]) {
-            linearity_deviation = linearity_deviation.max((c - c1 * f / fref).abs() / (cmax * f / fref));
+            linearity_deviation =
+                linearity_deviation.max((c - c1 * f / fref).abs() / (cmax * f / fref));
         }
     }
-    let charge_pc: Vec<Vec<Vec<f64>>> =
-        plan.forces_n.iter().map(|&f| reference.iter().map(|row| row.iter().map(|c| c * f / fref).collect()).collect()).collect();
+    let charge_pc: Vec<Vec<Vec<f64>>> = plan
+        .forces_n
+        .iter()
+        .map(|&f| {
+            reference
+                .iter()
+                .map(|row| row.iter().map(|c| c * f / fref).collect())
+                .collect()
+        })
+        .collect();
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     let (lo, hi) = (plan.angles_deg[0], plan.angles_deg[na - 1]);
-    let cheb = Basis { kind: BasisKind::Chebyshev, degree: plan.degree, lo_deg: lo, hi_deg: hi };
-    let four = Basis { kind: BasisKind::Fourier2Theta, degree: plan.fourier_degree, lo_deg: lo, hi_deg: hi };
+    let cheb = Basis {
+        kind: BasisKind::Chebyshev,
+        degree: plan.degree,
+        lo_deg: lo,
+        hi_deg: hi,
+    };
+    let four = Basis {
+        kind: BasisKind::Fourier2Theta,
+        degree: plan.fourier_degree,
+        lo_deg: lo,
+        hi_deg: hi,
+    };
     let mut fits = Vec::new();
     for (e, name) in names.iter().enumerate() {
         let y: Vec<f64> = reference.iter().map(|row| row[e]).collect();
-        let (mn, mx) = y.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+        let (mn, mx) = y
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
         let mean = y.iter().map(|v| v.abs()).sum::<f64>() / na as f64;
         fits.push(ElectrodeFits {
             electrode: name.clone(),
@@ -226,18 +285,33 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
             relative_variation: if mean > 0.0 { (mx - mn) / mean } else { 0.0 },
         });
     }
-    let ie = match &plan.electrode {
-        Some(n) => names.iter().position(|x| x == n).ok_or_else(|| AnalysisError::UnknownElectrode { name: n.clone(), known: names.join(", ") })?,
-        // The paper's error is relative to the charge: pick among electrodes whose charge keeps
-        // its sign over the angles (else the relative error is undefined near the zero crossing).
-        None => (0..names.len())
-            .filter(|&e| {
-                let s = reference[0][e].signum();
-                s != 0.0 && reference.iter().all(|row| row[e].signum() == s)
-            })
-            .max_by(|&a, &b| fits[a].relative_variation.total_cmp(&fits[b].relative_variation))
-            .ok_or_else(|| AnalysisError::Fit { reason: "every electrode's charge changes sign with angle: name one with --electrode".into() })?,
-    };
+    let ie =
+        match &plan.electrode {
+            Some(n) => names.iter().position(|x| x == n).ok_or_else(|| {
+                AnalysisError::UnknownElectrode {
+                    name: n.clone(),
+                    known: names.join(", "),
+                }
+            })?,
+            // The paper's error is relative to the charge: pick among electrodes whose charge keeps
+            // its sign over the angles (else the relative error is undefined near the zero
+            // crossing).
+            None => (0..names.len())
+                .filter(|&e| {
+                    let s = reference[0][e].signum();
+                    s != 0.0 && reference.iter().all(|row| row[e].signum() == s)
+                })
+                .max_by(|&a, &b| {
+                    fits[a]
+                        .relative_variation
+                        .total_cmp(&fits[b].relative_variation)
+                })
+                .ok_or_else(|| AnalysisError::Fit {
+                    reason: "every electrode's charge changes sign with angle: name one with \
+                             --electrode"
+                        .into(),
+                })?,
+        };
     let f_ie = &fits[ie].chebyshev;
     let branch_deg = monotone_branch(&|a| f_ie.eval(a), lo, hi);
     // Inverse at the reference force and the smallest other force (Tables 2 and 3: 1 N, 0.5 N).
@@ -249,11 +323,16 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         let s = f / fref;
         for &q in &plan.inverse_fractions {
             let assumed = s * (c0 + q * (c1 - c0));
-            let angle = invert_angle(f_ie, s, assumed, branch_deg.0, branch_deg.1).expect("inside the branch by construction");
+            let angle = invert_angle(f_ie, s, assumed, branch_deg.0, branch_deg.1)
+                .expect("inside the branch by construction");
             tries.push((f, assumed, angle));
         }
     }
-    let rescenes: Vec<Scene> = tries.iter().enumerate().map(|(k, &(f, _, a))| probe(plan, format!("inverse-{k}"), a, f)).collect();
+    let rescenes: Vec<Scene> = tries
+        .iter()
+        .enumerate()
+        .map(|(k, &(f, _, a))| probe(plan, format!("inverse-{k}"), a, f))
+        .collect();
     let t1 = Instant::now();
     let rerun = evaluate_many(g, &rescenes, plan.tol, plan.max_levels)?;
     let inverse_cost = cost_of(&rerun, t1.elapsed().as_secs_f64() * 1e3);
@@ -269,7 +348,11 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
                 estimated_angle_deg: angle,
                 fe_charge_pc: fe,
                 charge_error_pct: 100.0 * (fe - assumed).abs() / assumed.abs(),
-                angle_error_deg: if slope != 0.0 { (fe - assumed) / slope } else { f64::NAN },
+                angle_error_deg: if slope != 0.0 {
+                    (fe - assumed) / slope
+                } else {
+                    f64::NAN
+                },
             }
         })
         .collect();
@@ -298,7 +381,13 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
 
 /// Eq. 12-13: normalise each force's curve by its value at the first angle, fit N to all of them
 /// at once, fit g(F) = k F to the first-angle values, and measure N g against every sample.
-fn bivariate(plan: &OrientationPlan, c: &[Vec<Vec<f64>>], e: usize, name: &str, basis: Basis) -> Result<Bivariate, AnalysisError> {
+fn bivariate(
+    plan: &OrientationPlan,
+    c: &[Vec<Vec<f64>>],
+    e: usize,
+    name: &str,
+    basis: Basis,
+) -> Result<Bivariate, AnalysisError> {
     let (mut t, mut y) = (Vec::new(), Vec::new());
     for cf in c {
         for (a, row) in plan.angles_deg.iter().zip(cf) {
@@ -307,7 +396,11 @@ fn bivariate(plan: &OrientationPlan, c: &[Vec<Vec<f64>>], e: usize, name: &str, 
         }
     }
     let normalised = fit(basis, &t, &y)?;
-    let (num, den) = plan.forces_n.iter().zip(c).fold((0.0, 0.0), |(n, d), (f, cf)| (n + f * cf[0][e], d + f * f));
+    let (num, den) = plan
+        .forces_n
+        .iter()
+        .zip(c)
+        .fold((0.0, 0.0), |(n, d), (f, cf)| (n + f * cf[0][e], d + f * f));
     let slope = num / den;
     let (mut worst, mut cmax, mut spread) = (0f64, 0f64, 0f64);
     for (f, cf) in plan.forces_n.iter().zip(c) {
@@ -337,7 +430,17 @@ mod tests {
         let t: Vec<f64> = (0..=18).map(|k| 10.0 * k as f64).collect();
         let c = |a: f64| 3.0 + (2.0 * a.to_radians()).cos() - 0.1 * (a / 180.0);
         let y: Vec<f64> = t.iter().map(|&a| c(a)).collect();
-        let f = fit(Basis { kind: BasisKind::Chebyshev, degree: 10, lo_deg: 0.0, hi_deg: 180.0 }, &t, &y).unwrap();
+        let f = fit(
+            Basis {
+                kind: BasisKind::Chebyshev,
+                degree: 10,
+                lo_deg: 0.0,
+                hi_deg: 180.0,
+            },
+            &t,
+            &y,
+        )
+        .unwrap();
         let (a, b) = monotone_branch(&|x| f.eval(x), 0.0, 180.0);
         assert!(a < 0.1 && (b - 90.0).abs() < 1.0, "{a} {b}");
         for truth in [12.0, 45.0, 77.7] {

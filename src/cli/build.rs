@@ -23,19 +23,46 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     };
     let mut files = built.files();
     let s = summary(&built, &opts.process_file, &files);
-    files.push((SUMMARY.to_string(), (serde_json::to_string_pretty(&s)? + "\n").into_bytes()));
-    write_dir_atomic(&args.out, &files, SUMMARY).with_context(|| format!("cannot write {}", args.out.display()))?;
+    files.push((
+        SUMMARY.to_string(),
+        (serde_json::to_string_pretty(&s)? + "\n").into_bytes(),
+    ));
+    write_dir_atomic(&args.out, &files, SUMMARY)
+        .with_context(|| format!("cannot write {}", args.out.display()))?;
 
     let mut out = String::new();
     let errors = built.plan.warnings.iter().filter(|c| c.is_error()).count();
-    out.push_str(&format!("{} rev {}: {} files in {}\n", s.device, s.revision, files.len(), args.out.display()));
-    out.push_str(&format!("  checks: {errors} errors, {} warnings (see the traveler)\n", built.plan.warnings.len() - errors));
-    out.push_str(&format!("  DRC: {} violations, {} failing\n", s.drc_violations, s.drc_failing));
+    out.push_str(&format!(
+        "{} rev {}: {} files in {}\n",
+        s.device,
+        s.revision,
+        files.len(),
+        args.out.display()
+    ));
+    out.push_str(&format!(
+        "  checks: {errors} errors, {} warnings (see the traveler)\n",
+        built.plan.warnings.len() - errors
+    ));
+    out.push_str(&format!(
+        "  DRC: {} violations, {} failing\n",
+        s.drc_violations, s.drc_failing
+    ));
     match &built.fe {
         Some(fe) => {
             for sc in &fe.scenes {
-                let limits = if sc.limits.is_empty() { "no limits".to_string() } else { sc.limits.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ") };
-                out.push_str(&format!("  FE `{}`: {:.3} mV/N ({}), safety factor {:.2}; {}\n", sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, sc.safety_factor, limits));
+                let limits = if sc.limits.is_empty() {
+                    "no limits".to_string()
+                } else {
+                    sc.limits
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join("; ")
+                };
+                out.push_str(&format!(
+                    "  FE `{}`: {:.3} mV/N ({}), safety factor {:.2}; {}\n",
+                    sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, sc.safety_factor, limits
+                ));
             }
         }
         None => out.push_str("  FE: no scenes declared in checks.scenes\n"),
@@ -51,5 +78,9 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         }
     }
     print!("{out}");
-    Ok(if s.passed { Outcome::Ok } else { Outcome::CheckFailed })
+    Ok(if s.passed {
+        Outcome::Ok
+    } else {
+        Outcome::CheckFailed
+    })
 }

@@ -9,9 +9,16 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<Outcome> {
     let plan = tactfab::etch::plan(p);
     let g = &p.geometry;
     let mut out = String::new();
-    out.push_str(&format!("{}: {} rev {} ({})\n", args.file.display(), p.device.name, p.device.revision, p.device.description));
     out.push_str(&format!(
-        "  wafer ({}) {} +/- {} um, {} mm; die {} x {} mm, plate {} um, supports {} mm, teeth {} {} um high\n",
+        "{}: {} rev {} ({})\n",
+        args.file.display(),
+        p.device.name,
+        p.device.revision,
+        p.device.description
+    ));
+    out.push_str(&format!(
+        "  wafer ({}) {} +/- {} um, {} mm; die {} x {} mm, plate {} um, supports {} mm, teeth {} \
+         {} um high\n",
         "100",
         p.wafer.thickness_um,
         p.wafer.thickness_tolerance_um,
@@ -23,7 +30,12 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<Outcome> {
         format!("{:?}", g.teeth.pattern).to_lowercase(),
         g.teeth.height_um
     ));
-    out.push_str(&format!("  {} masks, {} steps, {} etch steps\n", p.masks.len(), p.steps.len(), plan.steps.len()));
+    out.push_str(&format!(
+        "  {} masks, {} steps, {} etch steps\n",
+        p.masks.len(),
+        p.steps.len(),
+        plan.steps.len()
+    ));
     out.push_str(&format!(
         "  computed: plate {} um (target {}), oxide {} um\n",
         f(plan.plate_thickness_um, 1),
@@ -43,8 +55,16 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<Outcome> {
         }
     }
     let errors = plan.warnings.iter().filter(|c| c.is_error()).count();
-    out.push_str(&format!("checks: {} errors, {} warnings\n", errors, plan.warnings.len() - errors));
+    out.push_str(&format!(
+        "checks: {} errors, {} warnings\n",
+        errors,
+        plan.warnings.len() - errors
+    ));
     out.push_str(&checks(&plan.warnings));
     print!("{out}");
-    Ok(if plan.has_errors() { Outcome::CheckFailed } else { Outcome::Ok })
+    Ok(if plan.has_errors() {
+        Outcome::CheckFailed
+    } else {
+        Outcome::Ok
+    })
 }

@@ -28,10 +28,22 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             out.push('\n');
         }
         for r in &plan.resists {
-            out.push_str(&format!("resist `{}`: {} at {} rpm -> {} um\n", r.name, r.resist, r.speed_rpm, f(r.thickness_um, 2)));
+            out.push_str(&format!(
+                "resist `{}`: {} at {} rpm -> {} um\n",
+                r.name,
+                r.resist,
+                r.speed_rpm,
+                f(r.thickness_um, 2)
+            ));
         }
         for e in &plan.oxide_etches {
-            out.push_str(&format!("oxide etch `{}`: {} um at {} um/min -> {} min with over-etch\n", e.name, f(e.oxide_um, 3), e.rate_um_per_min, f(e.time_min, 1)));
+            out.push_str(&format!(
+                "oxide etch `{}`: {} um at {} um/min -> {} min with over-etch\n",
+                e.name,
+                f(e.oxide_um, 3),
+                e.rate_um_per_min,
+                f(e.time_min, 1)
+            ));
         }
         for s in &plan.steps {
             out.push_str(&format!(
@@ -70,7 +82,8 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             ));
             if let Some(c) = &s.compensation {
                 out.push_str(&format!(
-                    "  compensation {:?}: square {} um (a = h/{}), reaches {} um, needs {} um between facing corners\n",
+                    "  compensation {:?}: square {} um (a = h/{}), reaches {} um, needs {} um \
+                     between facing corners\n",
                     c.kind,
                     f(c.side_um, 1),
                     c.ratio,
@@ -80,7 +93,8 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             }
         }
         out.push_str(&format!(
-            "plate: {} um (wafer {} - front {} - back {}), {}-{} um over the wafer tolerance; target {} um\n",
+            "plate: {} um (wafer {} - front {} - back {}), {}-{} um over the wafer tolerance; \
+             target {} um\n",
             f(plan.plate_thickness_um, 1),
             plan.wafer_thickness_um,
             f(plan.front_depth_um, 1),
@@ -92,5 +106,9 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
         out.push_str(&checks(&plan.warnings));
         print!("{out}");
     }
-    Ok(if plan.has_errors() { Outcome::CheckFailed } else { Outcome::Ok })
+    Ok(if plan.has_errors() {
+        Outcome::CheckFailed
+    } else {
+        Outcome::Ok
+    })
 }

@@ -4,7 +4,9 @@ use anyhow::{bail, Context};
 
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::report::limit_failures;
-use tactfab::sensor::{convergence_svg, evaluate_many_with, MeshOptions, SceneReport, SensorGeometry};
+use tactfab::sensor::{
+    convergence_svg, evaluate_many_with, MeshOptions, SceneReport, SensorGeometry,
+};
 
 use super::output::f;
 use super::{load, FeArgs, Outcome};
@@ -15,10 +17,26 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     let plan = tactfab::etch::plan(p);
     let scenes = scenes(args, &p.checks.scenes)?;
     let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
-    let reports = evaluate_many_with(&geometry, &scenes, args.tol, args.max_levels, MeshOptions { symmetry: !args.no_symmetry, graded: args.graded }).context("finite-element solve failed")?;
-    let failed = reports.iter().zip(&scenes).any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
+    let reports = evaluate_many_with(
+        &geometry,
+        &scenes,
+        args.tol,
+        args.max_levels,
+        MeshOptions {
+            symmetry: !args.no_symmetry,
+            graded: args.graded,
+        },
+    )
+    .context("finite-element solve failed")?;
+    let failed = reports
+        .iter()
+        .zip(&scenes)
+        .any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?
+        );
     } else {
         for (r, s) in reports.iter().zip(&scenes) {
             print!("{}", text(r, &limit_failures(r, &s.limits)));
@@ -29,12 +47,17 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     }
     if args.convergence {
         let svg = convergence_svg(&reports);
-        tactfab::export::write_atomic(&args.plot, svg.as_bytes()).with_context(|| format!("writing {}", args.plot.display()))?;
+        tactfab::export::write_atomic(&args.plot, svg.as_bytes())
+            .with_context(|| format!("writing {}", args.plot.display()))?;
         if !args.json {
             println!("convergence plot: {}", args.plot.display());
         }
     }
-    Ok(if failed { Outcome::CheckFailed } else { Outcome::Ok })
+    Ok(if failed {
+        Outcome::CheckFailed
+    } else {
+        Outcome::Ok
+    })
 }
 
 /// The scenes to run: `--point`/`--pressure` if given, else the file's (optionally one `--scene`).
@@ -45,40 +68,66 @@ fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
             .split(',')
             .map(|s| s.trim().parse::<f64>())
             .collect::<Result<_, _>>()
-            .with_context(|| format!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM] as numbers"))?;
+            .with_context(|| {
+                format!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM] as numbers")
+            })?;
         if !(3..=4).contains(&v.len()) {
             bail!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM]");
         }
         let radius_mm = v.get(3).copied().unwrap_or(0.25);
         if radius_mm <= 0.0 {
-            bail!("--point {spec}: the contact radius must be positive (a point load's stress is singular)");
+            bail!(
+                "--point {spec}: the contact radius must be positive (a point load's stress is \
+                 singular)"
+            );
         }
         out.push(Scene {
             name: format!("point-{}-{}-{}N", v[0], v[1], v[2]),
-            load: SceneLoad::Point { x_um: v[0] * 1000.0, y_um: v[1] * 1000.0, force_n: v[2], radius_um: radius_mm * 1000.0 },
+            load: SceneLoad::Point {
+                x_um: v[0] * 1000.0,
+                y_um: v[1] * 1000.0,
+                force_n: v[2],
+                radius_um: radius_mm * 1000.0,
+            },
             limits: Limits::default(),
         });
     }
     for force in &args.pressure {
-        out.push(Scene { name: format!("pressure-{force}N"), load: SceneLoad::Pressure { force_n: *force, region: None }, limits: Limits::default() });
+        out.push(Scene {
+            name: format!("pressure-{force}N"),
+            load: SceneLoad::Pressure {
+                force_n: *force,
+                region: None,
+            },
+            limits: Limits::default(),
+        });
     }
     if !out.is_empty() {
         return Ok(out);
     }
     let chosen: Vec<Scene> = match &args.scene {
-        Some(name) => declared.iter().filter(|s| &s.name == name).cloned().collect(),
+        Some(name) => declared
+            .iter()
+            .filter(|s| &s.name == name)
+            .cloned()
+            .collect(),
         None => declared.to_vec(),
     };
     if chosen.is_empty() {
         let known: Vec<_> = declared.iter().map(|s| s.name.as_str()).collect();
         match &args.scene {
-            Some(n) => bail!("no scene `{n}` in checks.scenes (known: {})", known.join(", ")),
-            None => bail!("the process file declares no checks.scenes: give --point X_MM,Y_MM,FORCE_N or --pressure FORCE_N"),
+            Some(n) => bail!(
+                "no scene `{n}` in checks.scenes (known: {})",
+                known.join(", ")
+            ),
+            None => bail!(
+                "the process file declares no checks.scenes: give --point X_MM,Y_MM,FORCE_N or \
+                 --pressure FORCE_N"
+            ),
         }
     }
     Ok(chosen)
 }
-
 
 fn text(r: &SceneReport, failures: &[String]) -> String {
     let mut s = format!(
@@ -90,16 +139,21 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         r.model.dofs,
         r.model.levels,
         f(r.solve_ms, 1),
-        r.error_estimate.map(|e| format!("{e:.1e}")).unwrap_or_else(|| "n/a".into())
+        r.error_estimate
+            .map(|e| format!("{e:.1e}"))
+            .unwrap_or_else(|| "n/a".into())
     );
     if let Some(sym) = &r.model.symmetry {
-        s.push_str(&format!("  symmetric: solved the {sym}; readings on the mirrored whole plate\n"));
+        s.push_str(&format!(
+            "  symmetric: solved the {sym}; readings on the mirrored whole plate\n"
+        ));
     }
     if let Some(grading) = &r.model.grading {
         s.push_str(&format!("  graded mesh: {grading}\n"));
     }
     s.push_str(&format!(
-        "  deflection {} um at the load, {} um max; stress {} MPa over the contact; safety factor {}; max load {} N\n",
+        "  deflection {} um at the load, {} um max; stress {} MPa over the contact; safety factor \
+         {}; max load {} N\n",
         f(r.deflection_at_load_um, 2),
         f(r.max_deflection_um, 2),
         f(r.max_stress_mpa, 1),
@@ -115,7 +169,12 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
     ));
     s.push_str("  electrode   charge_pc   voltage_mv\n");
     for e in &r.electrodes {
-        s.push_str(&format!("  {:<9} {:>11} {:>12}\n", e.name, f(e.charge_pc, 3), f(e.voltage_mv, 3)));
+        s.push_str(&format!(
+            "  {:<9} {:>11} {:>12}\n",
+            e.name,
+            f(e.charge_pc, 3),
+            f(e.voltage_mv, 3)
+        ));
     }
     for w in &r.warnings {
         s.push_str(&format!("  warning: {w}\n"));
@@ -127,7 +186,9 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
 }
 
 fn convergence_table(r: &SceneReport) -> String {
-    let mut s = String::from("  level  h_um  elements     dofs   time_ms  deflection_um  charge_pc   est_error  order\n");
+    let mut s = String::from(
+        "  level  h_um  elements     dofs   time_ms  deflection_um  charge_pc   est_error  order\n",
+    );
     for (i, l) in r.convergence.iter().enumerate() {
         s.push_str(&format!(
             "  {:>5} {:>5} {:>9} {:>8} {:>9} {:>14} {:>10} {:>11} {:>6}\n",
@@ -138,8 +199,12 @@ fn convergence_table(r: &SceneReport) -> String {
             f(l.time_ms, 1),
             f(l.deflection_at_load_um, 4),
             f(l.charge_pc, 4),
-            l.error_estimate.map(|e| format!("{e:.2e}")).unwrap_or_else(|| "-".into()),
-            l.observed_order.map(|p| f(p, 2)).unwrap_or_else(|| "-".into())
+            l.error_estimate
+                .map(|e| format!("{e:.2e}"))
+                .unwrap_or_else(|| "-".into()),
+            l.observed_order
+                .map(|p| f(p, 2))
+                .unwrap_or_else(|| "-".into())
         ));
     }
     s

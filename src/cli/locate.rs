@@ -3,7 +3,9 @@
 
 use anyhow::{bail, Context};
 
-use tactfab::analysis::calibration::{calibrate, Calibration, CalibrationPlan, Cost, Sample, SupportGroups};
+use tactfab::analysis::calibration::{
+    calibrate, Calibration, CalibrationPlan, Cost, Sample, SupportGroups,
+};
 use tactfab::analysis::inverse::Locator;
 use tactfab::sensor::SensorGeometry;
 
@@ -17,12 +19,25 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
     let g = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     if args.voltages.len() != names.len() {
-        bail!("--voltages: expected {} values in the order {}, got {}", names.len(), names.join(","), args.voltages.len());
+        bail!(
+            "--voltages: expected {} values in the order {}, got {}",
+            names.len(),
+            names.join(","),
+            args.voltages.len()
+        );
     }
     let cal = match &args.calibration {
         Some(dir) => read_grid(&dir.join("grid.csv"), &names)?,
         None => {
-            let cp = CalibrationPlan::new(&g, args.x_step_mm * 1e3, args.y_step_mm * 1e3, 0, args.radius_mm * 1e3, args.fe.tol, args.fe.max_levels);
+            let cp = CalibrationPlan::new(
+                &g,
+                args.x_step_mm * 1e3,
+                args.y_step_mm * 1e3,
+                0,
+                args.radius_mm * 1e3,
+                args.fe.tol,
+                args.fe.max_levels,
+            );
             let mut cp = cp;
             cp.force_table_n = vec![1.0];
             cp.x_sweep_um.clear();
@@ -33,7 +48,12 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
     let loc = Locator::new(&cal, SupportGroups::of(&g)?)?;
     let e = loc.locate(&args.voltages)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "estimate": e, "electrodes": names }))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(
+                &serde_json::json!({ "estimate": e, "electrodes": names })
+            )?
+        );
     } else {
         println!(
             "force {} N at x {} mm, y {} mm ({} iterations{}); residual {} mV RMS",
@@ -41,7 +61,13 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
             f(e.x_um / 1e3, 3),
             f(e.y_um / 1e3, 3),
             e.iterations,
-            if e.clamped_y { "; y clamped: the load is over a support or outside the grid" } else if e.clamped_x { "; x clamped: outside the calibrated x range" } else { "" },
+            if e.clamped_y {
+                "; y clamped: the load is over a support or outside the grid"
+            } else if e.clamped_x {
+                "; x clamped: outside the calibrated x range"
+            } else {
+                ""
+            },
             f(e.residual_mv, 3)
         );
     }
@@ -50,12 +76,26 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
 
 /// Reads `grid.csv` as written by `tactfab calibrate`: x_um,y_um,force_n,<electrode>_voltage_mv...
 fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibration> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {} (run `tactfab calibrate FILE -o DIR` first)", path.display()))?;
+    let text = std::fs::read_to_string(path).with_context(|| {
+        format!(
+            "cannot read {} (run `tactfab calibrate FILE -o DIR` first)",
+            path.display()
+        )
+    })?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let want: Vec<String> = ["x_um", "y_um", "force_n"].iter().map(|s| s.to_string()).chain(names.iter().map(|n| format!("{n}_voltage_mv"))).collect();
+    let want: Vec<String> = ["x_um", "y_um", "force_n"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain(names.iter().map(|n| format!("{n}_voltage_mv")))
+        .collect();
     if head != want {
-        bail!("{}: header must be `{}` (electrodes of this process file); regenerate it with `tactfab calibrate`", path.display(), want.join(","));
+        bail!(
+            "{}: header must be `{}` (electrodes of this process file); regenerate it with \
+             `tactfab calibrate`",
+            path.display(),
+            want.join(",")
+        );
     }
     let mut samples = Vec::new();
     for (k, line) in lines.enumerate() {
@@ -63,11 +103,30 @@ fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibra
             .split(',')
             .map(|s| s.trim().parse::<f64>())
             .collect::<Result<_, _>>()
-            .with_context(|| format!("{}:{}: expected {} numbers", path.display(), k + 2, want.len()))?;
+            .with_context(|| {
+                format!(
+                    "{}:{}: expected {} numbers",
+                    path.display(),
+                    k + 2,
+                    want.len()
+                )
+            })?;
         if v.len() != want.len() || v[2] == 0.0 {
-            bail!("{}:{}: expected {} numbers with a non-zero force", path.display(), k + 2, want.len());
+            bail!(
+                "{}:{}: expected {} numbers with a non-zero force",
+                path.display(),
+                k + 2,
+                want.len()
+            );
         }
-        samples.push(Sample { x_um: v[0], y_um: v[1], force_n: v[2], voltage_mv: v[3..].to_vec(), model: String::new(), error_estimate: None });
+        samples.push(Sample {
+            x_um: v[0],
+            y_um: v[1],
+            force_n: v[2],
+            voltage_mv: v[3..].to_vec(),
+            model: String::new(),
+            error_estimate: None,
+        });
     }
     let mut xs: Vec<f64> = samples.iter().map(|s| s.x_um).collect();
     let mut ys: Vec<f64> = samples.iter().map(|s| s.y_um).collect();
@@ -76,7 +135,13 @@ fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibra
         v.dedup();
     }
     if xs.len() * ys.len() != samples.len() {
-        bail!("{}: the rows do not form a complete x-y grid ({} x, {} y, {} rows)", path.display(), xs.len(), ys.len(), samples.len());
+        bail!(
+            "{}: the rows do not form a complete x-y grid ({} x, {} y, {} rows)",
+            path.display(),
+            xs.len(),
+            ys.len(),
+            samples.len()
+        );
     }
     let mut grid = vec![Vec::new(); ys.len()];
     samples.sort_by(|a, b| a.y_um.total_cmp(&b.y_um).then(a.x_um.total_cmp(&b.x_um)));
@@ -93,6 +158,12 @@ fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibra
         grid_y_um: ys,
         grid,
         held_out: vec![],
-        cost: Cost { scenes: 0, wall_ms: 0.0, dofs: 0, levels: 0, max_error_estimate: None },
+        cost: Cost {
+            scenes: 0,
+            wall_ms: 0.0,
+            dofs: 0,
+            levels: 0,
+            max_error_estimate: None,
+        },
     })
 }

@@ -9,9 +9,9 @@ mod locate;
 mod masks;
 mod orient;
 mod output;
-mod traveler;
 mod softness;
 mod sweep;
+mod traveler;
 
 use std::path::PathBuf;
 
@@ -34,8 +34,15 @@ impl From<Outcome> for std::process::ExitCode {
 }
 
 #[derive(Debug, Parser)]
-#[command(name = "tactfab", version, about = "From one process file to etch plan, masks, FE sensitivity and traveler for PVDF tactile sensors")]
-#[command(after_help = "Exit codes: 0 ok, 1 a check of the process failed, 2 bad input or I/O error.")]
+#[command(
+    name = "tactfab",
+    version,
+    about = "From one process file to etch plan, masks, FE sensitivity and traveler for PVDF \
+             tactile sensors"
+)]
+#[command(
+    after_help = "Exit codes: 0 ok, 1 a check of the process failed, 2 bad input or I/O error."
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -51,19 +58,24 @@ enum Command {
     Fe(FeArgs),
     /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
     Masks(MasksArgs),
-    /// Everything for one process file into DIR: etch plan, masks, DRC, FE checks, traveler, build.json.
+    /// Everything for one process file into DIR: etch plan, masks, DRC, FE checks, traveler,
+    /// build.json.
     Build(BuildArgs),
     /// The process traveler (run sheet) as Markdown and a self-contained HTML page.
     Traveler(TravelerArgs),
-    /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype; sharded or merged.
+    /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype;
+    /// sharded or merged.
     Sweep(SweepArgs),
-    /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam and FE; the inverse.
+    /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam
+    /// and FE; the inverse.
     Softness(SoftnessArgs),
-    /// Calibration tables (force, y, x sweeps), the load inverse's error on held-out loads and under noise: CSV + SVG in DIR.
+    /// Calibration tables (force, y, x sweeps), the load inverse's error on held-out loads and
+    /// under noise: CSV + SVG in DIR.
     Calibrate(CalibrateArgs),
     /// Force and position of a load from the electrode voltages (through the calibration grid).
     Locate(LocateArgs),
-    /// Probe-orientation study (paper 000): charge against angle, fits, inverse angle, bivariate function.
+    /// Probe-orientation study (paper 000): charge against angle, fits, inverse angle, bivariate
+    /// function.
     Orient(OrientArgs),
 }
 
@@ -94,7 +106,8 @@ pub struct FeArgs {
     /// Run only this scene of checks.scenes.
     #[arg(long)]
     pub scene: Option<String>,
-    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (radius default 0.25 mm).
+    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (radius default 0.25
+    /// mm).
     #[arg(long, value_name = "X_MM,Y_MM,FORCE_N[,RADIUS_MM]")]
     pub point: Vec<String>,
     /// Ad-hoc uniform pressure over the plate, by total force.
@@ -124,7 +137,12 @@ pub struct FeArgs {
     #[arg(long)]
     pub convergence: bool,
     /// Where --convergence writes its SVG plot.
-    #[arg(long, value_name = "SVG", default_value = "fe-convergence.svg", requires = "convergence")]
+    #[arg(
+        long,
+        value_name = "SVG",
+        default_value = "fe-convergence.svg",
+        requires = "convergence"
+    )]
     pub plot: PathBuf,
 }
 
@@ -155,7 +173,8 @@ pub struct FeSettings {
 /// FE accuracy options shared by the studies.
 #[derive(Debug, Args)]
 pub struct StudyFe {
-    /// Relative error the FE answer should be under (three-mesh estimate; many scattered loads share one mesh).
+    /// Relative error the FE answer should be under (three-mesh estimate; many scattered loads
+    /// share one mesh).
     #[arg(long, default_value_t = 0.05)]
     pub tol: f64,
     /// Most mesh levels (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, ... times); 3 are
@@ -215,21 +234,32 @@ pub struct SoftnessArgs {
 }
 
 #[derive(Debug, Args)]
-#[command(after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'")]
+#[command(
+    after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab \
+                  sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  \
+                  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'"
+)]
 pub struct SweepArgs {
-    /// Process file (YAML): Si stiffness, die size (the prototype), fracture strength and safety factor.
+    /// Process file (YAML): Si stiffness, die size (the prototype), fracture strength and safety
+    /// factor.
     #[arg(required_unless_present = "merge")]
     pub file: Option<PathBuf>,
     /// Override a field of the process file (repeatable).
     #[arg(long = "set", value_name = "PATH=VALUE")]
     pub set: Vec<String>,
     /// Output directory: sweep.csv (or sweep-i-of-n.csv) and family.svg.
-    #[arg(short = 'o', long = "out", value_name = "DIR", required_unless_present = "merge")]
+    #[arg(
+        short = 'o',
+        long = "out",
+        value_name = "DIR",
+        required_unless_present = "merge"
+    )]
     pub out: Option<PathBuf>,
     /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw DIR/family.svg.
+    /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw
+    /// DIR/family.svg.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "shard"])]
     pub merge: Option<PathBuf>,
     /// Relative tolerance on the elongation for the family (paper 001 gives none).
@@ -238,7 +268,8 @@ pub struct SweepArgs {
     /// Centre load (N) [paper 001 sec. 4.1].
     #[arg(long, default_value_t = 4.0)]
     pub force_n: f64,
-    /// Contact patch radius (um): the stress under a point is singular [choice, as `tactfab fe --point`].
+    /// Contact patch radius (um): the stress under a point is singular [choice, as `tactfab fe
+    /// --point`].
     #[arg(long, default_value_t = 250.0)]
     pub contact_radius_um: f64,
     /// Plate length range LO,HI,STEPS (um) [paper 001: 10-40 mm, 30 steps].
@@ -253,7 +284,8 @@ pub struct SweepArgs {
     /// Skip the three-mesh error estimate at the grid corners and the prototype.
     #[arg(long)]
     pub no_error_estimate: bool,
-    /// Refactorise per design instead of scaling one solve per (length, width) by t^3 (same results to ~1e-9, ~20x slower).
+    /// Refactorise per design instead of scaling one solve per (length, width) by t^3 (same
+    /// results to ~1e-9, ~20x slower).
     #[arg(long)]
     pub direct: bool,
 }
@@ -262,7 +294,8 @@ pub struct SweepArgs {
 pub struct CalibrateArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// Output directory: force.csv, y-sweep.csv, x-sweep.csv, grid.csv, held-out.csv, noise.csv and SVG plots.
+    /// Output directory: force.csv, y-sweep.csv, x-sweep.csv, grid.csv, held-out.csv, noise.csv
+    /// and SVG plots.
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     pub out: PathBuf,
     /// Spacing of the x sweep and of the inverse grid's x nodes.
@@ -294,10 +327,17 @@ pub struct CalibrateArgs {
 pub struct LocateArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// One voltage (mV) per electrode in the model's order (S11,S12,S13,M1,M2,M3,S21,S22,S23 on mis-grasper).
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+    /// One voltage (mV) per electrode in the model's order (S11,S12,S13,M1,M2,M3,S21,S22,S23 on
+    /// mis-grasper).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        required = true
+    )]
     pub voltages: Vec<f64>,
-    /// Directory written by `tactfab calibrate` (reads its grid.csv); without it the grid is solved now.
+    /// Directory written by `tactfab calibrate` (reads its grid.csv); without it the grid is
+    /// solved now.
     #[arg(long, value_name = "DIR")]
     pub calibration: Option<PathBuf>,
     #[arg(long, default_value_t = 2.0)]
@@ -371,18 +411,23 @@ pub fn load(args: &ProcessArgs) -> anyhow::Result<tactfab::process::Loaded> {
 }
 
 /// The electrode rectangles the FE model reads: those of the PVDF mask.
-pub fn electrodes(p: &tactfab::process::Process, plan: &tactfab::etch::EtchPlan) -> anyhow::Result<Vec<tactfab::sensor::ElectrodeArea>> {
+pub fn electrodes(
+    p: &tactfab::process::Process,
+    plan: &tactfab::etch::EtchPlan,
+) -> anyhow::Result<Vec<tactfab::sensor::ElectrodeArea>> {
     let masks = tactfab::layout::build(p, plan).map_err(|e| anyhow::anyhow!("{e}"))?;
-    Ok(tactfab::sensor::SensorGeometry::electrodes_from_masks(&masks))
+    Ok(tactfab::sensor::SensorGeometry::electrodes_from_masks(
+        &masks,
+    ))
 }
 
 /// SOURCE_DATE_EPOCH for GDS dates, if set (reproducible builds); an unparsable value is an error.
 pub fn source_date_epoch() -> anyhow::Result<Option<i64>> {
     use anyhow::Context;
     match std::env::var("SOURCE_DATE_EPOCH") {
-        Ok(s) if !s.trim().is_empty() => {
-            Ok(Some(s.trim().parse::<i64>().with_context(|| format!("SOURCE_DATE_EPOCH=`{s}` is not an integer number of seconds"))?))
-        }
+        Ok(s) if !s.trim().is_empty() => Ok(Some(s.trim().parse::<i64>().with_context(|| {
+            format!("SOURCE_DATE_EPOCH=`{s}` is not an integer number of seconds")
+        })?)),
         _ => Ok(None),
     }
 }
@@ -390,12 +435,18 @@ pub fn source_date_epoch() -> anyhow::Result<Option<i64>> {
 /// Validates FE settings given on the command line.
 pub fn fe_options(s: &FeSettings) -> anyhow::Result<tactfab::report::FeOptions> {
     if !(s.tol > 0.0 && s.tol < 1.0) {
-        anyhow::bail!("--tol {}: expected a relative error between 0 and 1, e.g. 0.01", s.tol);
+        anyhow::bail!(
+            "--tol {}: expected a relative error between 0 and 1, e.g. 0.01",
+            s.tol
+        );
     }
     if s.max_levels == 0 {
         anyhow::bail!("--max-levels 0: expected at least 1 mesh level");
     }
-    Ok(tactfab::report::FeOptions { tol_rel: s.tol, max_levels: s.max_levels })
+    Ok(tactfab::report::FeOptions {
+        tol_rel: s.tol,
+        max_levels: s.max_levels,
+    })
 }
 
 /// A spinner on stderr when it is a terminal; nothing otherwise.

@@ -18,8 +18,13 @@ pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
     let p = &loaded.process;
     let plan = tactfab::etch::plan(p);
     let g = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
-    if !(args.step_deg > 0.0 && args.step_deg <= 90.0) || (180.0 / args.step_deg - (180.0 / args.step_deg).round()).abs() > 1e-9 {
-        bail!("--step-deg must divide 180 (e.g. 10, 15, 30), got {}", args.step_deg);
+    if !(args.step_deg > 0.0 && args.step_deg <= 90.0)
+        || (180.0 / args.step_deg - (180.0 / args.step_deg).round()).abs() > 1e-9
+    {
+        bail!(
+            "--step-deg must divide 180 (e.g. 10, 15, 30), got {}",
+            args.step_deg
+        );
     }
     if args.fe.tol <= 0.0 || args.fe.max_levels == 0 {
         bail!("--tol must be positive and --max-levels at least 1");
@@ -56,17 +61,54 @@ fn files(o: &Orientation) -> Vec<(String, Vec<u8>)> {
         }
     }
     let mut out = vec![("orientation.csv".to_string(), csv.into_bytes())];
-    let fine: Vec<f64> = (0..=360).map(|k| k as f64 * 0.5).filter(|a| *a >= o.plan.angles_deg[0] && *a <= *o.plan.angles_deg.last().unwrap_or(&180.0)).collect();
-    let iref = o.plan.forces_n.iter().position(|x| (*x - o.plan.reference_force_n).abs() < 1e-12).unwrap_or(0);
+    let fine: Vec<f64> = (0..=360)
+        .map(|k| k as f64 * 0.5)
+        .filter(|a| *a >= o.plan.angles_deg[0] && *a <= *o.plan.angles_deg.last().unwrap_or(&180.0))
+        .collect();
+    let iref = o
+        .plan
+        .forces_n
+        .iter()
+        .position(|x| (*x - o.plan.reference_force_n).abs() < 1e-12)
+        .unwrap_or(0);
     for (e, fits) in o.fits.iter().enumerate() {
         let mut series = Vec::new();
         for (fi, force) in o.plan.forces_n.iter().enumerate() {
-            series.push(Series { name: format!("FE {force} N"), points: o.plan.angles_deg.iter().zip(&o.charge_pc[fi]).map(|(a, r)| (*a, r[e])).collect(), style: Style::Markers });
+            series.push(Series {
+                name: format!("FE {force} N"),
+                points: o
+                    .plan
+                    .angles_deg
+                    .iter()
+                    .zip(&o.charge_pc[fi])
+                    .map(|(a, r)| (*a, r[e]))
+                    .collect(),
+                style: Style::Markers,
+            });
         }
-        series.push(Series { name: format!("Chebyshev deg {} ({} N)", fits.chebyshev.basis.degree, o.plan.forces_n[iref]), points: fine.iter().map(|&a| (a, fits.chebyshev.eval(a))).collect(), style: Style::Line });
-        series.push(Series { name: format!("Fourier 2theta, {} harmonics", fits.fourier.basis.degree), points: fine.iter().map(|&a| (a, fits.fourier.eval(a))).collect(), style: Style::Line });
-        let plot = XyPlot { title: format!("{}: charge against probe angle", fits.electrode), x: Axis::linear("angle (deg)"), y: Axis::linear("charge (pC)"), series };
-        out.push((format!("orientation-{}.svg", fits.electrode), xy_svg(&plot, 720, 460).into_bytes()));
+        series.push(Series {
+            name: format!(
+                "Chebyshev deg {} ({} N)",
+                fits.chebyshev.basis.degree, o.plan.forces_n[iref]
+            ),
+            points: fine.iter().map(|&a| (a, fits.chebyshev.eval(a))).collect(),
+            style: Style::Line,
+        });
+        series.push(Series {
+            name: format!("Fourier 2theta, {} harmonics", fits.fourier.basis.degree),
+            points: fine.iter().map(|&a| (a, fits.fourier.eval(a))).collect(),
+            style: Style::Line,
+        });
+        let plot = XyPlot {
+            title: format!("{}: charge against probe angle", fits.electrode),
+            x: Axis::linear("angle (deg)"),
+            y: Axis::linear("charge (pC)"),
+            series,
+        };
+        out.push((
+            format!("orientation-{}.svg", fits.electrode),
+            xy_svg(&plot, 720, 460).into_bytes(),
+        ));
     }
     out
 }
@@ -74,7 +116,8 @@ fn files(o: &Orientation) -> Vec<(String, Vec<u8>)> {
 fn text(o: &Orientation) -> String {
     let p = &o.plan;
     let mut s = format!(
-        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {:?} N (reference {} N solved, others scaled; linearity check {:.1e})\n",
+        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {:?} N (reference {} N \
+         solved, others scaled; linearity check {:.1e})\n",
         f(p.width_um / 1e3, 1),
         f(p.height_um / 1e3, 1),
         f(p.x_um / 1e3, 2),
@@ -87,21 +130,38 @@ fn text(o: &Orientation) -> String {
     let c = &o.cost;
     let _ = writeln!(
         s,
-        "cost: {} loads in one FE call, {} ms, {} dofs, {} levels, largest estimated error {}; inverse re-runs {} loads, {} ms",
+        "cost: {} loads in one FE call, {} ms, {} dofs, {} levels, largest estimated error {}; \
+         inverse re-runs {} loads, {} ms",
         c.scenes,
         f(c.wall_ms, 0),
         c.dofs,
         c.levels,
-        c.max_error_estimate.map(|e| format!("{e:.2e}")).unwrap_or_else(|| "n/a".into()),
+        c.max_error_estimate
+            .map(|e| format!("{e:.2e}"))
+            .unwrap_or_else(|| "n/a".into()),
         o.inverse_cost.scenes,
         f(o.inverse_cost.wall_ms, 0)
     );
-    let _ = writeln!(s, "condition number of the basis at the samples: monomials in radians (paper Eq. 1) {:.2e}", o.monomial_condition_number);
-    let _ = writeln!(s, "  electrode  min_pc  max_pc  rel_var  cheb_cond  cheb_rms_pc  cheb_max_pc  four_cond  four_rms_pc  four_max_pc");
+    let _ = writeln!(
+        s,
+        "condition number of the basis at the samples: monomials in radians (paper Eq. 1) {:.2e}",
+        o.monomial_condition_number
+    );
+    let _ = writeln!(
+        s,
+        "  electrode  min_pc  max_pc  rel_var  cheb_cond  cheb_rms_pc  cheb_max_pc  four_cond  \
+         four_rms_pc  four_max_pc"
+    );
     for (e, fit) in o.fits.iter().enumerate() {
-        let iref = p.forces_n.iter().position(|x| (*x - p.reference_force_n).abs() < 1e-12).unwrap_or(0);
+        let iref = p
+            .forces_n
+            .iter()
+            .position(|x| (*x - p.reference_force_n).abs() < 1e-12)
+            .unwrap_or(0);
         let v: Vec<f64> = o.charge_pc[iref].iter().map(|r| r[e]).collect();
-        let (mn, mx) = v.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
+        let (mn, mx) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
         let _ = writeln!(
             s,
             "  {:<9} {:>7} {:>7} {:>8} {:>10} {:>12} {:>12} {:>10} {:>12} {:>12}",
@@ -119,17 +179,39 @@ fn text(o: &Orientation) -> String {
     }
     let _ = writeln!(
         s,
-        "inverse angle from {} on its monotone branch {} - {} deg (paper 000 Tables 2-3):\n  force_n  assumed_pc  angle_deg  fe_charge_pc  error_%  angle_error_deg",
+        "inverse angle from {} on its monotone branch {} - {} deg (paper 000 Tables 2-3):\n  \
+         force_n  assumed_pc  angle_deg  fe_charge_pc  error_%  angle_error_deg",
         o.inverse_electrode,
         f(o.branch_deg.0, 2),
         f(o.branch_deg.1, 2)
     );
     for r in &o.inverse {
-        let _ = writeln!(s, "  {:>7} {:>11} {:>10} {:>13} {:>8} {:>16}", r.force_n, f(r.assumed_charge_pc, 3), f(r.estimated_angle_deg, 3), f(r.fe_charge_pc, 3), f(r.charge_error_pct, 4), f(r.angle_error_deg, 4));
+        let _ = writeln!(
+            s,
+            "  {:>7} {:>11} {:>10} {:>13} {:>8} {:>16}",
+            r.force_n,
+            f(r.assumed_charge_pc, 3),
+            f(r.estimated_angle_deg, 3),
+            f(r.fe_charge_pc, 3),
+            f(r.charge_error_pct, 4),
+            f(r.angle_error_deg, 4)
+        );
     }
-    let _ = writeln!(s, "normalised bivariate c(angle, F) = N(angle) k F (paper 000 Eq. 12-13):\n  electrode  k_pc_per_n  max_residual_pc  rel_residual  spread_between_forces");
+    let _ = writeln!(
+        s,
+        "normalised bivariate c(angle, F) = N(angle) k F (paper 000 Eq. 12-13):\n  electrode  \
+         k_pc_per_n  max_residual_pc  rel_residual  spread_between_forces"
+    );
     for b in &o.bivariate {
-        let _ = writeln!(s, "  {:<9} {:>11} {:>16} {:>13} {:>22}", b.electrode, f(b.slope_pc_per_n, 3), format!("{:.2e}", b.max_abs_residual_pc), format!("{:.2e}", b.max_rel_residual), format!("{:.2e}", b.normalised_spread));
+        let _ = writeln!(
+            s,
+            "  {:<9} {:>11} {:>16} {:>13} {:>22}",
+            b.electrode,
+            f(b.slope_pc_per_n, 3),
+            format!("{:.2e}", b.max_abs_residual_pc),
+            format!("{:.2e}", b.max_rel_residual),
+            format!("{:.2e}", b.normalised_spread)
+        );
     }
     s
 }

@@ -1,6 +1,7 @@
 //! `tactfab sweep FILE -o DIR [--shard i/n]` and `tactfab sweep --merge DIR`: the design sweep of
-//! paper 001 (sec. 4.1, Fig. 15). Writes `DIR/sweep.csv` (or `DIR/sweep-i-of-n.csv`) and, for a whole
-//! or merged sweep, `DIR/family.svg`. The terminal summary includes wall-clock times (not in files).
+//! paper 001 (sec. 4.1, Fig. 15). Writes `DIR/sweep.csv` (or `DIR/sweep-i-of-n.csv`) and, for a
+//! whole or merged sweep, `DIR/family.svg`. The terminal summary includes wall-clock times (not in
+//! files).
 
 use std::io::IsTerminal;
 use std::path::Path;
@@ -9,17 +10,28 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use tactfab::export::write_atomic;
-use tactfab::sweep::{estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Mode, Range, Shard};
+use tactfab::sweep::{
+    estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Mode, Range,
+    Shard,
+};
 
 use super::{load, Outcome, ProcessArgs, SweepArgs};
 
 fn range(text: &str, what: &str) -> anyhow::Result<Range> {
     let v: Vec<&str> = text.split(',').collect();
-    let bad = || anyhow::anyhow!("--{what} '{text}': expected LO,HI,STEPS with 0 < LO <= HI and STEPS >= 1 (e.g. 10000,40000,30)");
+    let bad = || {
+        anyhow::anyhow!(
+            "--{what} '{text}': expected LO,HI,STEPS with 0 < LO <= HI and STEPS >= 1 (e.g. \
+             10000,40000,30)"
+        )
+    };
     if v.len() != 3 {
         return Err(bad());
     }
-    let (lo, hi): (f64, f64) = (v[0].trim().parse().map_err(|_| bad())?, v[1].trim().parse().map_err(|_| bad())?);
+    let (lo, hi): (f64, f64) = (
+        v[0].trim().parse().map_err(|_| bad())?,
+        v[1].trim().parse().map_err(|_| bad())?,
+    );
     let steps: usize = v[2].trim().parse().map_err(|_| bad())?;
     if !(lo > 0.0 && hi >= lo && hi.is_finite() && steps >= 1) {
         return Err(bad());
@@ -28,43 +40,88 @@ fn range(text: &str, what: &str) -> anyhow::Result<Range> {
 }
 
 fn ensure_dir(dir: &Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create output directory {}", dir.display()))
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create output directory {}", dir.display()))
 }
 
 pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     if let Some(dir) = &a.merge {
         let merged = tactfab::sweep::merge_dir(dir)?;
         write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
-        write_atomic(&dir.join("family.svg"), tactfab::sweep::plot::family_svg(&merged.family, None).as_bytes())?;
-        println!("merged {} designs into {}; family {} designs -> {}", merged.total, dir.join(shard::UNSHARDED).display(), merged.family.len(), dir.join("family.svg").display());
+        write_atomic(
+            &dir.join("family.svg"),
+            tactfab::sweep::plot::family_svg(&merged.family, None).as_bytes(),
+        )?;
+        println!(
+            "merged {} designs into {}; family {} designs -> {}",
+            merged.total,
+            dir.join(shard::UNSHARDED).display(),
+            merged.family.len(),
+            dir.join("family.svg").display()
+        );
         return Ok(Outcome::Ok);
     }
-    let (Some(file), Some(out)) = (&a.file, &a.out) else { bail!("sweep needs FILE and -o DIR (or --merge DIR)") };
+    let (Some(file), Some(out)) = (&a.file, &a.out) else {
+        bail!("sweep needs FILE and -o DIR (or --merge DIR)")
+    };
     if !(a.tol > 0.0 && a.tol < 1.0) {
-        bail!("--tol {}: expected a relative tolerance in (0, 1), e.g. 0.01", a.tol);
+        bail!(
+            "--tol {}: expected a relative tolerance in (0, 1), e.g. 0.01",
+            a.tol
+        );
     }
     let positive = |v: f64| v > 0.0 && v.is_finite();
     if !positive(a.force_n) || !positive(a.contact_radius_um) {
         bail!("--force-n and --contact-radius-um must be positive");
     }
-    let grid = Grid { length_um: range(&a.length_um, "length-um")?, width_um: range(&a.width_um, "width-um")?, thickness_um: range(&a.thickness_um, "thickness-um")? };
+    let grid = Grid {
+        length_um: range(&a.length_um, "length-um")?,
+        width_um: range(&a.width_um, "width-um")?,
+        thickness_um: range(&a.thickness_um, "thickness-um")?,
+    };
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
-    let loaded = load(&ProcessArgs { file: file.clone(), set: a.set.clone() })?;
+    let loaded = load(&ProcessArgs {
+        file: file.clone(),
+        set: a.set.clone(),
+    })?;
     let p = &loaded.process;
     let model = DesignModel::from_process(p, a.force_n, a.contact_radius_um);
     let g = &p.geometry;
     // The prototype: the process file's die (paper 001: 30 x 15 mm, 100 um).
-    let proto = Design { index: usize::MAX, length_um: g.die_length_um, width_um: g.die_width_um, thickness_um: g.plate_thickness_um };
+    let proto = Design {
+        index: usize::MAX,
+        length_um: g.die_length_um,
+        width_um: g.die_width_um,
+        thickness_um: g.plate_thickness_um,
+    };
     let si = &p.materials.silicon;
-    let matching = Matching::new(proto, &model, a.tol, si.fracture_strength_mpa / si.safety_factor)?;
+    let matching = Matching::new(
+        proto,
+        &model,
+        a.tol,
+        si.fracture_strength_mpa / si.safety_factor,
+    )?;
     let range = shard.map_or(0..grid.len(), |s| s.range(grid.len()));
     ensure_dir(out)?;
 
-    let bar = if std::io::stderr().is_terminal() { ProgressBar::new(range.len() as u64) } else { ProgressBar::hidden() };
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} designs, {per_sec}, eta {eta}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    let bar = if std::io::stderr().is_terminal() {
+        ProgressBar::new(range.len() as u64)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} designs, {per_sec}, eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     let t = Instant::now();
-    let mode = if a.direct { Mode::Direct } else { Mode::ScaledThickness };
-    let rows = tactfab::sweep::run_range(&grid, &model, &matching, range.clone(), mode, &|n| bar.inc(n))?;
+    let mode = if a.direct {
+        Mode::Direct
+    } else {
+        Mode::ScaledThickness
+    };
+    let rows = tactfab::sweep::run_range(&grid, &model, &matching, range.clone(), mode, &|n| {
+        bar.inc(n)
+    })?;
     bar.finish_and_clear();
     let secs = t.elapsed().as_secs_f64();
 
@@ -72,26 +129,56 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     write_atomic(&out.join(&name), shard::csv(&rows).as_bytes())?;
     let family = shard::family(&rows);
     if shard.is_none() {
-        write_atomic(&out.join("family.svg"), tactfab::sweep::plot::family_svg(&family, Some(a.tol)).as_bytes())?;
+        write_atomic(
+            &out.join("family.svg"),
+            tactfab::sweep::plot::family_svg(&family, Some(a.tol)).as_bytes(),
+        )?;
     }
     let pr = &matching.prototype_response;
     println!(
-        "prototype {} x {} mm, {} um, {} N over r = {} um: deflection {:.3} um, elongation {:.4} um, max stress {:.1} MPa (allowed {:.1})",
-        proto.length_um / 1000.0, proto.width_um / 1000.0, proto.thickness_um, a.force_n, a.contact_radius_um, pr.deflection_um, pr.elongation_um, pr.max_stress_mpa, matching.allowed_stress_mpa
+        "prototype {} x {} mm, {} um, {} N over r = {} um: deflection {:.3} um, elongation {:.4} \
+         um, max stress {:.1} MPa (allowed {:.1})",
+        proto.length_um / 1000.0,
+        proto.width_um / 1000.0,
+        proto.thickness_um,
+        a.force_n,
+        a.contact_radius_um,
+        pr.deflection_um,
+        pr.elongation_um,
+        pr.max_stress_mpa,
+        matching.allowed_stress_mpa
     );
     if pr.deflection_um > 0.2 * proto.thickness_um {
-        println!("note: deflection {:.1} x the thickness: the linear plate model is outside its range (membrane stiffening), as in the paper's linear analysis", pr.deflection_um / proto.thickness_um);
+        println!(
+            "note: deflection {:.1} x the thickness: the linear plate model is outside its range \
+             (membrane stiffening), as in the paper's linear analysis",
+            pr.deflection_um / proto.thickness_um
+        );
     }
-    println!("designs {}..{} of {}: {} in the family (elongation within {} %), {} within strength; {} in {:.1} s",
-        range.start, range.end, grid.len(), family.len(), 100.0 * a.tol, rows.iter().filter(|r| r.within_strength).count(), out.join(&name).display(), secs);
+    println!(
+        "designs {}..{} of {}: {} in the family (elongation within {} %), {} within strength; {} \
+         in {:.1} s",
+        range.start,
+        range.end,
+        grid.len(),
+        family.len(),
+        100.0 * a.tol,
+        rows.iter().filter(|r| r.within_strength).count(),
+        out.join(&name).display(),
+        secs
+    );
     if !a.no_error_estimate {
         let mut sample = corner_designs(&grid);
         sample.push(proto);
         let errs = estimate_error(&model, &sample)?;
-        let worst = |f: fn(&tactfab::sweep::DesignError) -> f64| errs.iter().map(f).fold(0.0, f64::max);
+        let worst =
+            |f: fn(&tactfab::sweep::DesignError) -> f64| errs.iter().map(f).fold(0.0, f64::max);
         println!(
-            "estimated error of the sweep mesh (grid corners + prototype, 3 nested meshes): deflection {:.3} %, elongation {:.3} %, max stress {:.3} %",
-            100.0 * worst(|e| e.deflection_rel), 100.0 * worst(|e| e.elongation_rel), 100.0 * worst(|e| e.max_stress_rel)
+            "estimated error of the sweep mesh (grid corners + prototype, 3 nested meshes): \
+             deflection {:.3} %, elongation {:.3} %, max stress {:.3} %",
+            100.0 * worst(|e| e.deflection_rel),
+            100.0 * worst(|e| e.elongation_rel),
+            100.0 * worst(|e| e.max_stress_rel)
         );
     }
     Ok(Outcome::Ok)

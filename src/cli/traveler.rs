@@ -13,7 +13,11 @@ pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
     let loaded = load(&args.process)?;
     let opts = Options {
         process_file: args.process.file.display().to_string(),
-        fe: if args.no_fe { None } else { Some(fe_options(&args.fe)?) },
+        fe: if args.no_fe {
+            None
+        } else {
+            Some(fe_options(&args.fe)?)
+        },
         gds_epoch_s: source_date_epoch()?,
     };
     let built = {
@@ -31,7 +35,11 @@ pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
     for f in &failures {
         println!("  FAIL: {f}");
     }
-    Ok(if failures.is_empty() { Outcome::Ok } else { Outcome::CheckFailed })
+    Ok(if failures.is_empty() {
+        Outcome::Ok
+    } else {
+        Outcome::CheckFailed
+    })
 }
 
 /// PATH.md and PATH.html, with a given `.md`/`.html` extension replaced.

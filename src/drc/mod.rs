@@ -30,8 +30,20 @@ pub struct Violation {
 }
 
 impl Violation {
-    pub fn new(code: &'static str, layer: Option<LayerKind>, at: (f64, f64), message: impl Into<String>) -> Self {
-        Violation { code, layer, x_um: at.0, y_um: at.1, message: message.into(), waived: false }
+    pub fn new(
+        code: &'static str,
+        layer: Option<LayerKind>,
+        at: (f64, f64),
+        message: impl Into<String>,
+    ) -> Self {
+        Violation {
+            code,
+            layer,
+            x_um: at.0,
+            y_um: at.1,
+            message: message.into(),
+            waived: false,
+        }
     }
 }
 
@@ -39,7 +51,11 @@ impl std::fmt::Display for Violation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let layer = self.layer.map(|l| l.name()).unwrap_or("-");
         let w = if self.waived { " (waived)" } else { "" };
-        write!(f, "{}{w} [{layer}] at ({:.3}, {:.3}) um: {}", self.code, self.x_um, self.y_um, self.message)
+        write!(
+            f,
+            "{}{w} [{layer}] at ({:.3}, {:.3}) um: {}",
+            self.code, self.x_um, self.y_um, self.message
+        )
     }
 }
 
@@ -47,13 +63,36 @@ impl std::fmt::Display for Violation {
 pub const CODES: &[(&str, &str)] = &[
     ("MIN_WIDTH", "a shape is narrower than drc.min_width_um"),
     ("MIN_SPACE", "two shapes are closer than drc.min_space_um"),
-    ("COMPENSATORS_COLLIDE", "compensated teeth touch or come closer than drc.min_space_um: a bridge"),
-    ("COMPENSATOR_OUTSIDE_DIE", "a tooth's compensators cross the die edge"),
-    ("TEETH_BASES_MERGE", "etched tooth bases (top + 2 sidewall run-outs) overlap"),
-    ("STREET_TOO_NARROW", "an etched street (within the die or across the dicing street) is narrower than sqrt 2 x depth"),
-    ("ELECTRODE_GAP", "two electrode islands are closer than drc.min_electrode_gap_um"),
-    ("ELECTRODE_EDGE", "an electrode island is closer to the film edge than the edge margin"),
-    ("INVALID_POLYGON", "unclosed, fewer than 3 vertices, self-intersecting, clockwise, with holes, or too many vertices"),
+    (
+        "COMPENSATORS_COLLIDE",
+        "compensated teeth touch or come closer than drc.min_space_um: a bridge",
+    ),
+    (
+        "COMPENSATOR_OUTSIDE_DIE",
+        "a tooth's compensators cross the die edge",
+    ),
+    (
+        "TEETH_BASES_MERGE",
+        "etched tooth bases (top + 2 sidewall run-outs) overlap",
+    ),
+    (
+        "STREET_TOO_NARROW",
+        "an etched street (within the die or across the dicing street) is narrower than sqrt 2 x \
+         depth",
+    ),
+    (
+        "ELECTRODE_GAP",
+        "two electrode islands are closer than drc.min_electrode_gap_um",
+    ),
+    (
+        "ELECTRODE_EDGE",
+        "an electrode island is closer to the film edge than the edge margin",
+    ),
+    (
+        "INVALID_POLYGON",
+        "unclosed, fewer than 3 vertices, self-intersecting, clockwise, with holes, or too many \
+         vertices",
+    ),
 ];
 
 /// The DRC result.
@@ -102,7 +141,12 @@ impl DrcReport {
 
 /// Waived codes that are not rule codes (a typo would silently waive nothing): an input error.
 pub fn unknown_waivers(p: &Process) -> Vec<String> {
-    p.drc.waive.iter().filter(|w| !CODES.iter().any(|(c, _)| c == w)).cloned().collect()
+    p.drc
+        .waive
+        .iter()
+        .filter(|w| !CODES.iter().any(|(c, _)| c == w))
+        .cloned()
+        .collect()
 }
 
 /// Runs every rule on the mask set.
@@ -112,8 +156,19 @@ pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
     v.extend(validity::check(set, d.max_vertices));
     for layer in [LayerKind::FrontSi, LayerKind::BackSi, LayerKind::Pvdf] {
         let mut polys = set.die_layer(layer);
-        polys.extend(set.cells[&set.wafer_cell].shapes.get(&layer).cloned().unwrap_or_default());
-        v.extend(widthspace::check(&polys, layer, d.min_width_um, d.min_space_um));
+        polys.extend(
+            set.cells[&set.wafer_cell]
+                .shapes
+                .get(&layer)
+                .cloned()
+                .unwrap_or_default(),
+        );
+        v.extend(widthspace::check(
+            &polys,
+            layer,
+            d.min_width_um,
+            d.min_space_um,
+        ));
     }
     v.extend(rules::teeth(set, p, plan));
     v.extend(rules::streets(set, p, plan));
@@ -121,5 +176,9 @@ pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
     for x in &mut v {
         x.waived = d.waive.iter().any(|w| w == x.code);
     }
-    DrcReport { violations: v, min_width_um: d.min_width_um, min_space_um: d.min_space_um }
+    DrcReport {
+        violations: v,
+        min_width_um: d.min_width_um,
+        min_space_um: d.min_space_um,
+    }
 }

@@ -18,14 +18,23 @@ fn gap(a: &Polygon, b: &Polygon) -> f64 {
 
 /// Bounding boxes closer than `d` (cheap pre-filter).
 fn near(a: &Rect, b: &Rect, d: f64) -> bool {
-    a.min().x - d < b.max().x && b.min().x - d < a.max().x && a.min().y - d < b.max().y && b.min().y - d < a.max().y
+    a.min().x - d < b.max().x
+        && b.min().x - d < a.max().x
+        && a.min().y - d < b.max().y
+        && b.min().y - d < a.max().y
 }
 
 /// Compensators colliding or crossing the die edge; tooth bases merging.
 pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
     let mut out = Vec::new();
-    let Some(cell) = &set.tooth_cell else { return out };
-    let tc = set.cells[cell].shapes.get(&LayerKind::FrontSi).cloned().unwrap_or_default();
+    let Some(cell) = &set.tooth_cell else {
+        return out;
+    };
+    let tc = set.cells[cell]
+        .shapes
+        .get(&LayerKind::FrontSi)
+        .cloned()
+        .unwrap_or_default();
     let inst: Vec<(String, Vec<Polygon>, Rect)> = set
         .teeth
         .iter()
@@ -39,12 +48,22 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
     let comp = front_compensation(plan).is_some();
     for (name, _, r) in &inst {
         if r.min().x < 0.0 || r.min().y < 0.0 || r.max().x > l || r.max().y > w {
-            let what = if comp { "its compensators reach" } else { "it reaches" };
+            let what = if comp {
+                "its compensators reach"
+            } else {
+                "it reaches"
+            };
             out.push(Violation::new(
                 "COMPENSATOR_OUTSIDE_DIE",
                 Some(LayerKind::FrontSi),
                 centre(r),
-                format!("{name}: {what} x {:.1}..{:.1}, y {:.1}..{:.1} um, beyond the {l} x {w} um die", r.min().x, r.max().x, r.min().y, r.max().y),
+                format!(
+                    "{name}: {what} x {:.1}..{:.1}, y {:.1}..{:.1} um, beyond the {l} x {w} um die",
+                    r.min().x,
+                    r.max().x,
+                    r.min().y,
+                    r.max().y
+                ),
             ));
         }
     }
@@ -55,23 +74,45 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
             if !near(&a.2, &b.2, min_space) {
                 continue;
             }
-            let d = a.1.iter().flat_map(|x| b.1.iter().map(move |y| gap(x, y))).fold(f64::INFINITY, f64::min);
+            let d =
+                a.1.iter()
+                    .flat_map(|x| b.1.iter().map(move |y| gap(x, y)))
+                    .fold(f64::INFINITY, f64::min);
             if d < min_space {
                 let (ca, cb) = (centre(&a.2), centre(&b.2));
                 out.push(Violation::new(
                     "COMPENSATORS_COLLIDE",
                     Some(LayerKind::FrontSi),
                     ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
-                    format!("{} and {} are {d:.1} um apart (< {min_space} um): the compensators merge into a bridge", a.0, b.0),
+                    format!(
+                        "{} and {} are {d:.1} um apart (< {min_space} um): the compensators merge \
+                         into a bridge",
+                        a.0, b.0
+                    ),
                 ));
             }
         }
     }
     // Etched bases: top grown by the sidewall run-out of the front etch on each side.
-    let Some(step) = plan.steps.iter().find(|s| matches!(s.side, Side::Front | Side::Both)) else { return out };
+    let Some(step) = plan
+        .steps
+        .iter()
+        .find(|s| matches!(s.side, Side::Front | Side::Both))
+    else {
+        return out;
+    };
     let ro = step.sidewall_run_out_um;
     let top = set.tooth_top_um;
-    let bases: Vec<Rect> = set.teeth.iter().map(|t| Rect::new((t.x_um - ro, t.y_um - ro), (t.x_um + top + ro, t.y_um + top + ro))).collect();
+    let bases: Vec<Rect> = set
+        .teeth
+        .iter()
+        .map(|t| {
+            Rect::new(
+                (t.x_um - ro, t.y_um - ro),
+                (t.x_um + top + ro, t.y_um + top + ro),
+            )
+        })
+        .collect();
     for i in 0..bases.len() {
         for j in i + 1..bases.len() {
             let (a, b) = (&bases[i], &bases[j]);
@@ -83,7 +124,8 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
                     Some(LayerKind::FrontSi),
                     ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
                     format!(
-                        "bases of tooth ({}, {}) and ({}, {}) ({top} um top + 2 x {ro:.1} um run-out) overlap",
+                        "bases of tooth ({}, {}) and ({}, {}) ({top} um top + 2 x {ro:.1} um \
+                         run-out) overlap",
                         ti.i, ti.j, tj.i, tj.j
                     ),
                 ));
@@ -98,45 +140,67 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
 pub fn streets(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
     let mut out = Vec::new();
     let (px, py) = (set.pitch_x_um, set.pitch_y_um);
-    for (layer, side) in [(LayerKind::FrontSi, Side::Front), (LayerKind::BackSi, Side::Back)] {
-        let Some(step) = plan.steps.iter().find(|s| s.side == side || s.side == Side::Both) else { continue };
+    for (layer, side) in [
+        (LayerKind::FrontSi, Side::Front),
+        (LayerKind::BackSi, Side::Back),
+    ] {
+        let Some(step) = plan
+            .steps
+            .iter()
+            .find(|s| s.side == side || s.side == Side::Both)
+        else {
+            continue;
+        };
         let need = step.min_street_um;
         // Device shapes only: labels and marks are not devices (and do not survive the etch).
         let own: Vec<Polygon> = match layer {
             LayerKind::FrontSi => match &set.tooth_cell {
                 Some(c) => {
-                    let tc = set.cells[c].shapes.get(&LayerKind::FrontSi).cloned().unwrap_or_default();
-                    set.teeth.iter().flat_map(|t| translate(&tc, t.x_um, t.y_um)).collect()
+                    let tc = set.cells[c]
+                        .shapes
+                        .get(&LayerKind::FrontSi)
+                        .cloned()
+                        .unwrap_or_default();
+                    set.teeth
+                        .iter()
+                        .flat_map(|t| translate(&tc, t.x_um, t.y_um))
+                        .collect()
                 }
                 None => Vec::new(),
             },
-            _ => crate::layout::supports::supports(set.die_length_um, set.die_width_um, p.geometry.support_width_um),
+            _ => crate::layout::supports::supports(
+                set.die_length_um,
+                set.die_width_um,
+                p.geometry.support_width_um,
+            ),
         };
         let boxes: Vec<Rect> = own.iter().filter_map(|q| q.bounding_rect()).collect();
-        let mut pairs = |a: &[Polygon], ab: &[Rect], b: &[Polygon], bb: &[Rect], same: bool, where_: &str| {
-            for i in 0..a.len() {
-                let j0 = if same { i + 1 } else { 0 };
-                for j in j0..b.len() {
-                    if !near(&ab[i], &bb[j], need) {
-                        continue;
-                    }
-                    let d = gap(&a[i], &b[j]);
-                    if d > 1e-9 && d < need {
-                        let (ca, cb) = (centre(&ab[i]), centre(&bb[j]));
-                        out.push(Violation::new(
-                            "STREET_TOO_NARROW",
-                            Some(layer),
-                            ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
-                            format!(
-                                "{where_}: a {d:.1} um street self-stops as a V-groove {:.1} um deep; the {:.0} um etch needs {need:.1} um",
-                                crate::etch::geometry::v_groove_depth_um(d),
-                                step.depth_um
-                            ),
-                        ));
+        let mut pairs =
+            |a: &[Polygon], ab: &[Rect], b: &[Polygon], bb: &[Rect], same: bool, where_: &str| {
+                for i in 0..a.len() {
+                    let j0 = if same { i + 1 } else { 0 };
+                    for j in j0..b.len() {
+                        if !near(&ab[i], &bb[j], need) {
+                            continue;
+                        }
+                        let d = gap(&a[i], &b[j]);
+                        if d > 1e-9 && d < need {
+                            let (ca, cb) = (centre(&ab[i]), centre(&bb[j]));
+                            out.push(Violation::new(
+                                "STREET_TOO_NARROW",
+                                Some(layer),
+                                ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
+                                format!(
+                                    "{where_}: a {d:.1} um street self-stops as a V-groove {:.1} \
+                                     um deep; the {:.0} um etch needs {need:.1} um",
+                                    crate::etch::geometry::v_groove_depth_um(d),
+                                    step.depth_um
+                                ),
+                            ));
+                        }
                     }
                 }
-            }
-        };
+            };
         pairs(&own, &boxes, &own, &boxes, true, "within the die");
         for (dx, dy) in [(px, 0.0), (0.0, py), (px, py), (px, -py)] {
             let other = translate(&own, dx, dy);
@@ -161,7 +225,10 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Violation> {
                     "ELECTRODE_GAP",
                     Some(LayerKind::Pvdf),
                     centre(&r),
-                    format!("{} and {} are {d:.1} um apart (< {min} um)", es[i].name, es[j].name),
+                    format!(
+                        "{} and {} are {d:.1} um apart (< {min} um)",
+                        es[i].name, es[j].name
+                    ),
                 ));
             }
         }
@@ -171,8 +238,17 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Violation> {
     let fr = film.bounding_rect().expect("film");
     for e in es {
         let r = e.polygon.bounding_rect().expect("island");
-        if r.min().x < fr.min().x - 1e-6 || r.min().y < fr.min().y - 1e-6 || r.max().x > fr.max().x + 1e-6 || r.max().y > fr.max().y + 1e-6 {
-            out.push(Violation::new("ELECTRODE_EDGE", Some(LayerKind::Pvdf), centre(&r), format!("{} is closer than {m} um to the film edge", e.name)));
+        if r.min().x < fr.min().x - 1e-6
+            || r.min().y < fr.min().y - 1e-6
+            || r.max().x > fr.max().x + 1e-6
+            || r.max().y > fr.max().y + 1e-6
+        {
+            out.push(Violation::new(
+                "ELECTRODE_EDGE",
+                Some(LayerKind::Pvdf),
+                centre(&r),
+                format!("{} is closer than {m} um to the film edge", e.name),
+            ));
         }
     }
     out

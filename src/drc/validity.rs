@@ -47,7 +47,12 @@ pub fn check(set: &MaskSet, max_vertices: usize) -> Vec<Violation> {
                 let probs = problems(p, max_vertices);
                 if !probs.is_empty() {
                     let c = p.exterior().0.first().copied().unwrap_or_default();
-                    out.push(Violation::new("INVALID_POLYGON", Some(*layer), (c.x, c.y), format!("cell {name}: {}", probs.join("; "))));
+                    out.push(Violation::new(
+                        "INVALID_POLYGON",
+                        Some(*layer),
+                        (c.x, c.y),
+                        format!("cell {name}: {}", probs.join("; ")),
+                    ));
                 }
             }
         }

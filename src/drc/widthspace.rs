@@ -22,16 +22,31 @@ struct Edge {
 }
 
 /// Width and space violations of one layer.
-pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_um: f64) -> Vec<Violation> {
+pub fn check(
+    polys: &[Polygon],
+    layer: LayerKind,
+    min_width_um: f64,
+    min_space_um: f64,
+) -> Vec<Violation> {
     let mut hor = Vec::new();
     let mut ver = Vec::new();
     for p in polys {
         for w in p.exterior().0.windows(2) {
             let (a, b) = (w[0], w[1]);
             if a.y == b.y && a.x != b.x {
-                hor.push(Edge { at: a.y, lo: a.x.min(b.x), hi: a.x.max(b.x), interior_plus: b.x > a.x });
+                hor.push(Edge {
+                    at: a.y,
+                    lo: a.x.min(b.x),
+                    hi: a.x.max(b.x),
+                    interior_plus: b.x > a.x,
+                });
             } else if a.x == b.x && a.y != b.y {
-                ver.push(Edge { at: a.x, lo: a.y.min(b.y), hi: a.y.max(b.y), interior_plus: b.y < a.y });
+                ver.push(Edge {
+                    at: a.x,
+                    lo: a.y.min(b.y),
+                    hi: a.y.max(b.y),
+                    interior_plus: b.y < a.y,
+                });
             }
         }
     }
@@ -53,9 +68,19 @@ pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_u
                 let mid = (lo + hi) / 2.0;
                 let at = |c: f64| if horizontal { (mid, c) } else { (c, mid) };
                 if e1.interior_plus && !e2.interior_plus && d < min_width_um {
-                    out.push(Violation::new("MIN_WIDTH", Some(layer), at(e1.at + d / 2.0), format!("width {d:.3} um < {min_width_um} um")));
+                    out.push(Violation::new(
+                        "MIN_WIDTH",
+                        Some(layer),
+                        at(e1.at + d / 2.0),
+                        format!("width {d:.3} um < {min_width_um} um"),
+                    ));
                 } else if !e1.interior_plus && e2.interior_plus && d < min_space_um {
-                    out.push(Violation::new("MIN_SPACE", Some(layer), at(e1.at + d / 2.0), format!("space {d:.3} um < {min_space_um} um")));
+                    out.push(Violation::new(
+                        "MIN_SPACE",
+                        Some(layer),
+                        at(e1.at + d / 2.0),
+                        format!("space {d:.3} um < {min_space_um} um"),
+                    ));
                 }
             }
         }
@@ -79,7 +104,12 @@ pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_u
             let (dx, dy) = (b.0.x - a.0.x, b.0.y - a.0.y);
             let d = (dx * dx + dy * dy).sqrt();
             // Only diagonal neighbours: aligned corners are covered by the edge pairs.
-            if d > 1e-9 && d < min_space_um && dx.abs() > 1e-9 && dy.abs() > 1e-9 && !inside_any(polys, a.0, b.0) {
+            if d > 1e-9
+                && d < min_space_um
+                && dx.abs() > 1e-9
+                && dy.abs() > 1e-9
+                && !inside_any(polys, a.0, b.0)
+            {
                 out.push(Violation::new(
                     "MIN_SPACE",
                     Some(layer),
@@ -95,12 +125,14 @@ pub fn check(polys: &[Polygon], layer: LayerKind, min_width_um: f64, min_space_u
 /// Shapes of one layer that meet only at a vertex: on the mask a zero-width neck (pieces that
 /// share an edge, such as the halves of a cut glyph, are fine).
 fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Violation> {
-    let mut at: std::collections::BTreeMap<(i64, i64), Vec<(usize, usize)>> = std::collections::BTreeMap::new();
+    let mut at: std::collections::BTreeMap<(i64, i64), Vec<(usize, usize)>> =
+        std::collections::BTreeMap::new();
     for (k, p) in polys.iter().enumerate() {
         let ring = &p.exterior().0;
-        for i in 0..ring.len().saturating_sub(1) {
-            let c = ring[i];
-            at.entry(((c.x * 1000.0).round() as i64, (c.y * 1000.0).round() as i64)).or_default().push((k, i));
+        for (i, c) in ring.iter().enumerate().take(ring.len().saturating_sub(1)) {
+            at.entry(((c.x * 1000.0).round() as i64, (c.y * 1000.0).round() as i64))
+                .or_default()
+                .push((k, i));
         }
     }
     let dirs = |k: usize, i: usize| -> [(f64, f64); 2] {
@@ -119,7 +151,11 @@ fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Violation> {
         for i in 0..users.len() {
             for j in i + 1..users.len() {
                 let (u, v) = (users[i], users[j]);
-                let shared = dirs(u.0, u.1).iter().any(|a| dirs(v.0, v.1).iter().any(|b| (a.0 * b.1 - a.1 * b.0).abs() < 1e-9 && a.0 * b.0 + a.1 * b.1 > 0.0));
+                let shared = dirs(u.0, u.1).iter().any(|a| {
+                    dirs(v.0, v.1).iter().any(|b| {
+                        (a.0 * b.1 - a.1 * b.0).abs() < 1e-9 && a.0 * b.0 + a.1 * b.1 > 0.0
+                    })
+                });
                 if !shared {
                     out.push(Violation::new(
                         "MIN_WIDTH",
@@ -148,17 +184,46 @@ mod tests {
 
     #[test]
     fn finds_narrow_and_close() {
-        let v = check(&[rect(0.0, 0.0, 100.0, 5.0), rect(0.0, 8.0, 100.0, 50.0)], LayerKind::FrontSi, 10.0, 10.0);
+        let v = check(
+            &[rect(0.0, 0.0, 100.0, 5.0), rect(0.0, 8.0, 100.0, 50.0)],
+            LayerKind::FrontSi,
+            10.0,
+            10.0,
+        );
         assert!(v.iter().any(|x| x.code == "MIN_WIDTH"));
         assert!(v.iter().any(|x| x.code == "MIN_SPACE"));
-        let ok = check(&[rect(0.0, 0.0, 100.0, 20.0), rect(0.0, 40.0, 100.0, 80.0)], LayerKind::FrontSi, 10.0, 10.0);
+        let ok = check(
+            &[rect(0.0, 0.0, 100.0, 20.0), rect(0.0, 40.0, 100.0, 80.0)],
+            LayerKind::FrontSi,
+            10.0,
+            10.0,
+        );
         assert!(ok.is_empty());
-        let diag = check(&[rect(0.0, 0.0, 10.0, 10.0), rect(13.0, 13.0, 30.0, 30.0)], LayerKind::FrontSi, 10.0, 10.0);
+        let diag = check(
+            &[rect(0.0, 0.0, 10.0, 10.0), rect(13.0, 13.0, 30.0, 30.0)],
+            LayerKind::FrontSi,
+            10.0,
+            10.0,
+        );
         assert_eq!(diag.len(), 1);
         // Corner contact is a zero-width neck.
-        let v = check(&[rect(0.0, 0.0, 10.0, 10.0), rect(10.0, 10.0, 30.0, 30.0)], LayerKind::FrontSi, 10.0, 10.0);
-        assert!(v.iter().any(|x| x.message.contains("single point")), "{v:?}");
+        let v = check(
+            &[rect(0.0, 0.0, 10.0, 10.0), rect(10.0, 10.0, 30.0, 30.0)],
+            LayerKind::FrontSi,
+            10.0,
+            10.0,
+        );
+        assert!(
+            v.iter().any(|x| x.message.contains("single point")),
+            "{v:?}"
+        );
         // Touching halves are one shape.
-        assert!(check(&[rect(0.0, 0.0, 10.0, 20.0), rect(10.0, 0.0, 20.0, 20.0)], LayerKind::FrontSi, 10.0, 10.0).is_empty());
+        assert!(check(
+            &[rect(0.0, 0.0, 10.0, 20.0), rect(10.0, 0.0, 20.0, 20.0)],
+            LayerKind::FrontSi,
+            10.0,
+            10.0
+        )
+        .is_empty());
     }
 }

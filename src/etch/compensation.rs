@@ -32,7 +32,13 @@ pub fn design(depth_um: f64, ratio: f64, kind: CompensationGeometry) -> Compensa
         CompensationGeometry::CornerAttached => (a, a),
         CompensationGeometry::Centred => (2f64.sqrt() * a, 2f64.sqrt() * a / 2.0),
     };
-    CompensationDesign { kind, side_um, ratio, min_gap_um: 2.0 * reach_um, reach_um }
+    CompensationDesign {
+        kind,
+        side_um,
+        ratio,
+        min_gap_um: 2.0 * reach_um,
+        reach_um,
+    }
 }
 
 #[cfg(test)]

@@ -32,7 +32,11 @@ impl DealGrove {
         let kt = BOLTZMANN_EV_PER_K * kelvin(temp_c);
         let b = c1 * (-e1 / kt).exp();
         let ba = c2 * (-e2 / kt).exp();
-        DealGrove { b_um2_per_h: b, b_over_a_um_per_h: ba, a_um: b / ba }
+        DealGrove {
+            b_um2_per_h: b,
+            b_over_a_um_per_h: ba,
+            a_um: b / ba,
+        }
     }
 
     /// tau = (x_i^2 + A x_i) / B for an oxide already present.
@@ -85,7 +89,8 @@ mod tests {
     fn dry_is_slower_and_111_faster() {
         let wet = DealGrove::new(Ambient::Wet, CrystalPlane::P100, 1000.0).thickness_um(1.0, 0.0);
         let dry = DealGrove::new(Ambient::Dry, CrystalPlane::P100, 1000.0).thickness_um(1.0, 0.0);
-        let dry111 = DealGrove::new(Ambient::Dry, CrystalPlane::P111, 1000.0).thickness_um(1.0, 0.0);
+        let dry111 =
+            DealGrove::new(Ambient::Dry, CrystalPlane::P111, 1000.0).thickness_um(1.0, 0.0);
         assert!(wet > 5.0 * dry);
         assert!(dry111 > dry);
     }

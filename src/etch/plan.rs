@@ -4,7 +4,9 @@ use serde::Serialize;
 
 use super::check::Check;
 use super::compensation::{design, CompensationDesign};
-use super::geometry::{mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um};
+use super::geometry::{
+    mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um,
+};
 use super::oxidation::{DealGrove, SI_CONSUMED_PER_OXIDE};
 use super::rate::{koh_rate_100, koh_rate_110, tmah_rate_100};
 use super::resist::spin_thickness_um;
@@ -129,13 +131,15 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                 let dg = DealGrove::new(o.ambient, p.wafer.orientation, o.temp_c);
                 let initial = o.initial_oxide_um.max(oxide_um);
                 let x = dg.thickness_um(o.time_h, initial);
-                let time_for_expected_h = o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
+                let time_for_expected_h =
+                    o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
                 if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
                     if (x - e).abs() / e > 0.05 {
                         warnings.push(Check::warning(
                             "OXIDE_CLAIM",
                             format!(
-                                "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, not the {e} um stated; {e} um needs {t:.2} h",
+                                "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, \
+                                 not the {e} um stated; {e} um needs {t:.2} h",
                                 s.name, o.time_h, o.temp_c
                             ),
                         ));
@@ -159,7 +163,12 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                 resist: c.resist.clone(),
                 side: c.side,
                 speed_rpm: c.speed_rpm,
-                thickness_um: spin_thickness_um(c.ref_thickness_um, c.ref_speed_rpm, c.spin_exponent, c.speed_rpm),
+                thickness_um: spin_thickness_um(
+                    c.ref_thickness_um,
+                    c.ref_speed_rpm,
+                    c.spin_exponent,
+                    c.speed_rpm,
+                ),
             }),
             StepParams::OxideEtch(e) => {
                 let rate = p.etchants.boe_rate_um_per_min;
@@ -170,7 +179,9 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                     time_min: oxide_um / rate * (1.0 + e.overetch_pct / 100.0),
                 });
             }
-            StepParams::Strip(st) if st.target == crate::process::StripTarget::Oxide => oxide_um = 0.0,
+            StepParams::Strip(st) if st.target == crate::process::StripTarget::Oxide => {
+                oxide_um = 0.0
+            }
             StepParams::SiliconEtch(e) => {
                 let step = silicon_etch(p, &s.name, e, oxide_um, &mut warnings);
                 if matches!(e.side, Side::Front | Side::Both) {
@@ -192,14 +203,21 @@ pub(super) fn build(p: &Process) -> EtchPlan {
         if front + back >= wafer {
             warnings.push(Check::error(
                 "DEPTH_EXCEEDS_WAFER",
-                format!("front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"),
+                format!(
+                    "front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"
+                ),
             ));
         } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
-            let c = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 { Check::error } else { Check::warning };
+            let c = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 {
+                Check::error
+            } else {
+                Check::warning
+            };
             warnings.push(c(
                 "PLATE_THICKNESS_MISMATCH",
                 format!(
-                    "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), not the {} um of geometry.plate_thickness_um",
+                    "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), \
+                     not the {} um of geometry.plate_thickness_um",
                     g.plate_thickness_um
                 ),
             ));
@@ -208,7 +226,8 @@ pub(super) fn build(p: &Process) -> EtchPlan {
             warnings.push(Check::warning(
                 "PLATE_TOLERANCE",
                 format!(
-                    "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} um; etch to 90 % of the time, measure the depth, then finish",
+                    "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} \
+                     um; etch to 90 % of the time, measure the depth, then finish",
                     plate - tol,
                     plate + tol
                 ),
@@ -244,31 +263,56 @@ fn silicon_etch(
     let et = &p.etchants;
     let (model_100, r110, r100_over_r111, oxide_rate) = match e.etchant {
         Etchant::Tmah => {
-            let table: Vec<_> = et.tmah.iter().map(|r| (r.concentration_wt_pct, r.rate_100_um_per_h, r.temp_c)).collect();
-            let (r, extrapolated) = tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
+            let table: Vec<_> = et
+                .tmah
+                .iter()
+                .map(|r| (r.concentration_wt_pct, r.rate_100_um_per_h, r.temp_c))
+                .collect();
+            let (r, extrapolated) =
+                tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
             if extrapolated && e.measured_rate_um_per_h.is_none() {
                 warnings.push(Check::warning(
                     "RATE_EXTRAPOLATED",
-                    format!("step `{name}`: no TMAH rate measured near {} wt %; the nearest table row is used", e.concentration_wt_pct),
+                    format!(
+                        "step `{name}`: no TMAH rate measured near {} wt %; the nearest table row \
+                         is used",
+                        e.concentration_wt_pct
+                    ),
                 ));
             }
             if e.concentration_wt_pct < 22.0 {
                 warnings.push(Check::warning(
                     "HILLOCK_RISK",
-                    format!("step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~22 wt %", e.concentration_wt_pct),
+                    format!(
+                        "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~22 wt %",
+                        e.concentration_wt_pct
+                    ),
                 ));
             }
-            (r, r * et.tmah_r110_over_r100, et.tmah_r100_over_r111, et.tmah_oxide_rate_um_per_h)
+            (
+                r,
+                r * et.tmah_r110_over_r100,
+                et.tmah_r100_over_r111,
+                et.tmah_oxide_rate_um_per_h,
+            )
         }
         Etchant::Koh => {
             let r = koh_rate_100(e.concentration_wt_pct, e.temp_c);
-            (r, koh_rate_110(e.concentration_wt_pct, e.temp_c), et.koh_r100_over_r111, et.koh_oxide_rate_um_per_h)
+            (
+                r,
+                koh_rate_110(e.concentration_wt_pct, e.temp_c),
+                et.koh_r100_over_r111,
+                et.koh_oxide_rate_um_per_h,
+            )
         }
     };
     let (rate, rate_source) = match e.measured_rate_um_per_h {
         Some(m) => (m, "measured (process file)".to_string()),
         None => match e.etchant {
-            Etchant::Tmah => (model_100, format!("TMAH table + Arrhenius, Ea = {} eV", et.tmah_ea_ev)),
+            Etchant::Tmah => (
+                model_100,
+                format!("TMAH table + Arrhenius, Ea = {} eV", et.tmah_ea_ev),
+            ),
             Etchant::Koh => (model_100, "Seidel 1990 KOH model".to_string()),
         },
     };
@@ -276,7 +320,10 @@ fn silicon_etch(
         if (m - model_100).abs() / model_100 > 0.3 {
             warnings.push(Check::warning(
                 "RATE_MODEL_DISAGREES",
-                format!("step `{name}`: measured {m} um/h vs model {model_100:.1} um/h; the measurement is used"),
+                format!(
+                    "step `{name}`: measured {m} um/h vs model {model_100:.1} um/h; the \
+                     measurement is used"
+                ),
             ));
         }
     }
@@ -289,7 +336,8 @@ fn silicon_etch(
         warnings.push(Check::warning(
             "ETCH_TIME_DEPTH_MISMATCH",
             format!(
-                "step `{name}`: {time_h} h at {rate} um/h etches {achieved:.1} um per face, not {} um; {:.3} h reaches {} um",
+                "step `{name}`: {time_h} h at {rate} um/h etches {achieved:.1} um per face, not \
+                 {} um; {:.3} h reaches {} um",
                 e.depth_um, time_for_depth_h, e.depth_um
             ),
         ));
@@ -300,7 +348,11 @@ fn silicon_etch(
         EtchMask::Nitride => 0.0,
         EtchMask::Resist => f64::INFINITY,
     };
-    let consumed = if mask_rate.is_finite() { mask_rate * time_h } else { f64::INFINITY };
+    let consumed = if mask_rate.is_finite() {
+        mask_rate * time_h
+    } else {
+        f64::INFINITY
+    };
     let (start, remaining) = match e.mask {
         EtchMask::Oxide => (oxide_um, oxide_um - consumed),
         EtchMask::Nitride => (f64::INFINITY, f64::INFINITY),
@@ -309,7 +361,11 @@ fn silicon_etch(
     match e.mask {
         EtchMask::Resist => warnings.push(Check::error(
             "RESIST_NOT_A_MASK",
-            format!("step `{name}`: photoresist does not mask {}: it dissolves (its developer is TMAH); use thermal oxide or nitride", e.etchant.label()),
+            format!(
+                "step `{name}`: photoresist does not mask {}: it dissolves (its developer is \
+                 TMAH); use thermal oxide or nitride",
+                e.etchant.label()
+            ),
         )),
         EtchMask::Oxide if start <= 0.0 => warnings.push(Check::error(
             "NO_OXIDE_MASK",
@@ -318,14 +374,18 @@ fn silicon_etch(
         EtchMask::Oxide if remaining <= 0.0 => warnings.push(Check::error(
             "MASK_CONSUMED",
             format!(
-                "step `{name}`: {:.2} um of oxide is etched away in {time_h:.2} h at {mask_rate} um/h, but only {start:.3} um was grown; the mask fails at {:.1} h",
+                "step `{name}`: {:.2} um of oxide is etched away in {time_h:.2} h at {mask_rate} \
+                 um/h, but only {start:.3} um was grown; the mask fails at {:.1} h",
                 consumed,
                 start / mask_rate
             ),
         )),
         EtchMask::Oxide if remaining < 0.25 * start => warnings.push(Check::warning(
             "MASK_MARGIN_LOW",
-            format!("step `{name}`: only {remaining:.3} um of the {start:.3} um oxide is left at the end"),
+            format!(
+                "step `{name}`: only {remaining:.3} um of the {start:.3} um oxide is left at the \
+                 end"
+            ),
         )),
         _ => {}
     }
@@ -341,7 +401,10 @@ fn silicon_etch(
                     warnings.push(Check::warning(
                         "COMP_RATIO_FROM_KOH",
                         format!(
-                            "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = 0.548); it is unvalidated for TMAH, whose convex corners undercut along near-{{110}} planes: add a test die with a from {:.0} to {:.0} um",
+                            "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = \
+                             0.548); it is unvalidated for TMAH, whose convex corners undercut \
+                             along near-{{110}} planes: add a test die with a from {:.0} to {:.0} \
+                             um",
                             c.ratio,
                             0.8 * a,
                             1.5 * a
@@ -353,7 +416,10 @@ fn silicon_etch(
             None => {
                 warnings.push(Check::warning(
                     "NO_COMPENSATION",
-                    format!("step `{name}`: the tooth corners are convex and will be undercut without compensation"),
+                    format!(
+                        "step `{name}`: the tooth corners are convex and will be undercut without \
+                         compensation"
+                    ),
                 ));
                 None
             }
@@ -379,10 +445,15 @@ fn silicon_etch(
         sidewall_run_out_um: sidewall_run_out_um(achieved),
         undercut_um: undercut_um(r111, time_h),
         min_street_um: min_street_um(e.depth_um),
-        mesa_base_um: (front_side && teeth.pattern != TeethPattern::None).then(|| mesa_base_um(teeth.top_um, achieved)),
+        mesa_base_um: (front_side && teeth.pattern != TeethPattern::None)
+            .then(|| mesa_base_um(teeth.top_um, achieved)),
         mask: e.mask,
         mask_consumed_um: if consumed.is_finite() { consumed } else { 0.0 },
-        mask_remaining_um: if remaining.is_finite() { remaining } else { 0.0 },
+        mask_remaining_um: if remaining.is_finite() {
+            remaining
+        } else {
+            0.0
+        },
         compensation,
     }
 }
@@ -397,23 +468,41 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         warnings.push(Check::error(
             "GEOMETRY_INCONSISTENT",
             format!(
-                "wafer {w} - teeth {} - channel {} = {implied} um, but geometry.plate_thickness_um is {}",
+                "wafer {w} - teeth {} - channel {} = {implied} um, but \
+                 geometry.plate_thickness_um is {}",
                 t.height_um, g.channel_depth_um, g.plate_thickness_um
             ),
         ));
     }
-    let front_target: f64 = steps.iter().filter(|s| matches!(s.side, Side::Front | Side::Both)).map(|s| s.depth_um).sum();
-    let back_target: f64 = steps.iter().filter(|s| matches!(s.side, Side::Back | Side::Both)).map(|s| s.depth_um).sum();
-    if !steps.is_empty() && t.pattern != TeethPattern::None && (front_target - t.height_um).abs() > 1e-6 {
+    let front_target: f64 = steps
+        .iter()
+        .filter(|s| matches!(s.side, Side::Front | Side::Both))
+        .map(|s| s.depth_um)
+        .sum();
+    let back_target: f64 = steps
+        .iter()
+        .filter(|s| matches!(s.side, Side::Back | Side::Both))
+        .map(|s| s.depth_um)
+        .sum();
+    if !steps.is_empty()
+        && t.pattern != TeethPattern::None
+        && (front_target - t.height_um).abs() > 1e-6
+    {
         warnings.push(Check::error(
             "DEPTH_GEOMETRY_MISMATCH",
-            format!("front etch depth {front_target} um differs from geometry.teeth.height_um {}", t.height_um),
+            format!(
+                "front etch depth {front_target} um differs from geometry.teeth.height_um {}",
+                t.height_um
+            ),
         ));
     }
     if !steps.is_empty() && (back_target - g.channel_depth_um).abs() > 1e-6 {
         warnings.push(Check::error(
             "DEPTH_GEOMETRY_MISMATCH",
-            format!("back etch depth {back_target} um differs from geometry.channel_depth_um {}", g.channel_depth_um),
+            format!(
+                "back etch depth {back_target} um differs from geometry.channel_depth_um {}",
+                g.channel_depth_um
+            ),
         ));
     }
     if t.pattern == TeethPattern::None {
@@ -421,7 +510,12 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
     }
     let gx = t.pitch_x_um - t.top_um;
     let gy = t.pitch_y_um - t.top_um;
-    let Some(front) = steps.iter().find(|s| matches!(s.side, Side::Front | Side::Both)) else { return };
+    let Some(front) = steps
+        .iter()
+        .find(|s| matches!(s.side, Side::Front | Side::Both))
+    else {
+        return;
+    };
     // Narrowest street between facing parallel tooth edges.
     let street = match t.pattern {
         TeethPattern::Matrix => gx.min(gy),
@@ -431,7 +525,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         warnings.push(Check::error(
             "STREET_TOO_NARROW",
             format!(
-                "the {street:.0} um street between teeth self-stops as a V-groove {:.0} um deep; full depth {} um needs {:.0} um (the tooth bases merge)",
+                "the {street:.0} um street between teeth self-stops as a V-groove {:.0} um deep; \
+                 full depth {} um needs {:.0} um (the tooth bases merge)",
                 v_groove_depth_um(street),
                 front.depth_um,
                 front.min_street_um
@@ -453,7 +548,9 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         warnings.push(Check::error(
             "COMPENSATORS_COLLIDE",
             format!(
-                "{kind} compensators of {:.1} um need {:.1} um between facing tooth corners; the pitch leaves {:.0} x {:.0} um: they merge into a bridge. Raise the pitch to >= {:.0} um",
+                "{kind} compensators of {:.1} um need {:.1} um between facing tooth corners; the \
+                 pitch leaves {:.0} x {:.0} um: they merge into a bridge. Raise the pitch to >= \
+                 {:.0} um",
                 c.side_um,
                 c.min_gap_um,
                 gx,
@@ -473,7 +570,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         warnings.push(Check::error(
             "COMPENSATOR_OUTSIDE_DIE",
             format!(
-                "compensators of the outer teeth span x {x0:.0}..{x1:.0}, y {y0:.0}..{y1:.0} um, beyond the {} x {} um die",
+                "compensators of the outer teeth span x {x0:.0}..{x1:.0}, y {y0:.0}..{y1:.0} um, \
+                 beyond the {} x {} um die",
                 g.die_length_um, g.die_width_um
             ),
         ));
@@ -484,7 +582,11 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
 /// eps_r disagree by more than 10 %.
 fn piezo_check(p: &Process, warnings: &mut Vec<Check>) {
     let f = &p.materials.pvdf;
-    for (label, d, g) in [("31", f.d31_pc_per_n, f.g31_vm_per_n), ("32", f.d32_pc_per_n, f.g32_vm_per_n), ("33", f.d33_pc_per_n, f.g33_vm_per_n)] {
+    for (label, d, g) in [
+        ("31", f.d31_pc_per_n, f.g31_vm_per_n),
+        ("32", f.d32_pc_per_n, f.g32_vm_per_n),
+        ("33", f.d33_pc_per_n, f.g33_vm_per_n),
+    ] {
         let Some(g) = g else { continue };
         if g == 0.0 || d == 0.0 {
             continue;
@@ -494,7 +596,9 @@ fn piezo_check(p: &Process, warnings: &mut Vec<Check>) {
             warnings.push(Check::warning(
                 "PIEZO_CONSTANTS_INCONSISTENT",
                 format!(
-                    "d{label} = {d} pC/N with g{label} = {g} V m/N implies eps_r = {implied_eps_r:.1}, but eps_r is {}; tactfab uses d and eps_r and derives g{label} = {:.4} V m/N",
+                    "d{label} = {d} pC/N with g{label} = {g} V m/N implies eps_r = \
+                     {implied_eps_r:.1}, but eps_r is {}; tactfab uses d and eps_r and derives \
+                     g{label} = {:.4} V m/N",
                     f.eps_r,
                     d * 1e-12 / (f.eps_r * EPS0_F_PER_M)
                 ),

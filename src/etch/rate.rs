@@ -4,14 +4,22 @@ use crate::units::{kelvin, BOLTZMANN_EV_PER_K};
 
 /// R(T) = R_ref exp(-Ea/k (1/T - 1/T_ref)) (Arrhenius; reference/process-physics.md).
 pub fn arrhenius(rate_ref: f64, temp_ref_c: f64, temp_c: f64, ea_ev: f64) -> f64 {
-    rate_ref * (-ea_ev / BOLTZMANN_EV_PER_K * (1.0 / kelvin(temp_c) - 1.0 / kelvin(temp_ref_c))).exp()
+    rate_ref
+        * (-ea_ev / BOLTZMANN_EV_PER_K * (1.0 / kelvin(temp_c) - 1.0 / kelvin(temp_ref_c))).exp()
 }
 
 /// A (100) rate from a table of measured points: linear in wt % between the neighbouring rows,
 /// each first scaled to `temp_c` by [`arrhenius`]. Returns the rate and whether it extrapolated.
-pub fn tmah_rate_100(table: &[(f64, f64, f64)], wt_pct: f64, temp_c: f64, ea_ev: f64) -> (f64, bool) {
-    let mut rows: Vec<(f64, f64)> =
-        table.iter().map(|&(c, r, t)| (c, arrhenius(r, t, temp_c, ea_ev))).collect();
+pub fn tmah_rate_100(
+    table: &[(f64, f64, f64)],
+    wt_pct: f64,
+    temp_c: f64,
+    ea_ev: f64,
+) -> (f64, bool) {
+    let mut rows: Vec<(f64, f64)> = table
+        .iter()
+        .map(|&(c, r, t)| (c, arrhenius(r, t, temp_c, ea_ev)))
+        .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (first, last) = (rows[0], rows[rows.len() - 1]);
     let tol = 1e-9;
@@ -33,13 +41,23 @@ pub fn tmah_rate_100(table: &[(f64, f64, f64)], wt_pct: f64, temp_c: f64, ea_ev:
 /// KOH solution density in g/cm3 by wt % (reference/process-physics.md), linear in between,
 /// end slopes beyond (Seidel's fit covers 10-60 wt %).
 pub fn koh_density_g_per_cm3(wt_pct: f64) -> f64 {
-    const T: [(f64, f64); 6] = [(20.0, 1.186), (25.0, 1.238), (30.0, 1.288), (35.0, 1.344), (40.0, 1.398), (45.0, 1.456)];
+    const T: [(f64, f64); 6] = [
+        (20.0, 1.186),
+        (25.0, 1.238),
+        (30.0, 1.288),
+        (35.0, 1.344),
+        (40.0, 1.398),
+        (45.0, 1.456),
+    ];
     let seg = if wt_pct <= T[0].0 {
         (T[0], T[1])
     } else if wt_pct >= T[5].0 {
         (T[4], T[5])
     } else {
-        let i = T.iter().position(|&(c, _)| c >= wt_pct).expect("inside the table");
+        let i = T
+            .iter()
+            .position(|&(c, _)| c >= wt_pct)
+            .expect("inside the table");
         (T[i - 1], T[i])
     };
     let ((c0, d0), (c1, d1)) = seg;
@@ -54,7 +72,10 @@ pub fn koh_seidel(k0_um_per_h: f64, ea_ev: f64, wt_pct: f64, temp_c: f64) -> f64
     let rho_g_per_l = koh_density_g_per_cm3(wt_pct) * 1000.0;
     let koh = wt_pct / 100.0 * rho_g_per_l / M_KOH_G_PER_MOL;
     let h2o = (1.0 - wt_pct / 100.0) * rho_g_per_l / M_H2O_G_PER_MOL;
-    k0_um_per_h * h2o.powi(4) * koh.powf(0.25) * (-ea_ev / (BOLTZMANN_EV_PER_K * kelvin(temp_c))).exp()
+    k0_um_per_h
+        * h2o.powi(4)
+        * koh.powf(0.25)
+        * (-ea_ev / (BOLTZMANN_EV_PER_K * kelvin(temp_c))).exp()
 }
 
 /// Seidel (100): k0 = 2480 um/h (mol/L)^-4.25, Ea = 0.595 eV.

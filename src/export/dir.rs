@@ -8,7 +8,11 @@ use super::ExportError;
 /// Writes `files` as the complete content of `dir`. An existing `dir` is replaced only when it is
 /// empty or holds `marker` (a previous output of the same command): anything else is refused, so a
 /// mistyped `-o` never deletes a user's directory.
-pub fn write_dir_atomic(dir: &Path, files: &[(String, Vec<u8>)], marker: &str) -> Result<(), ExportError> {
+pub fn write_dir_atomic(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+    marker: &str,
+) -> Result<(), ExportError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |cause| ExportError::Io { path, cause }
@@ -17,15 +21,22 @@ pub fn write_dir_atomic(dir: &Path, files: &[(String, Vec<u8>)], marker: &str) -
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let stem = dir.file_name().map(|n| n.to_string_lossy().into_owned()).ok_or_else(|| ExportError::Invalid(format!("{}: not a directory name", dir.display())))?;
+    let stem = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .ok_or_else(|| ExportError::Invalid(format!("{}: not a directory name", dir.display())))?;
     if dir.exists() {
         if !dir.is_dir() {
-            return Err(ExportError::Invalid(format!("{} exists and is not a directory", dir.display())));
+            return Err(ExportError::Invalid(format!(
+                "{} exists and is not a directory",
+                dir.display()
+            )));
         }
         let empty = std::fs::read_dir(dir).map_err(io(dir))?.next().is_none();
         if !empty && !dir.join(marker).is_file() {
             return Err(ExportError::Invalid(format!(
-                "{} exists and is not an output of this command (no `{marker}`): choose another directory or remove it",
+                "{} exists and is not an output of this command (no `{marker}`): choose another \
+                 directory or remove it",
                 dir.display()
             )));
         }
@@ -61,7 +72,10 @@ mod tests {
     use super::*;
 
     fn files(text: &str) -> Vec<(String, Vec<u8>)> {
-        vec![("build.json".into(), b"{}".to_vec()), ("a.txt".into(), text.as_bytes().to_vec())]
+        vec![
+            ("build.json".into(), b"{}".to_vec()),
+            ("a.txt".into(), text.as_bytes().to_vec()),
+        ]
     }
 
     #[test]
@@ -74,7 +88,10 @@ mod tests {
         assert_eq!(std::fs::read_to_string(out.join("a.txt")).unwrap(), "two");
         assert!(!out.join("stale.txt").exists());
         // Nothing left beside it.
-        let names: Vec<_> = std::fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        let names: Vec<_> = std::fs::read_dir(root.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("out")]);
     }
 
@@ -84,6 +101,9 @@ mod tests {
         std::fs::write(root.path().join("precious.txt"), "keep").unwrap();
         let err = write_dir_atomic(root.path(), &files("x"), "build.json").unwrap_err();
         assert!(err.to_string().contains("not an output"), "{err}");
-        assert_eq!(std::fs::read_to_string(root.path().join("precious.txt")).unwrap(), "keep");
+        assert_eq!(
+            std::fs::read_to_string(root.path().join("precious.txt")).unwrap(),
+            "keep"
+        );
     }
 }

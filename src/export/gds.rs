@@ -2,7 +2,8 @@
 //! closed CCW boundaries; all-zero dates unless a SOURCE_DATE_EPOCH is given; written to memory.
 
 use gds21::{
-    GdsArrayRef, GdsBoundary, GdsDateTime, GdsElement, GdsLibrary, GdsPoint, GdsStruct, GdsStructRef, GdsTextElem, GdsUnits,
+    GdsArrayRef, GdsBoundary, GdsDateTime, GdsElement, GdsLibrary, GdsPoint, GdsStruct,
+    GdsStructRef, GdsTextElem, GdsUnits,
 };
 
 use super::{nm, ExportError};
@@ -21,7 +22,8 @@ impl MaskSet {
     pub fn to_gds(&self, opts: &GdsOptions) -> Result<Vec<u8>, ExportError> {
         let lib = library(self, opts)?;
         let mut bytes = Vec::new();
-        lib.write(&mut bytes).map_err(|e| ExportError::Gds(e.to_string()))?;
+        lib.write(&mut bytes)
+            .map_err(|e| ExportError::Gds(e.to_string()))?;
         Ok(bytes)
     }
 }
@@ -45,7 +47,14 @@ fn civil(days: i64) -> (i64, i64, i64) {
 
 fn date(epoch: Option<i64>) -> GdsDateTime {
     match epoch {
-        None => GdsDateTime { year: 0, month: 0, day: 0, hour: 0, minute: 0, second: 0 },
+        None => GdsDateTime {
+            year: 0,
+            month: 0,
+            day: 0,
+            hour: 0,
+            minute: 0,
+            second: 0,
+        },
         Some(s) => {
             let (days, secs) = (s.div_euclid(86_400), s.rem_euclid(86_400));
             let (y, m, d) = civil(days);
@@ -68,15 +77,28 @@ fn library(set: &MaskSet, opts: &GdsOptions) -> Result<GdsLibrary, ExportError> 
     for (name, cell) in &set.cells {
         let mut s = GdsStruct::new(name.clone());
         for layer in LayerKind::ALL {
-            let Some(polys) = cell.shapes.get(&layer) else { continue };
+            let Some(polys) = cell.shapes.get(&layer) else {
+                continue;
+            };
             let g = layer.gds(&set.layers);
             for p in polys {
                 let ring = &p.exterior().0;
                 if ring.first() != ring.last() || ring.len() < 4 {
-                    return Err(ExportError::Invalid(format!("cell {name}: an unclosed or degenerate ring on {}", layer.name())));
+                    return Err(ExportError::Invalid(format!(
+                        "cell {name}: an unclosed or degenerate ring on {}",
+                        layer.name()
+                    )));
                 }
-                let xy = ring.iter().map(|c| point(c.x, c.y)).collect::<Result<Vec<_>, _>>()?;
-                s.elems.push(GdsElement::GdsBoundary(GdsBoundary { layer: g.layer, datatype: g.datatype, xy, ..Default::default() }));
+                let xy = ring
+                    .iter()
+                    .map(|c| point(c.x, c.y))
+                    .collect::<Result<Vec<_>, _>>()?;
+                s.elems.push(GdsElement::GdsBoundary(GdsBoundary {
+                    layer: g.layer,
+                    datatype: g.datatype,
+                    xy,
+                    ..Default::default()
+                }));
             }
         }
         let a = set.layers.annotation;
@@ -97,12 +119,18 @@ fn library(set: &MaskSet, opts: &GdsOptions) -> Result<GdsLibrary, ExportError> 
                 s.elems.push(GdsElement::GdsArrayRef(GdsArrayRef {
                     name: pl.cell.clone(),
                     xy: [o, c, r],
-                    cols: i16::try_from(pl.cols).map_err(|_| ExportError::Invalid("too many columns".into()))?,
-                    rows: i16::try_from(pl.rows).map_err(|_| ExportError::Invalid("too many rows".into()))?,
+                    cols: i16::try_from(pl.cols)
+                        .map_err(|_| ExportError::Invalid("too many columns".into()))?,
+                    rows: i16::try_from(pl.rows)
+                        .map_err(|_| ExportError::Invalid("too many rows".into()))?,
                     ..Default::default()
                 }));
             } else {
-                s.elems.push(GdsElement::GdsStructRef(GdsStructRef { name: pl.cell.clone(), xy: point(pl.x_um, pl.y_um)?, ..Default::default() }));
+                s.elems.push(GdsElement::GdsStructRef(GdsStructRef {
+                    name: pl.cell.clone(),
+                    xy: point(pl.x_um, pl.y_um)?,
+                    ..Default::default()
+                }));
             }
         }
         lib.structs.push(s);
@@ -120,6 +148,9 @@ mod tests {
         assert_eq!(civil(0), (1970, 1, 1));
         assert_eq!(civil(19_723), (2024, 1, 1));
         let d = date(Some(1_700_000_000));
-        assert_eq!((d.year, d.month, d.day, d.hour, d.minute, d.second), (123, 11, 14, 22, 13, 20));
+        assert_eq!(
+            (d.year, d.month, d.day, d.hour, d.minute, d.second),
+            (123, 11, 14, 22, 13, 20)
+        );
     }
 }

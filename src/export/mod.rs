@@ -18,7 +18,10 @@ pub enum ExportError {
     #[error("coordinate {value_um} um does not fit a 32-bit nm integer")]
     OutOfRange { value_um: f64 },
     #[error("{}: {cause}", path.display())]
-    Io { path: std::path::PathBuf, cause: std::io::Error },
+    Io {
+        path: std::path::PathBuf,
+        cause: std::io::Error,
+    },
     #[error("{0}")]
     Invalid(String),
 }
@@ -49,9 +52,18 @@ pub fn mm_text(nm: i64) -> String {
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so a
 /// failed write never leaves a truncated file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
-    let io = |cause| ExportError::Io { path: path.to_path_buf(), cause };
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let io = |cause| ExportError::Io {
+        path: path.to_path_buf(),
+        cause,
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
     std::fs::write(&tmp, bytes).map_err(io)?;
     std::fs::rename(&tmp, path).map_err(|e| {

@@ -43,14 +43,27 @@ impl MaskSet {
         let mut doc = Document::new()
             .set("width", format!("{}mm", mm_text(i64::from(nm(l)?))))
             .set("height", format!("{}mm", mm_text(h_nm)))
-            .set("viewBox", format!("0 0 {} {}", um_text(i64::from(nm(l)?)), um_text(h_nm)))
+            .set(
+                "viewBox",
+                format!("0 0 {} {}", um_text(i64::from(nm(l)?)), um_text(h_nm)),
+            )
             .set("data-device", self.device.clone())
             .set("data-revision", self.revision.clone())
             .set("data-mask", mask.name.clone())
-            .set("data-mirrored", if mask.mirrored { "x -> die_length - x" } else { "no" });
+            .set(
+                "data-mirrored",
+                if mask.mirrored {
+                    "x -> die_length - x"
+                } else {
+                    "no"
+                },
+            );
         let g = Group::new()
             .set("id", layer.name())
-            .set("data-gds-layer", format!("{}/{}", mask.gds.layer, mask.gds.datatype))
+            .set(
+                "data-gds-layer",
+                format!("{}/{}", mask.gds.layer, mask.gds.datatype),
+            )
             .set("fill", layer.colour())
             .set("fill-rule", "nonzero")
             .set("stroke", "none")
@@ -59,11 +72,24 @@ impl MaskSet {
         let o = LayerKind::Outline;
         let outline = Group::new()
             .set("id", o.name())
-            .set("data-gds-layer", format!("{}/{}", o.gds(&self.layers).layer, o.gds(&self.layers).datatype))
+            .set(
+                "data-gds-layer",
+                format!(
+                    "{}/{}",
+                    o.gds(&self.layers).layer,
+                    o.gds(&self.layers).datatype
+                ),
+            )
             .set("fill", "none")
             .set("stroke", o.colour())
             .set("stroke-width", "20.000")
-            .add(Rectangle::new().set("x", "0.000").set("y", "0.000").set("width", um_text(i64::from(nm(l)?))).set("height", um_text(h_nm)));
+            .add(
+                Rectangle::new()
+                    .set("x", "0.000")
+                    .set("y", "0.000")
+                    .set("width", um_text(i64::from(nm(l)?)))
+                    .set("height", um_text(h_nm)),
+            );
         doc = doc.add(outline);
         Ok(format!("{doc}\n"))
     }

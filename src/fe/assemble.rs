@@ -17,7 +17,8 @@ pub struct ElementStiffness {
 }
 
 impl ElementStiffness {
-    /// Compute (with sharing) the BFS stiffness of every element for the problem's thickness and material.
+    /// Compute (with sharing) the BFS stiffness of every element for the problem's thickness and
+    /// material.
     pub fn new(problem: &PlateProblem, thickness_um: &[f64]) -> FeResult<Self> {
         let mesh = &problem.mesh;
         if !problem.material.is_positive_definite() {
@@ -56,7 +57,12 @@ impl ElementStiffness {
 
     /// The part of K x from the given elements: exact at every dof those elements cover alone
     /// (the constrained dofs, when `elements` are all elements touching them).
-    pub fn apply_on(&self, mesh: &RectMesh, x: &[f64], elements: impl IntoIterator<Item = usize>) -> Vec<f64> {
+    pub fn apply_on(
+        &self,
+        mesh: &RectMesh,
+        x: &[f64],
+        elements: impl IntoIterator<Item = usize>,
+    ) -> Vec<f64> {
         let mut y = vec![0.0; x.len()];
         for e in elements {
             let k = &self.matrices[self.kind[e] as usize];
@@ -70,8 +76,8 @@ impl ElementStiffness {
     }
 }
 
-/// Sparsity pattern (CSC, lower triangle) of the free-free stiffness, built directly from the 3x3 node
-/// stencil of the rectilinear mesh (no sorting of element triplets).
+/// Sparsity pattern (CSC, lower triangle) of the free-free stiffness, built directly from the 3x3
+/// node stencil of the rectilinear mesh (no sorting of element triplets).
 #[derive(Debug, Clone)]
 pub struct Pattern {
     pub symbolic: SymbolicSparseColMat<usize>,
@@ -107,7 +113,10 @@ impl Pattern {
         let n = dofs.n_free();
         // Positions are u32: at most 36 entries per column.
         if n >= (u32::MAX / 36) as usize {
-            return Err(FeError::Sparse { detail: format!("{n} free dofs"), hint: "too many dofs for one plate: use a coarser mesh" });
+            return Err(FeError::Sparse {
+                detail: format!("{n} free dofs"),
+                hint: "too many dofs for one plate: use a coarser mesh",
+            });
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(n * 20);

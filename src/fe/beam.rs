@@ -11,9 +11,9 @@ pub struct BeamReactions {
     pub r2: f64,
 }
 
-/// Point load P at y on a clamped-clamped span lambda: R1 = P (lambda^3 - 3 lambda y^2 + 2 y^3) / lambda^3,
-/// R2 = P (3 lambda y^2 - 2 y^3) / lambda^3 (paper 001, Eq. 3-6; independent of EI, so a plate in
-/// cylindrical bending gives the same reactions per unit width with D in place of EI).
+/// Point load P at y on a clamped-clamped span lambda: R1 = P (lambda^3 - 3 lambda y^2 + 2 y^3) /
+/// lambda^3, R2 = P (3 lambda y^2 - 2 y^3) / lambda^3 (paper 001, Eq. 3-6; independent of EI, so a
+/// plate in cylindrical bending gives the same reactions per unit width with D in place of EI).
 #[track_caller]
 pub fn fixed_fixed_reactions(force: f64, y: f64, span: f64) -> BeamReactions {
     assert!(

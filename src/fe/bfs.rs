@@ -91,7 +91,8 @@ pub fn shape(x: f64, y: f64, a: f64, b: f64) -> [[f64; 16]; 6] {
     out
 }
 
-/// 1D moment matrices I[p][q][m][n] = int_0^len H_m^(p) H_n^(q) dx by 4-point Gauss (exact: degree <= 6).
+/// 1D moment matrices I[p][q][m][n] = int_0^len H_m^(p) H_n^(q) dx by 4-point Gauss (exact: degree
+/// <= 6).
 fn moments_1d(len: f64) -> [[[[f64; 4]; 4]; 3]; 3] {
     let mut out = [[[[0.0; 4]; 4]; 3]; 3];
     for (x, w) in gauss4_on(0.0, len) {
@@ -109,8 +110,9 @@ fn moments_1d(len: f64) -> [[[[f64; 4]; 4]; 3]; 3] {
     out
 }
 
-/// Element stiffness K_ij = int B_i^T D B_j dA, B = (-N_xx, -N_yy, -2 N_xy) (Kirchhoff plate energy,
-/// Reddy Eq. 3.4.29), integrated by the 4x4 Gauss rule (exact), evaluated as tensor products of 1D rules.
+/// Element stiffness K_ij = int B_i^T D B_j dA, B = (-N_xx, -N_yy, -2 N_xy) (Kirchhoff plate
+/// energy, Reddy Eq. 3.4.29), integrated by the 4x4 Gauss rule (exact), evaluated as tensor
+/// products of 1D rules.
 pub fn stiffness(a: f64, b: f64, d: &BendingStiffness) -> [[f64; 16]; 16] {
     let ix = moments_1d(a);
     let iy = moments_1d(b);
@@ -136,7 +138,8 @@ pub fn point_load(x: f64, y: f64, a: f64, b: f64, force_n: f64) -> [f64; 16] {
 }
 
 /// Consistent load of a uniform pressure p over the local sub-rectangle [x0,x1] x [y0,y1]:
-/// f_i = p int N_i dA (separable, 4-point Gauss per direction, exact). The whole element is x0=0, x1=a, y0=0, y1=b.
+/// f_i = p int N_i dA (separable, 4-point Gauss per direction, exact). The whole element is x0=0,
+/// x1=a, y0=0, y1=b.
 pub fn rect_load(
     x0: f64,
     x1: f64,
@@ -181,7 +184,8 @@ pub fn line_load(p0: (f64, f64), p1: (f64, f64), a: f64, b: f64, force_per_m: f6
 }
 
 /// Collapsed (Duffy) 4x4 Gauss rule on a triangle: exact for polynomials of total degree <= 6,
-/// which covers the bicubic shape functions. Returns (x, y, weight) with weights summing to the area.
+/// which covers the bicubic shape functions. Returns (x, y, weight) with weights summing to the
+/// area.
 pub fn triangle_rule(p: [(f64, f64); 3]) -> [(f64, f64, f64); 16] {
     let (ax, ay) = (p[1].0 - p[0].0, p[1].1 - p[0].1);
     let (bx, by) = (p[2].0 - p[0].0, p[2].1 - p[0].1);
@@ -190,7 +194,8 @@ pub fn triangle_rule(p: [(f64, f64); 3]) -> [(f64, f64, f64); 16] {
     let mut out = [(0.0, 0.0, 0.0); 16];
     for (i, &(u, wu)) in g.iter().enumerate() {
         for (j, &(v, wv)) in g.iter().enumerate() {
-            // (u, v) in the unit square -> (r, s) = (u, v (1 - u)) in the unit triangle, Jacobian (1 - u).
+            // (u, v) in the unit square -> (r, s) = (u, v (1 - u)) in the unit triangle, Jacobian
+            // (1 - u).
             let r = u;
             let s = v * (1.0 - u);
             out[4 * i + j] = (
@@ -203,8 +208,8 @@ pub fn triangle_rule(p: [(f64, f64); 3]) -> [(f64, f64, f64); 16] {
     out
 }
 
-/// Consistent load of uniform pressure p over a convex polygon inside the element (local coordinates):
-/// fan triangulation, each triangle integrated with [`triangle_rule`] (exact).
+/// Consistent load of uniform pressure p over a convex polygon inside the element (local
+/// coordinates): fan triangulation, each triangle integrated with [`triangle_rule`] (exact).
 pub fn polygon_load(poly: &[(f64, f64)], a: f64, b: f64, pressure_pa: f64) -> [f64; 16] {
     let mut f = [0.0; 16];
     for k in 1..poly.len().saturating_sub(1) {
@@ -229,10 +234,14 @@ pub fn deflection_curvature(u: &[f64; 16], x: f64, y: f64, a: f64, b: f64) -> (f
 /// (int kappa_x dA, int kappa_y dA) over a whole element, kappa = (-w_xx, -w_yy), in closed form:
 /// by the divergence theorem int w_xx dA = int_0^b (w_x(a, y) - w_x(0, y)) dy, and w_x along an
 /// edge is the cubic Hermite of its end values w_x and slopes w_xy, whose integral is
-/// L (f0 + f1) / 2 + L^2 (f0' - f1') / 12. Equal to 4x4 Gauss to round-off at a sixteenth of the cost.
+/// L (f0 + f1) / 2 + L^2 (f0' - f1') / 12. Equal to 4x4 Gauss to round-off at a sixteenth of the
+/// cost.
 pub fn curvature_integral(u: &[f64; 16], a: f64, b: f64) -> (f64, f64) {
     // Local dof c * 4 + t: corner c of CORNERS = (0,0), (1,0), (1,1), (0,1); t = w, w_x, w_y, w_xy.
-    let edge = |len: f64, c0: usize, c1: usize, t: usize| len * 0.5 * (u[4 * c0 + t] + u[4 * c1 + t]) + len * len / 12.0 * (u[4 * c0 + 3] - u[4 * c1 + 3]);
+    let edge = |len: f64, c0: usize, c1: usize, t: usize| {
+        len * 0.5 * (u[4 * c0 + t] + u[4 * c1 + t])
+            + len * len / 12.0 * (u[4 * c0 + 3] - u[4 * c1 + 3])
+    };
     // w_x along x = a (corners 1 -> 2) minus along x = 0 (corners 0 -> 3), integrated in y.
     let wxx = edge(b, 1, 2, 1) - edge(b, 0, 3, 1);
     // w_y along y = b (corners 3 -> 2) minus along y = 0 (corners 0 -> 1), integrated in x.
@@ -240,7 +249,8 @@ pub fn curvature_integral(u: &[f64; 16], a: f64, b: f64) -> (f64, f64) {
     (-wxx, -wyy)
 }
 
-/// Moments per unit length M = D kappa: (Mx, My, Mxy) in N (N m / m), sagging positive (Reddy Eq. 3.3.17).
+/// Moments per unit length M = D kappa: (Mx, My, Mxy) in N (N m / m), sagging positive (Reddy Eq.
+/// 3.3.17).
 pub fn moments(kappa: [f64; 3], d: &BendingStiffness) -> [f64; 3] {
     [
         d.d11_nm * kappa[0] + d.d12_nm * kappa[1],
@@ -257,7 +267,8 @@ mod tests {
     #[test]
     fn curvature_integral_equals_gauss() {
         let (a, b) = (3e-4, 7e-4);
-        let u: [f64; 16] = std::array::from_fn(|i| ((i * 37 % 11) as f64 - 5.0) * [1e-6, 1e-3, -2e-3, 4.0][i % 4]);
+        let u: [f64; 16] =
+            std::array::from_fn(|i| ((i * 37 % 11) as f64 - 5.0) * [1e-6, 1e-3, -2e-3, 4.0][i % 4]);
         let (mut gx, mut gy) = (0.0, 0.0);
         for (x, wx) in gauss4_on(0.0, a) {
             for (y, wy) in gauss4_on(0.0, b) {
@@ -267,7 +278,10 @@ mod tests {
             }
         }
         let (cx, cy) = curvature_integral(&u, a, b);
-        assert!((cx - gx).abs() <= 1e-12 * gx.abs() && (cy - gy).abs() <= 1e-12 * gy.abs(), "{cx} {gx} / {cy} {gy}");
+        assert!(
+            (cx - gx).abs() <= 1e-12 * gx.abs() && (cy - gy).abs() <= 1e-12 * gy.abs(),
+            "{cx} {gx} / {cy} {gy}"
+        );
     }
 
     #[test]

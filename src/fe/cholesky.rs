@@ -8,7 +8,8 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -30,7 +31,10 @@ pub struct CholeskyFactor {
 /// Always supernodal: faer's flop-ratio heuristic picks the scalar simplicial kernel for the plate
 /// matrices (4x4 node blocks, ~125 entries per column of L), which ran 10x slower here.
 fn params() -> CholeskySymbolicParams<'static> {
-    CholeskySymbolicParams { supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL, ..Default::default() }
+    CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    }
 }
 
 impl SymbolicFactor {
@@ -44,9 +48,17 @@ impl SymbolicFactor {
             inv[old] = new;
         }
         let perm = PermRef::new_checked(fwd, &inv, n);
-        factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Custom(perm), params())
-            .map(|s| SymbolicFactor(Arc::new(s)))
-            .map_err(|e| FeError::Sparse { detail: format!("{e:?}"), hint: "out of memory or index overflow: use a coarser mesh" })
+        factorize_symbolic_cholesky(
+            pattern,
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            params(),
+        )
+        .map(|s| SymbolicFactor(Arc::new(s)))
+        .map_err(|e| FeError::Sparse {
+            detail: format!("{e:?}"),
+            hint: "out of memory or index overflow: use a coarser mesh",
+        })
     }
 
     /// Entries of L (the memory the numeric factor takes, in f64s).
@@ -59,15 +71,33 @@ impl SymbolicFactor {
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
         let par = get_global_parallelism();
         let mut values = vec![0.0; self.0.len_val()];
-        let mut mem = MemBuffer::try_new(self.0.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-            .map_err(|_| FeError::Sparse { detail: "scratch allocation failed".into(), hint: "out of memory: use a coarser mesh" })?;
+        let mut mem = MemBuffer::try_new(
+            self.0
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|_| FeError::Sparse {
+            detail: "scratch allocation failed".into(),
+            hint: "out of memory: use a coarser mesh",
+        })?;
         self.0
-            .factorize_numeric_llt(&mut values, mat, Side::Lower, LltRegularization::default(), par, MemStack::new(&mut mem), Default::default())
+            .factorize_numeric_llt(
+                &mut values,
+                mat,
+                Side::Lower,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
             .map_err(|e| FeError::NotPositiveDefinite {
                 detail: format!("{e:?}"),
-                hint: "the plate is not fully constrained or has zero stiffness somewhere: check that supports exist and thicknesses are positive",
+                hint: "the plate is not fully constrained or has zero stiffness somewhere: check \
+                       that supports exist and thicknesses are positive",
             })?;
-        Ok(CholeskyFactor { symbolic: self.clone(), values })
+        Ok(CholeskyFactor {
+            symbolic: self.clone(),
+            values,
+        })
     }
 }
 
@@ -77,6 +107,11 @@ impl CholeskyFactor {
         let par = get_global_parallelism();
         let s = &self.symbolic.0;
         let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(rhs.ncols(), par));
-        LltRef::new(s, &self.values).solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        LltRef::new(s, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            par,
+            MemStack::new(&mut mem),
+        );
     }
 }

@@ -1,6 +1,7 @@
 //! Polygon clipping against element rectangles and polygon geometry.
 
-/// Sutherland-Hodgman clipping of a polygon against an axis-aligned box (Sutherland & Hodgman, CACM 1974).
+/// Sutherland-Hodgman clipping of a polygon against an axis-aligned box (Sutherland & Hodgman, CACM
+/// 1974).
 pub fn clip_polygon(poly: &[(f64, f64)], x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<(f64, f64)> {
     let mut out = poly.to_vec();
     // (axis, bound, keep >= bound?)

@@ -1,5 +1,6 @@
-//! Mesh-convergence studies: observed order, Richardson extrapolation and the grid convergence index
-//! (Roache, Verification and Validation in Computational Science, 1998; Fs = 1.25 for three grids).
+//! Mesh-convergence studies: observed order, Richardson extrapolation and the grid convergence
+//! index (Roache, Verification and Validation in Computational Science, 1998; Fs = 1.25 for three
+//! grids).
 
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::problem::PlateProblem;
@@ -28,14 +29,16 @@ pub enum ConvergenceKind {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Richardson {
     pub kind: ConvergenceKind,
-    /// p = ln((f3 - f2)/(f2 - f1)) / ln r (Roache Eq. 5.10.6.1) for a constant ratio, only for monotone
-    /// convergence ([`richardson_ratios`] for two ratios).
+    /// p = ln((f3 - f2)/(f2 - f1)) / ln r (Roache Eq. 5.10.6.1) for a constant ratio, only for
+    /// monotone convergence ([`richardson_ratios`] for two ratios).
     pub observed_order: Option<f64>,
     /// f_ext = f1 + (f1 - f2)/(r^p - 1) (Richardson), else f1.
     pub extrapolated: f64,
-    /// GCI_fine = Fs |(f2 - f1)/f1| / (r^p - 1) (Roache Eq. 5.6.1); |(f2-f1)/f1| Fs when p is unavailable.
+    /// GCI_fine = Fs |(f2 - f1)/f1| / (r^p - 1) (Roache Eq. 5.6.1); |(f2-f1)/f1| Fs when p is
+    /// unavailable.
     pub gci_fine: f64,
-    /// Absolute error estimate of f1: |f_ext - f1|, or |f1 - f2| / (r21 - 1) when p is unavailable.
+    /// Absolute error estimate of f1: |f_ext - f1|, or |f1 - f2| / (r21 - 1) when p is
+    /// unavailable.
     pub error_estimate: f64,
 }
 
@@ -172,8 +175,8 @@ fn attach_estimate(levels: &mut [LevelReport], r: f64) {
     }
 }
 
-/// Run the given levels (each `build_problem(level)` refined by `refinement_ratio` over the previous one)
-/// and attach three-grid estimates.
+/// Run the given levels (each `build_problem(level)` refined by `refinement_ratio` over the
+/// previous one) and attach three-grid estimates.
 pub fn run_levels<B, Q>(
     build_problem: B,
     quantity: Q,
@@ -198,9 +201,9 @@ where
     })
 }
 
-/// Refine level by level (from 0) until the relative error estimate (GCI of the finest three levels)
-/// is below `tol`, or `max_level` is reached (then `converged` is false). The observed order is reported,
-/// never assumed.
+/// Refine level by level (from 0) until the relative error estimate (GCI of the finest three
+/// levels) is below `tol`, or `max_level` is reached (then `converged` is false). The observed
+/// order is reported, never assumed.
 pub fn solve_to_tolerance<B, Q>(
     build_problem: B,
     quantity: Q,
@@ -260,10 +263,14 @@ mod tests {
             let f = |n: f64| 3.0 - 0.8 * n.powf(-p);
             let e = richardson_ratios(f(2.0), f(3.0), f(4.0), 1.5, 4.0 / 3.0);
             assert_eq!(e.kind, ConvergenceKind::Monotonic);
-            assert!((e.observed_order.unwrap() - p).abs() < 1e-8, "p = {p}: {e:?}");
+            assert!(
+                (e.observed_order.unwrap() - p).abs() < 1e-8,
+                "p = {p}: {e:?}"
+            );
             assert!((e.extrapolated - 3.0).abs() < 1e-10, "p = {p}: {e:?}");
         }
-        // Below the smallest ratio of differences any positive order gives: no order, first-order estimate.
+        // Below the smallest ratio of differences any positive order gives: no order, first-order
+        // estimate.
         let e = richardson_ratios(1.0, 1.1, 1.17, 2.0, 1.5);
         assert_eq!(e.kind, ConvergenceKind::Divergent);
         assert!((e.error_estimate - 0.14).abs() < 1e-12);

@@ -1,5 +1,5 @@
-//! Dof numbering (4 per node), constraints from line supports and prescribed values, reaction groups,
-//! and the rigid-body-mode check.
+//! Dof numbering (4 per node), constraints from line supports and prescribed values, reaction
+//! groups, and the rigid-body-mode check.
 
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::mesh::RectMesh;
@@ -70,7 +70,8 @@ impl DofMap {
                     Axis::X => mesh.node(m, k),
                     Axis::Y => mesh.node(k, m),
                 };
-                // Tangential slope dof is fixed with w; clamped also fixes the normal slope and the twist.
+                // Tangential slope dof is fixed with w; clamped also fixes the normal slope and the
+                // twist.
                 let tangential = match s.along {
                     Axis::X => 1,
                     Axis::Y => 2,
@@ -95,13 +96,15 @@ impl DofMap {
         for p in &problem.prescribed {
             let (i, j) = match (find_line(&mesh.x_um, p.x_um), find_line(&mesh.y_um, p.y_um)) {
                 (Some(i), Some(j)) => (i, j),
-                _ => return Err(FeError::PrescribedNotAtNode {
-                    group: p.group.clone(),
-                    x_um: p.x_um,
-                    y_um: p.y_um,
-                    hint:
-                        "prescribe values at mesh nodes (add the coordinates to the required lines)",
-                }),
+                _ => {
+                    return Err(FeError::PrescribedNotAtNode {
+                        group: p.group.clone(),
+                        x_um: p.x_um,
+                        y_um: p.y_um,
+                        hint: "prescribe values at mesh nodes (add the coordinates to the \
+                               required lines)",
+                    })
+                }
             };
             let g = group_id(&p.group, &mut groups);
             owner[4 * mesh.node(i, j) + p.dof.offset()] = Some((p.value, g));
@@ -132,8 +135,8 @@ impl DofMap {
         self.free_dofs.len()
     }
 
-    /// Number of rigid-body modes (w = 1, w = x, w = y) not removed by the constraints (rank test of the
-    /// constrained rows of the rigid-mode matrix by modified Gram-Schmidt).
+    /// Number of rigid-body modes (w = 1, w = x, w = y) not removed by the constraints (rank test
+    /// of the constrained rows of the rigid-mode matrix by modified Gram-Schmidt).
     pub fn free_rigid_modes(&self, mesh: &RectMesh) -> usize {
         let (x0, y0, x1, y1) = mesh.bounds_um();
         let (xc, yc, l) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), (x1 - x0).max(y1 - y0));

@@ -7,7 +7,10 @@ use thiserror::Error;
 pub enum FeError {
     #[error("stiffness matrix is not positive definite ({detail}); hint: {hint}")]
     NotPositiveDefinite { detail: String, hint: &'static str },
-    #[error("the plate can still move as a rigid body ({free_modes} of 3 rigid modes unconstrained); hint: {hint}")]
+    #[error(
+        "the plate can still move as a rigid body ({free_modes} of 3 rigid modes unconstrained); \
+         hint: {hint}"
+    )]
     Underconstrained {
         free_modes: usize,
         hint: &'static str,
@@ -20,14 +23,20 @@ pub enum FeError {
     },
     #[error("support '{group}' covers no mesh node; hint: {hint}")]
     EmptySupport { group: String, hint: &'static str },
-    #[error("prescribed dof of group '{group}' at ({x_um}, {y_um}) um is not at a mesh node; hint: {hint}")]
+    #[error(
+        "prescribed dof of group '{group}' at ({x_um}, {y_um}) um is not at a mesh node; hint: \
+         {hint}"
+    )]
     PrescribedNotAtNode {
         group: String,
         x_um: f64,
         y_um: f64,
         hint: &'static str,
     },
-    #[error("load {index} of case {case} lies (partly) outside the plate or is degenerate; hint: {hint}")]
+    #[error(
+        "load {index} of case {case} lies (partly) outside the plate or is degenerate; hint: \
+         {hint}"
+    )]
     LoadOutsidePlate {
         case: usize,
         index: usize,

@@ -13,7 +13,8 @@ fn scatter(f: &mut [f64], mesh: &RectMesh, e: usize, fe: &[f64; 16]) {
     }
 }
 
-/// Uniform pressure over a rectangle (um), clipped per element; returns the force actually applied (N).
+/// Uniform pressure over a rectangle (um), clipped per element; returns the force actually applied
+/// (N).
 fn add_rect(
     f: &mut [f64],
     mesh: &RectMesh,
@@ -154,7 +155,8 @@ pub fn load_vector(mesh: &RectMesh, loads: &[Load], case: usize) -> FeResult<Vec
                     return Err(outside());
                 }
                 let q = total_force_n / (len_um * 1e-6);
-                // Split at every mesh line crossed; each piece goes to the element containing its midpoint.
+                // Split at every mesh line crossed; each piece goes to the element containing its
+                // midpoint.
                 let mut ts = vec![0.0, 1.0];
                 for (axis, s0, s1) in [(&mesh.x_um, x0_um, x1_um), (&mesh.y_um, y0_um, y1_um)] {
                     if (s1 - s0).abs() > 0.0 {
@@ -199,7 +201,10 @@ pub fn load_vector(mesh: &RectMesh, loads: &[Load], case: usize) -> FeResult<Vec
                 let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
                 add_polygon(&mut f, mesh, &poly, total_force_n).ok_or_else(outside)?;
             }
-            Load::Polygon { ref points_um, total_force_n } => {
+            Load::Polygon {
+                ref points_um,
+                total_force_n,
+            } => {
                 if points_um.len() < 3 || polygon_area(points_um).abs() <= 0.0 {
                     return Err(outside());
                 }
@@ -212,14 +217,27 @@ pub fn load_vector(mesh: &RectMesh, loads: &[Load], case: usize) -> FeResult<Vec
 
 /// Uniform pressure over a polygon, clipped exactly against every element it overlaps; `None` when
 /// part of the polygon lies outside the mesh.
-fn add_polygon(f: &mut [f64], mesh: &RectMesh, poly: &[(f64, f64)], total_force_n: f64) -> Option<()> {
+fn add_polygon(
+    f: &mut [f64],
+    mesh: &RectMesh,
+    poly: &[(f64, f64)],
+    total_force_n: f64,
+) -> Option<()> {
     // The element rule integrates over a counter-clockwise polygon.
-    let ccw: Vec<(f64, f64)> = if polygon_area(poly) < 0.0 { poly.iter().rev().copied().collect() } else { poly.to_vec() };
+    let ccw: Vec<(f64, f64)> = if polygon_area(poly) < 0.0 {
+        poly.iter().rev().copied().collect()
+    } else {
+        poly.to_vec()
+    };
     let poly = &ccw[..];
     let area_um2 = polygon_area(poly).abs();
     let p = total_force_n / (area_um2 * 1e-12);
-    let (bx0, bx1) = poly.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
-    let (by0, by1) = poly.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
+    let (bx0, bx1) = poly
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
+    let (by0, by1) = poly
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
     let mut clipped_area = 0.0;
     for i in RectMesh::axis_range(&mesh.x_um, bx0, bx1) {
         for j in RectMesh::axis_range(&mesh.y_um, by0, by1) {
@@ -234,7 +252,10 @@ fn add_polygon(f: &mut [f64], mesh: &RectMesh, poly: &[(f64, f64)], total_force_
                 continue;
             }
             clipped_area += area;
-            let local: Vec<(f64, f64)> = c.iter().map(|q| ((q.0 - ex0) * 1e-6, (q.1 - ey0) * 1e-6)).collect();
+            let local: Vec<(f64, f64)> = c
+                .iter()
+                .map(|q| ((q.0 - ex0) * 1e-6, (q.1 - ey0) * 1e-6))
+                .collect();
             let fe = bfs::polygon_load(&local, (ex1 - ex0) * 1e-6, (ey1 - ey0) * 1e-6, p);
             scatter(f, mesh, e, &fe);
         }

@@ -20,7 +20,8 @@ pub struct PlateMaterial {
     pub q66_pa: f64,
 }
 
-/// Bending stiffness D_ij = Q_ij t^3 / 12 (Kirchhoff plate, Reddy, Mechanics of Laminated Plates, Eq. 3.3.17), in N m.
+/// Bending stiffness D_ij = Q_ij t^3 / 12 (Kirchhoff plate, Reddy, Mechanics of Laminated Plates,
+/// Eq. 3.3.17), in N m.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BendingStiffness {
     pub d11_nm: f64,
@@ -31,8 +32,8 @@ pub struct BendingStiffness {
 
 impl PlateMaterial {
     /// Cubic crystal (e.g. Si, Hopcroft et al. JMEMS 2010) on a (100) wafer; plane-stress reduction
-    /// Q11 = C11 - C12^2/C11, Q12 = C12 - C12^2/C11, Q66 = C44 (Jones, Mechanics of Composite Materials, Eq. 2.61),
-    /// then rotated by 45 deg about [001] for <110> die edges.
+    /// Q11 = C11 - C12^2/C11, Q12 = C12 - C12^2/C11, Q66 = C44 (Jones, Mechanics of Composite
+    /// Materials, Eq. 2.61), then rotated by 45 deg about [001] for <110> die edges.
     pub fn from_cubic(c11_pa: f64, c12_pa: f64, c44_pa: f64, die_edge: DieEdge) -> Self {
         assert!(
             c11_pa > 0.0 && c44_pa > 0.0,
@@ -57,7 +58,8 @@ impl PlateMaterial {
         Self::from_cubic(165.7e9, 63.9e9, 79.6e9, die_edge)
     }
 
-    /// Isotropic: Q11 = Q22 = E/(1-nu^2), Q12 = nu E/(1-nu^2), Q66 = E/(2(1+nu)) (Timoshenko & Woinowsky-Krieger, Eq. 1.3).
+    /// Isotropic: Q11 = Q22 = E/(1-nu^2), Q12 = nu E/(1-nu^2), Q66 = E/(2(1+nu)) (Timoshenko &
+    /// Woinowsky-Krieger, Eq. 1.3).
     pub fn isotropic(e_pa: f64, nu: f64) -> Self {
         assert!(
             e_pa > 0.0 && nu > -1.0 && nu < 0.5,
@@ -73,8 +75,8 @@ impl PlateMaterial {
     }
 
     /// In-plane rotation of an orthotropic Q by theta (transformed reduced stiffness Q-bar,
-    /// Jones, Mechanics of Composite Materials, Eq. 2.85); only valid where Q16 = Q26 = 0 after rotation
-    /// (theta = 0, 45, 90 deg for cubic symmetry).
+    /// Jones, Mechanics of Composite Materials, Eq. 2.85); only valid where Q16 = Q26 = 0 after
+    /// rotation (theta = 0, 45, 90 deg for cubic symmetry).
     pub fn rotated(&self, theta_deg: f64) -> Self {
         let (s, c) = theta_deg.to_radians().sin_cos();
         let (c2, s2) = (c * c, s * s);

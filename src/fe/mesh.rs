@@ -4,7 +4,8 @@ use serde::Serialize;
 
 /// Largest size ratio aimed for between neighbouring elements.
 pub const MAX_NEIGHBOUR_RATIO: f64 = 1.5;
-/// Growth rate g of the size field h(d) = h0 + g d; g = 0.35 keeps neighbour ratios below 1.5 after rounding.
+/// Growth rate g of the size field h(d) = h0 + g d; g = 0.35 keeps neighbour ratios below 1.5 after
+/// rounding.
 const GROWTH: f64 = 0.35;
 /// Coordinates closer than this (um) are merged.
 const MERGE_TOL_UM: f64 = 1e-9;
@@ -38,7 +39,8 @@ fn size_at(s: f64, max_um: f64, sources: &[SizeSource]) -> f64 {
     })
 }
 
-/// Subdivide [p, q] by equidistributing int ds / h(s) (composite midpoint rule, >= 16 cells per smallest size).
+/// Subdivide [p, q] by equidistributing int ds / h(s) (composite midpoint rule, >= 16 cells per
+/// smallest size).
 fn subdivide(p: f64, q: f64, max_um: f64, sources: &[SizeSource], out: &mut Vec<f64>) {
     let len = q - p;
     let h_min = sources.iter().fold(max_um, |h, s| h.min(s.h0_um));
@@ -64,7 +66,8 @@ fn subdivide(p: f64, q: f64, max_um: f64, sources: &[SizeSource], out: &mut Vec<
     out.push(q);
 }
 
-/// Build one axis: required lines kept exactly, gaps subdivided to <= max_um, graded to refine coordinates.
+/// Build one axis: required lines kept exactly, gaps subdivided to <= max_um, graded to refine
+/// coordinates.
 fn build_axis(lines_um: &[f64], max_um: f64, refine: &[(f64, f64)]) -> Vec<f64> {
     let mut lines: Vec<f64> = lines_um.to_vec();
     assert!(
@@ -100,7 +103,8 @@ fn build_axis(lines_um: &[f64], max_um: f64, refine: &[(f64, f64)]) -> Vec<f64> 
         }
     }
     // Rounding the element count per gap can still leave a jump at a required line: add the smaller
-    // neighbouring size there as a new source and rebuild (sizes only decrease, so this terminates).
+    // neighbouring size there as a new source and rebuild (sizes only decrease, so this
+    // terminates).
     for _ in 0..32 {
         let mut out = vec![lines[0]];
         for w in lines.windows(2) {
@@ -133,9 +137,10 @@ fn build_axis(lines_um: &[f64], max_um: f64, refine: &[(f64, f64)]) -> Vec<f64> 
 }
 
 impl RectMesh {
-    /// Build from required lines (um): the outer lines are the plate edges; all lines are kept exactly,
-    /// every gap is subdivided to elements <= `max_element_um`, with geometric grading (growth 0.35 per
-    /// element length, neighbour ratio <= 1.5 where the required lines allow it) towards the refine points.
+    /// Build from required lines (um): the outer lines are the plate edges; all lines are kept
+    /// exactly, every gap is subdivided to elements <= `max_element_um`, with geometric grading
+    /// (growth 0.35 per element length, neighbour ratio <= 1.5 where the required lines allow
+    /// it) towards the refine points.
     #[track_caller]
     pub fn build(
         x_lines_um: &[f64],
@@ -164,13 +169,19 @@ impl RectMesh {
     /// sequence of them is the cheapest honest input to a three-mesh error estimate.
     #[track_caller]
     pub fn ungraded(x_lines_um: &[f64], y_lines_um: &[f64], max_element_um: f64) -> Self {
-        assert!(max_element_um > 0.0 && max_element_um.is_finite(), "max_element_um must be positive");
+        assert!(
+            max_element_um > 0.0 && max_element_um.is_finite(),
+            "max_element_um must be positive"
+        );
         let axis = |lines: &[f64]| {
             let mut l = lines.to_vec();
             assert!(l.iter().all(|v| v.is_finite()), "mesh lines must be finite");
             l.sort_by(f64::total_cmp);
             l.dedup_by(|a, b| (*a - *b).abs() <= MERGE_TOL_UM);
-            assert!(l.len() >= 2, "a mesh axis needs at least two distinct lines");
+            assert!(
+                l.len() >= 2,
+                "a mesh axis needs at least two distinct lines"
+            );
             let mut out = vec![l[0]];
             for w in l.windows(2) {
                 let n = ((w[1] - w[0]) / max_element_um - 1e-9).ceil().max(1.0) as usize;
@@ -179,7 +190,10 @@ impl RectMesh {
             }
             out
         };
-        RectMesh { x_um: axis(x_lines_um), y_um: axis(y_lines_um) }
+        RectMesh {
+            x_um: axis(x_lines_um),
+            y_um: axis(y_lines_um),
+        }
     }
 
     /// Uniform nx x ny mesh of a lx_um x ly_um plate with its corner at the origin.
@@ -278,8 +292,8 @@ impl RectMesh {
         x_um >= x0 - tol && x_um <= x1 + tol && y_um >= y0 - tol && y_um <= y1 + tol
     }
 
-    /// Element interval index containing s on a sorted axis (points on an interior line go to the upper
-    /// interval, points on the last line to the last interval); None outside.
+    /// Element interval index containing s on a sorted axis (points on an interior line go to the
+    /// upper interval, points on the last line to the last interval); None outside.
     pub(crate) fn locate_axis(axis: &[f64], s: f64) -> Option<usize> {
         let (lo, hi) = (axis[0], *axis.last().unwrap());
         let tol = 1e-9 * (hi - lo);
@@ -290,7 +304,8 @@ impl RectMesh {
         Some(k.saturating_sub(1).min(axis.len() - 2))
     }
 
-    /// Element containing (x, y) in um, with its local coordinates in metres; None outside the plate.
+    /// Element containing (x, y) in um, with its local coordinates in metres; None outside the
+    /// plate.
     pub fn locate(&self, x_um: f64, y_um: f64) -> Option<(usize, f64, f64)> {
         let i = Self::locate_axis(&self.x_um, x_um)?;
         let j = Self::locate_axis(&self.y_um, y_um)?;

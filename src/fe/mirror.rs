@@ -28,17 +28,49 @@ fn mirror_axis(lines: &[f64], at_um: f64) -> AxisMap {
     if (lines[n - 1] - at_um).abs() <= tol {
         let mut full = lines.to_vec();
         full.extend(lines[..n - 1].iter().rev().map(|v| 2.0 * at_um - v));
-        let node = (0..2 * n - 1).map(|k| if k < n { (k, false) } else { (2 * (n - 1) - k, true) }).collect();
-        let element = (0..2 * ne).map(|k| if k < ne { k } else { 2 * ne - 1 - k }).collect();
-        AxisMap { lines: full, node, element }
+        let node = (0..2 * n - 1)
+            .map(|k| {
+                if k < n {
+                    (k, false)
+                } else {
+                    (2 * (n - 1) - k, true)
+                }
+            })
+            .collect();
+        let element = (0..2 * ne)
+            .map(|k| if k < ne { k } else { 2 * ne - 1 - k })
+            .collect();
+        AxisMap {
+            lines: full,
+            node,
+            element,
+        }
     } else if (lines[0] - at_um).abs() <= tol {
         let mut full: Vec<f64> = lines[1..].iter().rev().map(|v| 2.0 * at_um - v).collect();
         full.extend_from_slice(lines);
-        let node = (0..2 * n - 1).map(|k| if k < n - 1 { (n - 1 - k, true) } else { (k - (n - 1), false) }).collect();
-        let element = (0..2 * ne).map(|k| if k < ne { ne - 1 - k } else { k - ne }).collect();
-        AxisMap { lines: full, node, element }
+        let node = (0..2 * n - 1)
+            .map(|k| {
+                if k < n - 1 {
+                    (n - 1 - k, true)
+                } else {
+                    (k - (n - 1), false)
+                }
+            })
+            .collect();
+        let element = (0..2 * ne)
+            .map(|k| if k < ne { ne - 1 - k } else { k - ne })
+            .collect();
+        AxisMap {
+            lines: full,
+            node,
+            element,
+        }
     } else {
-        panic!("the mirror line {at_um} um must be an edge of the half mesh ({} .. {} um)", lines[0], lines[n - 1]);
+        panic!(
+            "the mirror line {at_um} um must be an edge of the half mesh ({} .. {} um)",
+            lines[0],
+            lines[n - 1]
+        );
     }
 }
 
@@ -49,7 +81,12 @@ impl PlateSolution {
     /// `rename(group)`; a reaction on the mirror line itself is counted once, doubled (both halves
     /// load that node).
     #[track_caller]
-    pub fn mirrored(&self, along: Axis, at_um: f64, rename: impl Fn(&str) -> String) -> PlateSolution {
+    pub fn mirrored(
+        &self,
+        along: Axis,
+        at_um: f64,
+        rename: impl Fn(&str) -> String,
+    ) -> PlateSolution {
         let half = self.mesh();
         let ctx = self.context();
         let (xs, ys) = match along {
@@ -63,7 +100,10 @@ impl PlateSolution {
         };
         let xm = xs.unwrap_or_else(|| identity(&half.x_um));
         let ym = ys.unwrap_or_else(|| identity(&half.y_um));
-        let mesh = RectMesh { x_um: xm.lines.clone(), y_um: ym.lines.clone() };
+        let mesh = RectMesh {
+            x_um: xm.lines.clone(),
+            y_um: ym.lines.clone(),
+        };
         // Dofs w, w_x, w_y, w_xy: the slope across the line and the twist are odd.
         let sign: [f64; 4] = match along {
             Axis::X => [1.0, 1.0, -1.0, -1.0],
@@ -97,7 +137,10 @@ impl PlateSolution {
         let mut groups = ctx.groups.clone();
         for r in self.all_nodal_reactions() {
             if on_line(r) {
-                nodal.push(NodalReaction { force_n: 2.0 * r.force_n, ..r.clone() });
+                nodal.push(NodalReaction {
+                    force_n: 2.0 * r.force_n,
+                    ..r.clone()
+                });
                 continue;
             }
             nodal.push(r.clone());
@@ -109,16 +152,32 @@ impl PlateSolution {
             if !groups.contains(&group) {
                 groups.push(group.clone());
             }
-            nodal.push(NodalReaction { group, x_um, y_um, force_n: r.force_n });
+            nodal.push(NodalReaction {
+                group,
+                x_um,
+                y_um,
+                force_n: r.force_n,
+            });
         }
-        let mut reactions: Vec<GroupReaction> = groups.iter().map(|g| GroupReaction { group: g.clone(), force_n: 0.0 }).collect();
+        let mut reactions: Vec<GroupReaction> = groups
+            .iter()
+            .map(|g| GroupReaction {
+                group: g.clone(),
+                force_n: 0.0,
+            })
+            .collect();
         for r in &nodal {
             if let Some(g) = reactions.iter_mut().find(|g| g.group == r.group) {
                 g.force_n += r.force_n;
             }
         }
         // Groups without nodal w reactions (a symmetry line) keep their (zero) totals.
-        let ctx = Arc::new(SolutionContext { mesh, thickness_um, material: ctx.material, groups });
+        let ctx = Arc::new(SolutionContext {
+            mesh,
+            thickness_um,
+            material: ctx.material,
+            groups,
+        });
         PlateSolution::new(ctx, u, reactions, 2.0 * self.applied_force_n()).with_nodal(nodal)
     }
 }

@@ -1,10 +1,12 @@
-//! Finite-element Kirchhoff plate solver (Bogner-Fox-Schmit rectangles on rectilinear meshes) for the
-//! PVDF tactile-sensor models: orthotropic Si plates, stepped thickness (teeth), line supports and
-//! point/pressure/line/probe loads, with support reactions, surface strains and convergence estimates.
+//! Finite-element Kirchhoff plate solver (Bogner-Fox-Schmit rectangles on rectilinear meshes) for
+//! the PVDF tactile-sensor models: orthotropic Si plates, stepped thickness (teeth), line supports
+//! and point/pressure/line/probe loads, with support reactions, surface strains and convergence
+//! estimates.
 //!
-//! Units: inputs in um and N, everything internal in SI (m, N, Pa). Sign convention: loads positive in the
-//! +w direction (downward, the load direction); deflection w positive along the load; curvature
-//! kappa = (-w_xx, -w_yy, -2 w_xy); the bottom surface (facing +w) is in tension under sagging.
+//! Units: inputs in um and N, everything internal in SI (m, N, Pa). Sign convention: loads positive
+//! in the +w direction (downward, the load direction); deflection w positive along the load;
+//! curvature kappa = (-w_xx, -w_yy, -2 w_xy); the bottom surface (facing +w) is in tension under
+//! sagging.
 //!
 //! ```
 //! use tactfab::fe::*;
@@ -40,8 +42,8 @@ mod tests;
 
 pub use beam::{fixed_fixed_reactions, BeamReactions};
 pub use convergence::{
-    richardson, richardson_ratios, run_levels, solve_to_tolerance, ConvergenceKind, ConvergenceReport, LevelReport,
-    Richardson,
+    richardson, richardson_ratios, run_levels, solve_to_tolerance, ConvergenceKind,
+    ConvergenceReport, LevelReport, Richardson,
 };
 pub use error::{FeError, FeResult};
 pub use material::{BendingStiffness, DieEdge, PlateMaterial};

@@ -4,8 +4,8 @@
 //! grid into two independent halves. Numbering each half recursively and the separator last is
 //! George's nested dissection (George 1973, "Nested dissection of a regular finite element mesh",
 //! SIAM J. Numer. Anal. 10): O(n log n) fill and O(n^1.5) flops on an n-node 2-D grid, the optimum
-//! order. It costs O(n) to compute, where AMD on the assembled 4-dof-per-node matrix took as long as
-//! a third of the numeric factorisation on the sensor meshes.
+//! order. It costs O(n) to compute, where AMD on the assembled 4-dof-per-node matrix took as long
+//! as a third of the numeric factorisation on the sensor meshes.
 
 use crate::fe::dofs::{DofMap, CONSTRAINED};
 
@@ -51,7 +51,11 @@ fn dissect(nxl: usize, (i0, i1): (usize, usize), (j0, j1): (usize, usize), out: 
 pub fn free_dof_order(dofs: &DofMap, nx_lines: usize, ny_lines: usize) -> Vec<usize> {
     let mut fwd = Vec::with_capacity(dofs.n_free());
     for node in nested_dissection(nx_lines, ny_lines) {
-        fwd.extend((0..4).map(|d| dofs.free_index[4 * node + d]).filter(|&f| f != CONSTRAINED));
+        fwd.extend(
+            (0..4)
+                .map(|d| dofs.free_index[4 * node + d])
+                .filter(|&f| f != CONSTRAINED),
+        );
     }
     fwd
 }
@@ -66,7 +70,10 @@ mod tests {
             let mut order = nested_dissection(nx, ny);
             assert_eq!(order.len(), nx * ny);
             order.sort_unstable();
-            assert!(order.iter().enumerate().all(|(k, &n)| k == n), "{nx} x {ny} is a permutation");
+            assert!(
+                order.iter().enumerate().all(|(k, &n)| k == n),
+                "{nx} x {ny} is a permutation"
+            );
         }
     }
 
@@ -84,8 +91,16 @@ mod tests {
         let sep: Vec<usize> = order[order.len() - ny..].to_vec();
         assert!(sep.iter().all(|n| n % nx == 10));
         // Every node left of it comes before every node right of it.
-        let left_max = (0..nx * ny).filter(|n| n % nx < 10).map(|n| pos[n]).max().unwrap();
-        let right_min = (0..nx * ny).filter(|n| n % nx > 10).map(|n| pos[n]).min().unwrap();
+        let left_max = (0..nx * ny)
+            .filter(|n| n % nx < 10)
+            .map(|n| pos[n])
+            .max()
+            .unwrap();
+        let right_min = (0..nx * ny)
+            .filter(|n| n % nx > 10)
+            .map(|n| pos[n])
+            .min()
+            .unwrap();
         assert!(left_max < right_min);
     }
 }

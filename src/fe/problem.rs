@@ -7,7 +7,8 @@ use crate::fe::material::PlateMaterial;
 use crate::fe::mesh::RectMesh;
 use serde::Serialize;
 
-/// Rectangle with its own thickness (um); later regions win; an element takes the region covering its centre.
+/// Rectangle with its own thickness (um); later regions win; an element takes the region covering
+/// its centre.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ThicknessRegion {
     pub x0_um: f64,
@@ -74,7 +75,8 @@ impl Dof {
     }
 }
 
-/// A nodal dof with a prescribed (possibly non-zero) value in SI units (patch tests, imposed settlement).
+/// A nodal dof with a prescribed (possibly non-zero) value in SI units (patch tests, imposed
+/// settlement).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PrescribedDof {
     pub group: String,
@@ -112,8 +114,8 @@ impl RectUm {
 /// A load case component. Forces are positive in the +w (load) direction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum Load {
-    /// Point force; radius 0 = consistent nodal load at the point; radius > 0 spreads it uniformly over a
-    /// square patch of equal area (side sqrt(pi) r), clipped per element.
+    /// Point force; radius 0 = consistent nodal load at the point; radius > 0 spreads it uniformly
+    /// over a square patch of equal area (side sqrt(pi) r), clipped per element.
     Point {
         x_um: f64,
         y_um: f64,
@@ -133,8 +135,8 @@ pub enum Load {
         y1_um: f64,
         total_force_n: f64,
     },
-    /// Rotated rectangular probe (uniform pressure over a width x height rectangle centred at (x, y),
-    /// rotated by angle_deg counter-clockwise); exact polygon clipping per element.
+    /// Rotated rectangular probe (uniform pressure over a width x height rectangle centred at (x,
+    /// y), rotated by angle_deg counter-clockwise); exact polygon clipping per element.
     Probe {
         x_um: f64,
         y_um: f64,
@@ -143,9 +145,12 @@ pub enum Load {
         angle_deg: f64,
         total_force_n: f64,
     },
-    /// Uniform pressure over a simple polygon (um, any orientation) giving `total_force_n`; the part
-    /// of a probe or patch that lies over the plate after clipping at the supports.
-    Polygon { points_um: Vec<(f64, f64)>, total_force_n: f64 },
+    /// Uniform pressure over a simple polygon (um, any orientation) giving `total_force_n`; the
+    /// part of a probe or patch that lies over the plate after clipping at the supports.
+    Polygon {
+        points_um: Vec<(f64, f64)>,
+        total_force_n: f64,
+    },
 }
 
 /// A linear Kirchhoff plate problem with one or more load cases (each case is a list of loads).

@@ -1,6 +1,7 @@
 //! Post-processing of one load case: deflection, curvature, moments, strains, stress and reactions.
-//! Conventions: w positive in the load direction; kappa = (-w_xx, -w_yy, -2 w_xy); the bottom surface is
-//! the side facing +w (z = +t/2 along w), so eps_bottom = (t/2) kappa and sagging puts it in tension.
+//! Conventions: w positive in the load direction; kappa = (-w_xx, -w_yy, -2 w_xy); the bottom
+//! surface is the side facing +w (z = +t/2 along w), so eps_bottom = (t/2) kappa and sagging puts
+//! it in tension.
 
 use crate::fe::bfs;
 use crate::fe::dofs::element_dofs;
@@ -159,13 +160,15 @@ impl PlateSolution {
         (e, w, k)
     }
 
-    /// Deflection w (m, positive in the load direction) at (x, y) by element interpolation. Panics outside the plate.
+    /// Deflection w (m, positive in the load direction) at (x, y) by element interpolation. Panics
+    /// outside the plate.
     #[track_caller]
     pub fn deflection_m(&self, x_um: f64, y_um: f64) -> f64 {
         self.at(x_um, y_um).1
     }
 
-    /// Curvature (kappa_x, kappa_y, kappa_xy) in 1/m at a point (element on the upper/right side of mesh lines).
+    /// Curvature (kappa_x, kappa_y, kappa_xy) in 1/m at a point (element on the upper/right side of
+    /// mesh lines).
     #[track_caller]
     pub fn curvature(&self, x_um: f64, y_um: f64) -> [f64; 3] {
         self.at(x_um, y_um).2
@@ -184,9 +187,10 @@ impl PlateSolution {
         )
     }
 
-    /// Bottom-surface strain (eps_x, eps_y, gamma_xy) = (t/2) kappa (Kirchhoff kinematics eps = z kappa),
-    /// t = local thickness: each section bends about its own mid-plane, so on a stepped plate with a flat
-    /// bottom the local neutral-axis offset is t/2; membrane coupling at thickness steps is neglected.
+    /// Bottom-surface strain (eps_x, eps_y, gamma_xy) = (t/2) kappa (Kirchhoff kinematics eps = z
+    /// kappa), t = local thickness: each section bends about its own mid-plane, so on a stepped
+    /// plate with a flat bottom the local neutral-axis offset is t/2; membrane coupling at
+    /// thickness steps is neglected.
     #[track_caller]
     pub fn bottom_strain(&self, x_um: f64, y_um: f64) -> [f64; 3] {
         let (e, _, k) = self.at(x_um, y_um);
@@ -223,16 +227,18 @@ impl PlateSolution {
         out
     }
 
-    /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped per element:
-    /// whole elements in closed form ([`bfs::curvature_integral`]), partly covered ones by 4x4 Gauss
-    /// per clipped part (exact for the BFS curvature field).
+    /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped
+    /// per element: whole elements in closed form ([`bfs::curvature_integral`]), partly covered
+    /// ones by 4x4 Gauss per clipped part (exact for the BFS curvature field).
     pub fn integrate_bottom_strain(&self, rect: RectUm) -> (f64, f64) {
         let (mut sx, mut sy) = (0.0, 0.0);
         for (e, x0, x1, y0, y1) in self.clipped(&rect) {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
             let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
-            let whole = |lo: f64, hi: f64, len: f64| lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len;
+            let whole = |lo: f64, hi: f64, len: f64| {
+                lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len
+            };
             if whole(x0, x1, a) && whole(y0, y1, b) {
                 let (ix, iy) = bfs::curvature_integral(&u, a, b);
                 sx += h * ix;
@@ -250,10 +256,11 @@ impl PlateSolution {
         (sx, sy)
     }
 
-    /// Largest principal tensile bending stress on either surface over a rectangle (e.g. a contact patch),
-    /// sampled on a 5x5 grid including the edges of every clipped element part; None if the rectangle
-    /// does not overlap the plate.
-    /// sigma_bottom = Q (t/2) kappa, sigma_top = -sigma_bottom; sigma_1 = (sx+sy)/2 + sqrt(((sx-sy)/2)^2 + txy^2).
+    /// Largest principal tensile bending stress on either surface over a rectangle (e.g. a contact
+    /// patch), sampled on a 5x5 grid including the edges of every clipped element part; None if
+    /// the rectangle does not overlap the plate.
+    /// sigma_bottom = Q (t/2) kappa, sigma_top = -sigma_bottom; sigma_1 = (sx+sy)/2 +
+    /// sqrt(((sx-sy)/2)^2 + txy^2).
     pub fn max_principal_stress(&self, rect: RectUm) -> Option<StressPeak> {
         let mut best = StressPeak {
             x_um: f64::NAN,
@@ -293,8 +300,8 @@ impl PlateSolution {
         best.sigma_pa.is_finite().then_some(best)
     }
 
-    /// Largest |w| over nodes and 4x4 Gauss points of every element, polished by Newton steps on grad w = 0
-    /// inside the best element. Returns the signed value.
+    /// Largest |w| over nodes and 4x4 Gauss points of every element, polished by Newton steps on
+    /// grad w = 0 inside the best element. Returns the signed value.
     pub fn max_deflection(&self) -> DeflectionPeak {
         let m = &self.ctx.mesh;
         let nxl = m.x_um.len();
@@ -323,7 +330,10 @@ impl PlateSolution {
             // len 4/27): elements that cannot beat the best so far are skipped.
             let bound = (0..4).map(|c| u[4 * c].abs()).fold(0.0, f64::max)
                 + (0..4)
-                    .map(|c| 4.0 / 27.0 * (a * u[4 * c + 1].abs() + b * u[4 * c + 2].abs()) + 16.0 / 729.0 * a * b * u[4 * c + 3].abs())
+                    .map(|c| {
+                        4.0 / 27.0 * (a * u[4 * c + 1].abs() + b * u[4 * c + 2].abs())
+                            + 16.0 / 729.0 * a * b * u[4 * c + 3].abs()
+                    })
                     .sum::<f64>();
             if bound <= best.w_m.abs() {
                 continue;

@@ -1,21 +1,22 @@
 //! Sparse Cholesky factorisation (faer) with a reusable symbolic analysis and multi-column solves.
 
-use crate::fe::solution::NodalReaction;
 use crate::fe::assemble::{ElementStiffness, Pattern};
+use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::dofs::DofMap;
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
-use crate::fe::problem::{Load, PlateProblem};
-use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
-use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::ordering::free_dof_order;
+use crate::fe::problem::{Load, PlateProblem};
+use crate::fe::solution::NodalReaction;
+use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
 use faer::sparse::SparseColMat;
 use faer::Mat;
 use rayon::prelude::*;
 use std::sync::Arc;
 
-/// A factorised plate stiffness: the symbolic analysis is kept and reused by [`Factorised::refactor`]
-/// when only values change (thickness, material); load cases are solved as one multi-column solve.
+/// A factorised plate stiffness: the symbolic analysis is kept and reused by
+/// [`Factorised::refactor`] when only values change (thickness, material); load cases are solved as
+/// one multi-column solve.
 #[derive(Debug, Clone)]
 pub struct Factorised {
     dofs: DofMap,
@@ -32,11 +33,19 @@ pub struct Factorised {
 
 fn support_elements(mesh: &crate::fe::mesh::RectMesh, dofs: &DofMap) -> Vec<usize> {
     (0..mesh.n_elements())
-        .filter(|&e| crate::fe::dofs::element_dofs(mesh, e).iter().any(|&d| dofs.free_index[d] == crate::fe::dofs::CONSTRAINED))
+        .filter(|&e| {
+            crate::fe::dofs::element_dofs(mesh, e)
+                .iter()
+                .any(|&d| dofs.free_index[d] == crate::fe::dofs::CONSTRAINED)
+        })
         .collect()
 }
 
-fn numeric(symbolic: &SymbolicFactor, pattern: &Pattern, vals: Vec<f64>) -> FeResult<CholeskyFactor> {
+fn numeric(
+    symbolic: &SymbolicFactor,
+    pattern: &Pattern,
+    vals: Vec<f64>,
+) -> FeResult<CholeskyFactor> {
     symbolic.factor(SparseColMat::<usize, f64>::new(pattern.symbolic.clone(), vals).as_ref())
 }
 
@@ -50,17 +59,21 @@ fn pattern_key(p: &PlateProblem) -> PlateProblem {
 }
 
 impl Factorised {
-    /// Number the dofs, check that rigid-body motion is prevented, build the pattern, analyse and factorise.
-    /// Panics on an empty or unsorted mesh (misuse); returns errors for physically invalid input.
+    /// Number the dofs, check that rigid-body motion is prevented, build the pattern, analyse and
+    /// factorise. Panics on an empty or unsorted mesh (misuse); returns errors for physically
+    /// invalid input.
     #[track_caller]
     pub fn new(problem: &PlateProblem) -> FeResult<Self> {
         let mesh = &problem.mesh;
         mesh.validate();
-        let tt=std::time::Instant::now(); let pr=|n:&str,tt:&std::time::Instant| if std::env::var("PROF").is_ok(){eprintln!("  {n} {:.2}",tt.elapsed().as_secs_f64()*1e3)};
         let dofs = DofMap::new(problem)?;
         let free_modes = dofs.free_rigid_modes(mesh);
         if free_modes > 0 {
-            return Err(FeError::Underconstrained { free_modes, hint: "the plate is not fully constrained: check that supports exist and are not all collinear" });
+            return Err(FeError::Underconstrained {
+                free_modes,
+                hint: "the plate is not fully constrained: check that supports exist and are not \
+                       all collinear",
+            });
         }
         if dofs.n_free() == 0 {
             return Err(FeError::Sparse {
@@ -68,20 +81,13 @@ impl Factorised {
                 hint: "everything is constrained: use a finer mesh or fewer supports",
             });
         }
-        pr("modes",&tt);
         let pattern = Pattern::new(mesh, &dofs)?;
-        pr("pattern",&tt);
         let order = free_dof_order(&dofs, mesh.x_um.len(), mesh.y_um.len());
         let symbolic = SymbolicFactor::new(pattern.symbolic.as_ref(), &order)?;
-        pr("symbolic",&tt);
-        if std::env::var("PROF").is_ok(){eprintln!("  Lnnz {} {:?}", symbolic.factor_len(), 0)};
         let thickness = problem.element_thickness_um();
         let kel = ElementStiffness::new(problem, &thickness)?;
-        pr("kel",&tt);
         let vals = pattern.values(mesh, &dofs, &kel);
-        pr("values",&tt);
         let llt = numeric(&symbolic, &pattern, vals)?;
-        pr("numeric",&tt);
         let ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
             thickness_um: thickness,
@@ -132,28 +138,42 @@ impl Factorised {
         Ok(())
     }
 
-    /// New mesh coordinates (same node counts), thickness and material with the same constrained dof
-    /// indices: the sparsity pattern depends only on the mesh topology and the constraint set, so the
-    /// symbolic analysis is reused and only the numeric factorisation is redone (a design sweep over
-    /// plate sizes). Errors with [`FeError::PatternMismatch`] if the topology or constraints differ.
+    /// New mesh coordinates (same node counts), thickness and material with the same constrained
+    /// dof indices: the sparsity pattern depends only on the mesh topology and the constraint
+    /// set, so the symbolic analysis is reused and only the numeric factorisation is redone (a
+    /// design sweep over plate sizes). Errors with [`FeError::PatternMismatch`] if the topology
+    /// or constraints differ.
     pub fn refactor_topology(&mut self, problem: &PlateProblem) -> FeResult<()> {
         let mesh = &problem.mesh;
         mesh.validate();
         let same_counts = mesh.x_um.len() == self.ctx.mesh.x_um.len()
             && mesh.y_um.len() == self.ctx.mesh.y_um.len();
-        let dofs = if same_counts { DofMap::new(problem)? } else { self.dofs.clone() };
+        let dofs = if same_counts {
+            DofMap::new(problem)?
+        } else {
+            self.dofs.clone()
+        };
         if !same_counts
             || dofs.free_dofs != self.dofs.free_dofs
             || dofs.groups != self.dofs.groups
-            || !dofs.constrained.iter().zip(&self.dofs.constrained).all(|(a, b)| a.0 == b.0 && a.2 == b.2)
+            || !dofs
+                .constrained
+                .iter()
+                .zip(&self.dofs.constrained)
+                .all(|(a, b)| a.0 == b.0 && a.2 == b.2)
         {
             return Err(FeError::PatternMismatch {
-                hint: "refactor_topology needs the same node counts and the same constrained dofs; build a new Factorised otherwise",
+                hint: "refactor_topology needs the same node counts and the same constrained \
+                       dofs; build a new Factorised otherwise",
             });
         }
         let thickness = problem.element_thickness_um();
         let kel = ElementStiffness::new(problem, &thickness)?;
-        let llt = numeric(&self.symbolic, &self.pattern, self.pattern.values(mesh, &dofs, &kel))?;
+        let llt = numeric(
+            &self.symbolic,
+            &self.pattern,
+            self.pattern.values(mesh, &dofs, &kel),
+        )?;
         self.kel = kel;
         self.llt = llt;
         self.dofs = dofs;
@@ -173,7 +193,8 @@ impl Factorised {
         self.dofs.n_free()
     }
 
-    /// Solve all load cases with one multi-column triangular solve. Prescribed dof values apply to every case.
+    /// Solve all load cases with one multi-column triangular solve. Prescribed dof values apply to
+    /// every case.
     pub fn solve(&self, load_cases: &[Vec<Load>]) -> FeResult<Vec<PlateSolution>> {
         let mesh = &self.ctx.mesh;
         let n_free = self.dofs.n_free();
@@ -186,7 +207,9 @@ impl Factorised {
         for &(d, v, _) in &self.dofs.constrained {
             u_fixed[d] = v;
         }
-        let k_fixed = self.kel.apply_on(mesh, &u_fixed, self.support_elements.iter().copied());
+        let k_fixed = self
+            .kel
+            .apply_on(mesh, &u_fixed, self.support_elements.iter().copied());
         let mut rhs = Mat::<f64>::zeros(n_free, load_cases.len());
         for (c, f) in forces.iter().enumerate() {
             for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
@@ -206,8 +229,11 @@ impl Factorised {
                         hint: "check material constants, thickness and load values for NaN/inf",
                     });
                 }
-                let ku = self.kel.apply_on(mesh, &u, self.support_elements.iter().copied());
-                // Force carried by each support in the load direction: f - K u at constrained w dofs.
+                let ku = self
+                    .kel
+                    .apply_on(mesh, &u, self.support_elements.iter().copied());
+                // Force carried by each support in the load direction: f - K u at constrained w
+                // dofs.
                 let mut by_group = vec![0.0; self.dofs.groups.len()];
                 let mut nodal = Vec::new();
                 for &(d, _, g) in &self.dofs.constrained {
@@ -216,7 +242,12 @@ impl Factorised {
                         by_group[g] += r;
                         let node = d / 4;
                         let (i, j) = (node % (mesh.nx() + 1), node / (mesh.nx() + 1));
-                        nodal.push(NodalReaction { group: self.dofs.groups[g].clone(), x_um: mesh.x_um[i], y_um: mesh.y_um[j], force_n: r });
+                        nodal.push(NodalReaction {
+                            group: self.dofs.groups[g].clone(),
+                            x_um: mesh.x_um[i],
+                            y_um: mesh.y_um[j],
+                            force_n: r,
+                        });
                     }
                 }
                 let applied_force_n = forces[c].iter().step_by(4).sum();
@@ -230,7 +261,10 @@ impl Factorised {
                         force_n: f,
                     })
                     .collect();
-                Ok(PlateSolution::new(self.ctx.clone(), u, reactions, applied_force_n).with_nodal(nodal))
+                Ok(
+                    PlateSolution::new(self.ctx.clone(), u, reactions, applied_force_n)
+                        .with_nodal(nodal),
+                )
             })
             .collect()
     }

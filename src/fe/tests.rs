@@ -51,7 +51,8 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-/// Three-mesh Richardson value of a point-load alpha (O(h^2) is not assumed: the observed order is used).
+/// Three-mesh Richardson value of a point-load alpha (O(h^2) is not assumed: the observed order is
+/// used).
 fn alpha_p_extrapolated(ratio: f64, n: usize, kind: SupportKind) -> (f64, Richardson) {
     let v: Vec<f64> = [n, 2 * n, 4 * n]
         .iter()
@@ -123,8 +124,8 @@ fn macneal_harder_patch_test() {
     p.load_cases.push(vec![]);
     let s = &p.solve().unwrap()[0];
     let d = 1e6 * 1e-9 / (12.0 * (1.0 - 0.0625));
-    // Exact: Mx = My = D (1 + nu) w_xx = 1.1111e-7, Mxy = D (1 - nu) w_xy = 3.3333e-8 (magnitudes); with
-    // kappa = -w_xx the moments here are negative.
+    // Exact: Mx = My = D (1 + nu) w_xx = 1.1111e-7, Mxy = D (1 - nu) w_xy = 3.3333e-8 (magnitudes);
+    // with kappa = -w_xx the moments here are negative.
     let (mx_ref, mxy_ref) = (d * 1.25 * 1e-3, d * 0.75 * 0.5e-3);
     assert!(rel(mx_ref, 1.111e-7) < 1e-3 && rel(mxy_ref, 3.333e-8) < 1e-3);
     let mut worst: f64 = 0.0;
@@ -163,7 +164,8 @@ fn simply_supported_point_load_5_digits() {
         let (a, r) = alpha_p_extrapolated(ratio, 16, SupportKind::SimplySupported);
         let fine = alpha_p(ratio, 64, SupportKind::SimplySupported);
         eprintln!(
-            "SS P a/b={ratio}: n=64 {fine:.10} (rel {:.2e}), extrapolated {a:.10} rel {:.2e}, order {:?}",
+            "SS P a/b={ratio}: n=64 {fine:.10} (rel {:.2e}), extrapolated {a:.10} rel {:.2e}, \
+             order {:?}",
             rel(fine, reference),
             rel(a, reference),
             r.observed_order
@@ -202,9 +204,10 @@ fn clamped_point_load_to_given_digits() {
             rel(a, reference),
             r.observed_order
         );
-        // Half a unit in the last given digit, except a/b = 3: the converged value here is 0.00724244
-        // (meshes 16..128 agree to 1e-9), 6e-8 below the rounding boundary of the given 0.007243, so only
-        // 1e-4 relative is asserted there (see the strip test for an independent check).
+        // Half a unit in the last given digit, except a/b = 3: the converged value here is
+        // 0.00724244 (meshes 16..128 agree to 1e-9), 6e-8 below the rounding boundary of
+        // the given 0.007243, so only 1e-4 relative is asserted there (see the strip test
+        // for an independent check).
         let tol = match ratio {
             1.0 => 0.5e-7,
             3.0 => 1e-4 * reference,
@@ -219,7 +222,8 @@ fn clamped_point_load_to_given_digits() {
 
 #[test]
 fn strip_limit() {
-    // a/b = 8 approaches cylindrical bending at the centre: 5/384 (SS) and 1/384 (clamped) within 0.5 %.
+    // a/b = 8 approaches cylindrical bending at the centre: 5/384 (SS) and 1/384 (clamped) within
+    // 0.5 %.
     let ss = alpha_q(8.0, 8, SupportKind::SimplySupported);
     let cl = alpha_q(8.0, 8, SupportKind::Clamped);
     eprintln!(
@@ -230,8 +234,8 @@ fn strip_limit() {
     assert!(rel(ss, 5.0 / 384.0) < 5e-3);
     assert!(rel(cl, 1.0 / 384.0) < 5e-3);
     // Point load at a/b = 6 against the strip values (SS 0.0169611; clamped 0.00725 is 3-digit
-    // Timoshenko: a Fourier-transform solution of the clamped strip computed while writing this test
-    // gives 0.0072425, which the FE reproduces).
+    // Timoshenko: a Fourier-transform solution of the clamped strip computed while writing this
+    // test gives 0.0072425, which the FE reproduces).
     let (ss_p, _) = alpha_p_extrapolated(6.0, 8, SupportKind::SimplySupported);
     let (cl_p, _) = alpha_p_extrapolated(6.0, 8, SupportKind::Clamped);
     eprintln!(
@@ -294,7 +298,8 @@ fn line_load_reproduces_fixed_fixed_beam() {
             beam.r2
         );
         assert!(rel(r1, beam.r1) < 1e-6 && rel(r2, beam.r2) < 1e-6);
-        // Orthotropic Si, free ends: the middle section carries the beam reaction per unit length within 1 %.
+        // Orthotropic Si, free ends: the middle section carries the beam reaction per unit length
+        // within 1 %.
         let (s, length, mid_len) = line_load_plate(PlateMaterial::silicon(DieEdge::Along110), y0);
         let per_len = 2.0 / length;
         let (m0, m1) = (
@@ -302,7 +307,12 @@ fn line_load_reproduces_fixed_fixed_beam() {
             s.reaction_n("mid1").unwrap() / mid_len,
         );
         let (b1, b2) = (beam.r1 / 2.0 * per_len, beam.r2 / 2.0 * per_len);
-        eprintln!("beam y0={y0}: Si middle R1 {m0:.6e} vs {b1:.6e} (rel {:.1e}), R2 {m1:.6e} vs {b2:.6e} (rel {:.1e})", rel(m0, b1), rel(m1, b2));
+        eprintln!(
+            "beam y0={y0}: Si middle R1 {m0:.6e} vs {b1:.6e} (rel {:.1e}), R2 {m1:.6e} vs \
+             {b2:.6e} (rel {:.1e})",
+            rel(m0, b1),
+            rel(m1, b2)
+        );
         assert!(rel(m0, b1) < 0.01 && rel(m1, b2) < 0.01);
     }
 }
@@ -535,8 +545,8 @@ fn missing_constraint_is_an_error_not_nan() {
     ));
 }
 
-/// Checkerboard of 2.5 mm cells, thick cells 3x thicker (27x stiffer), clamped Si, 1 N at the centre
-/// (a cross-point of the checkerboard).
+/// Checkerboard of 2.5 mm cells, thick cells 3x thicker (27x stiffer), clamped Si, 1 N at the
+/// centre (a cross-point of the checkerboard).
 fn checkerboard(level: usize) -> PlateProblem {
     let n = 4 << level;
     let mut p = PlateProblem::new(
@@ -619,8 +629,8 @@ fn checkerboard_convergence_reports_observed_order() {
 
 #[test]
 fn hard_thin_plate_long_span() {
-    // 50 um plate over a 40 mm clamped square span: still accurate; 0.1 N (w ~ 2 t) is flagged as beyond the
-    // linear range, 1.6 mN (w ~ 0.03 t) is not.
+    // 50 um plate over a 40 mm clamped square span: still accurate; 0.1 N (w ~ 2 t) is flagged as
+    // beyond the linear range, 1.6 mN (w ~ 0.03 t) is not.
     let mut p = PlateProblem::new(RectMesh::uniform(40_000.0, 40_000.0, 16, 16), 50.0, iso());
     p.support_all_edges(SupportKind::Clamped);
     p.load_cases.push(vec![Load::Pressure {
@@ -680,7 +690,8 @@ fn hard_load_at_free_corner() {
     let r = richardson(w1, w2, w3, 2.0);
     eprintln!("free corner: {w1:.8e} {w2:.8e} {w3:.8e} -> {:?}", r);
     assert!(w3 > 0.0 && rel(w3, r.extrapolated) < 1e-3);
-    // Beam bound: the corner deflects more than a cantilever beam of the full width with the same load.
+    // Beam bound: the corner deflects more than a cantilever beam of the full width with the same
+    // load.
     let d = PlateMaterial::silicon(DieEdge::Along110).bending_stiffness(T_UM * 1e-6);
     let beam = 1e-3 * 0.01f64.powi(3) / (3.0 * d.d11_nm * 0.005);
     assert!(w3 > beam);
@@ -836,9 +847,10 @@ fn strain_and_stress_recovery_consistent() {
 
 #[test]
 fn moments_and_stress_against_timoshenko() {
-    // Clamped square, uniform q, nu = 0.3: centre Mx ~ 0.0231 q b^2, edge-midpoint Mx ~ -0.0513 q b^2
-    // (Timoshenko & Woinowsky-Krieger Table 35, 3 digits, quoted from memory: not in fe-validation.md),
-    // surface stress 6 M / t^2. Moments converge O(h^2): compare Richardson values of n = 16, 32, 64.
+    // Clamped square, uniform q, nu = 0.3: centre Mx ~ 0.0231 q b^2, edge-midpoint Mx ~ -0.0513 q
+    // b^2 (Timoshenko & Woinowsky-Krieger Table 35, 3 digits, quoted from memory: not in
+    // fe-validation.md), surface stress 6 M / t^2. Moments converge O(h^2): compare Richardson
+    // values of n = 16, 32, 64.
     let run = |n: usize| {
         let mut p = rect_plate(1.0, n, SupportKind::Clamped, iso());
         p.load_cases.push(vec![Load::Pressure {
@@ -956,8 +968,9 @@ fn load_outside_plate_is_an_error() {
     ));
 }
 
-/// Navier double series for a simply supported orthotropic plate, centre point load (Reddy, Eq. 6.2.7 with
-/// H = D12 + 2 D66): w = 4P/(ab) sum_{m,n odd} 1/(pi^4 [D11 (m/a)^4 + 2H (m/a)^2 (n/b)^2 + D22 (n/b)^4]).
+/// Navier double series for a simply supported orthotropic plate, centre point load (Reddy, Eq.
+/// 6.2.7 with H = D12 + 2 D66): w = 4P/(ab) sum_{m,n odd} 1/(pi^4 [D11 (m/a)^4 + 2H (m/a)^2 (n/b)^2
+/// + D22 (n/b)^4]).
 fn navier_ss_centre(d: BendingStiffness, a: f64, b: f64, force_n: f64, terms: usize) -> f64 {
     let h = d.d12_nm + 2.0 * d.d66_nm;
     let mut s = 0.0;
@@ -1001,7 +1014,8 @@ fn orthotropic_simply_supported_matches_navier_series() {
         rel(r.extrapolated, exact)
     );
     assert!(rel(r.extrapolated, exact) < 1e-5);
-    // For comparison with the clamped case: orthotropic/isotropic ratio on a simply supported square.
+    // For comparison with the clamped case: orthotropic/isotropic ratio on a simply supported
+    // square.
     let iso_d = PlateMaterial::isotropic(169e9, 0.064).bending_stiffness(T_UM * 1e-6);
     let ratio = navier_ss_centre(d, b, b, 1.0, 4001) / navier_ss_centre(iso_d, b, b, 1.0, 4001);
     eprintln!("SS square centre point: Si/iso deflection ratio {ratio:.4}");
@@ -1010,7 +1024,8 @@ fn orthotropic_simply_supported_matches_navier_series() {
 #[test]
 fn probe_rotation_invariants() {
     // A rotated probe equals the same rectangle described differently: (w, h, 0) = (h, w, 90) =
-    // axis-aligned pressure; and (angle) = (angle + 180). Mesh lines cut the probes at arbitrary places.
+    // axis-aligned pressure; and (angle) = (angle + 180). Mesh lines cut the probes at arbitrary
+    // places.
     let mut p = clamped_si(9);
     let probe = |w: f64, h: f64, ang: f64| Load::Probe {
         x_um: 6100.0,
@@ -1046,9 +1061,26 @@ fn probe_rotation_invariants() {
 /// x ends, a centred thicker region and a centred patch load; (x1, y1) is the corner of the part
 /// meshed (the whole plate, or the lower-left quarter with symmetry lines).
 fn symmetric_plate(x1: f64, y1: f64, nx: usize, ny: usize) -> PlateProblem {
-    let mut p = PlateProblem::new(RectMesh::uniform(x1, y1, nx, ny), 80.0, PlateMaterial::silicon(DieEdge::Along110));
-    p.thickness_regions.push(ThicknessRegion { x0_um: 3000.0, y0_um: 2000.0, x1_um: 7000.0, y1_um: 4000.0, thickness_um: 200.0 });
-    p.supports.push(LineSupport { group: "low".into(), kind: SupportKind::Clamped, along: Axis::X, at_um: 0.0, from_um: 0.0, to_um: x1 });
+    let mut p = PlateProblem::new(
+        RectMesh::uniform(x1, y1, nx, ny),
+        80.0,
+        PlateMaterial::silicon(DieEdge::Along110),
+    );
+    p.thickness_regions.push(ThicknessRegion {
+        x0_um: 3000.0,
+        y0_um: 2000.0,
+        x1_um: 7000.0,
+        y1_um: 4000.0,
+        thickness_um: 200.0,
+    });
+    p.supports.push(LineSupport {
+        group: "low".into(),
+        kind: SupportKind::Clamped,
+        along: Axis::X,
+        at_um: 0.0,
+        from_um: 0.0,
+        to_um: x1,
+    });
     p
 }
 
@@ -1058,22 +1090,54 @@ fn symmetric_plate(x1: f64, y1: f64, nx: usize, ny: usize) -> PlateProblem {
 fn mirrored_quarter_equals_whole_plate() {
     let (h, c) = (0.5 * std::f64::consts::PI.sqrt() * 600.0, (5000.0, 3000.0));
     let mut whole = symmetric_plate(10_000.0, 6000.0, 20, 12);
-    whole.supports.push(LineSupport { group: "high".into(), kind: SupportKind::Clamped, along: Axis::X, at_um: 6000.0, from_um: 0.0, to_um: 10_000.0 });
-    whole.load_cases.push(vec![Load::Point { x_um: c.0, y_um: c.1, force_n: 1.0, radius_um: 600.0 }]);
+    whole.supports.push(LineSupport {
+        group: "high".into(),
+        kind: SupportKind::Clamped,
+        along: Axis::X,
+        at_um: 6000.0,
+        from_um: 0.0,
+        to_um: 10_000.0,
+    });
+    whole.load_cases.push(vec![Load::Point {
+        x_um: c.0,
+        y_um: c.1,
+        force_n: 1.0,
+        radius_um: 600.0,
+    }]);
     let w = &whole.solve().unwrap()[0];
 
     let mut quarter = symmetric_plate(5000.0, 3000.0, 10, 6);
     for (along, at) in [(Axis::X, 3000.0), (Axis::Y, 5000.0)] {
-        quarter.supports.push(LineSupport { group: "mirror".into(), kind: SupportKind::Symmetry, along, at_um: at, from_um: 0.0, to_um: 10_000.0 });
+        quarter.supports.push(LineSupport {
+            group: "mirror".into(),
+            kind: SupportKind::Symmetry,
+            along,
+            at_um: at,
+            from_um: 0.0,
+            to_um: 10_000.0,
+        });
     }
     let patch = vec![(c.0 - h, c.1 - h), (c.0, c.1 - h), c, (c.0 - h, c.1)];
-    quarter.load_cases.push(vec![Load::Polygon { points_um: patch, total_force_n: 0.25 }]);
+    quarter.load_cases.push(vec![Load::Polygon {
+        points_um: patch,
+        total_force_n: 0.25,
+    }]);
     let q = &quarter.solve().unwrap()[0];
     let half = q.mirrored(Axis::Y, 5000.0, |g| g.to_string());
-    let m = half.mirrored(Axis::X, 3000.0, |g| if g == "low" { "high".into() } else { g.to_string() });
+    let m = half.mirrored(Axis::X, 3000.0, |g| {
+        if g == "low" {
+            "high".into()
+        } else {
+            g.to_string()
+        }
+    });
 
     assert_eq!(m.mesh(), w.mesh());
-    let scale = w.dofs().iter().step_by(4).fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = w
+        .dofs()
+        .iter()
+        .step_by(4)
+        .fold(0.0f64, |a, v| a.max(v.abs()));
     for (k, (a, b)) in m.dofs().iter().zip(w.dofs()).enumerate() {
         // Slopes and twist compared at the scale of w over the element size.
         let s = if k % 4 == 0 { scale } else { scale / 500e-6 };
@@ -1081,21 +1145,40 @@ fn mirrored_quarter_equals_whole_plate() {
     }
     for g in ["low", "high"] {
         let (a, b) = (m.reaction_n(g).unwrap(), w.reaction_n(g).unwrap());
-        assert!((a - b).abs() < 1e-12 && (a - 0.5).abs() < 1e-12, "{g}: {a} vs {b}");
+        assert!(
+            (a - b).abs() < 1e-12 && (a - 0.5).abs() < 1e-12,
+            "{g}: {a} vs {b}"
+        );
     }
     let nodal = |s: &PlateSolution, g: &str| {
-        let mut v: Vec<(f64, f64)> = s.nodal_reactions(g).iter().map(|r| (r.x_um, r.force_n)).collect();
+        let mut v: Vec<(f64, f64)> = s
+            .nodal_reactions(g)
+            .iter()
+            .map(|r| (r.x_um, r.force_n))
+            .collect();
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
         v
     };
     for g in ["low", "high"] {
         let (a, b) = (nodal(&m, g), nodal(w, g));
-        assert_eq!(a.len(), b.len(), "{g}: one reaction per node, the mirror line's counted once");
+        assert_eq!(
+            a.len(),
+            b.len(),
+            "{g}: one reaction per node, the mirror line's counted once"
+        );
         for (x, y) in a.iter().zip(&b) {
-            assert!((x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-12, "{g}: {x:?} vs {y:?}");
+            assert!(
+                (x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-12,
+                "{g}: {x:?} vs {y:?}"
+            );
         }
     }
-    let r = RectUm { x0_um: 1000.0, y0_um: 500.0, x1_um: 8000.0, y1_um: 5500.0 };
+    let r = RectUm {
+        x0_um: 1000.0,
+        y0_um: 500.0,
+        x1_um: 8000.0,
+        y1_um: 5500.0,
+    };
     let (ia, ib) = (m.integrate_bottom_strain(r), w.integrate_bottom_strain(r));
     assert!((ia.0 - ib.0).abs() <= 1e-9 * ib.0.abs() && (ia.1 - ib.1).abs() <= 1e-9 * ib.1.abs());
     assert!((m.max_deflection().w_m - w.max_deflection().w_m).abs() <= 1e-9 * scale);

@@ -16,14 +16,21 @@ pub const GRID_UM: f64 = 1e-3;
 pub fn rect(x0_um: f64, y0_um: f64, x1_um: f64, y1_um: f64) -> Polygon {
     let (xa, xb) = (snap(x0_um.min(x1_um)), snap(x0_um.max(x1_um)));
     let (ya, yb) = (snap(y0_um.min(y1_um)), snap(y0_um.max(y1_um)));
-    Polygon::new(LineString::from(vec![(xa, ya), (xb, ya), (xb, yb), (xa, yb), (xa, ya)]), vec![])
+    Polygon::new(
+        LineString::from(vec![(xa, ya), (xb, ya), (xb, yb), (xa, yb), (xa, ya)]),
+        vec![],
+    )
 }
 
 /// Rounds a coordinate to the 1 nm grid.
 pub fn snap(v_um: f64) -> f64 {
     let r = (v_um / GRID_UM).round() * GRID_UM;
     // Normalise -0.0 so that equal inputs give equal bytes.
-    if r == 0.0 { 0.0 } else { r }
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
 }
 
 /// Union of any polygons (any winding, overlapping or not): disjoint, CCW, hole-free polygons on
@@ -66,7 +73,16 @@ pub fn mirror_x(polys: &[Polygon], axis_um: f64) -> Vec<Polygon> {
     polys
         .iter()
         .map(|p| {
-            let ring: Vec<Coord> = p.exterior().0.iter().rev().map(|c| Coord { x: snap(2.0 * axis_um - c.x), y: c.y }).collect();
+            let ring: Vec<Coord> = p
+                .exterior()
+                .0
+                .iter()
+                .rev()
+                .map(|c| Coord {
+                    x: snap(2.0 * axis_um - c.x),
+                    y: c.y,
+                })
+                .collect();
             Polygon::new(LineString::new(ring), vec![])
         })
         .collect()
@@ -77,7 +93,15 @@ pub fn translate(polys: &[Polygon], dx_um: f64, dy_um: f64) -> Vec<Polygon> {
     polys
         .iter()
         .map(|p| {
-            let ring: Vec<Coord> = p.exterior().0.iter().map(|c| Coord { x: snap(c.x + dx_um), y: snap(c.y + dy_um) }).collect();
+            let ring: Vec<Coord> = p
+                .exterior()
+                .0
+                .iter()
+                .map(|c| Coord {
+                    x: snap(c.x + dx_um),
+                    y: snap(c.y + dy_um),
+                })
+                .collect();
             Polygon::new(LineString::new(ring), vec![])
         })
         .collect()
@@ -105,7 +129,9 @@ fn as_multi_raw(polys: &[Polygon]) -> MultiPolygon {
 fn finish(m: MultiPolygon) -> Vec<Polygon> {
     let mut out = Vec::new();
     for p in m.0 {
-        let Some(ext) = clean_ring(p.exterior()) else { continue };
+        let Some(ext) = clean_ring(p.exterior()) else {
+            continue;
+        };
         let holes: Vec<LineString> = p.interiors().iter().filter_map(clean_ring).collect();
         let p = Polygon::new(ext, holes).orient(Direction::Default);
         for q in open_holes(p) {
@@ -124,7 +150,14 @@ fn key(p: &Polygon) -> (f64, f64, f64) {
 /// Grid-snapped ring with repeated and collinear vertices removed, starting at its lowest-leftmost
 /// vertex, closed; `None` when fewer than 3 vertices remain.
 pub fn clean_ring(ring: &LineString) -> Option<LineString> {
-    let mut pts: Vec<Coord> = ring.0.iter().map(|c| Coord { x: snap(c.x), y: snap(c.y) }).collect();
+    let mut pts: Vec<Coord> = ring
+        .0
+        .iter()
+        .map(|c| Coord {
+            x: snap(c.x),
+            y: snap(c.y),
+        })
+        .collect();
     if pts.len() > 1 && pts.first() == pts.last() {
         pts.pop();
     }
@@ -155,7 +188,11 @@ pub fn clean_ring(ring: &LineString) -> Option<LineString> {
         }
     }
     let start = (0..pts.len())
-        .min_by(|&i, &j| (pts[i].y, pts[i].x).partial_cmp(&(pts[j].y, pts[j].x)).expect("finite"))
+        .min_by(|&i, &j| {
+            (pts[i].y, pts[i].x)
+                .partial_cmp(&(pts[j].y, pts[j].x))
+                .expect("finite")
+        })
         .expect("non-empty");
     pts.rotate_left(start);
     pts.push(pts[0]);
@@ -177,15 +214,29 @@ fn open_holes(p: Polygon) -> Vec<Polygon> {
     let cut = snap((lo + hi) / 2.0);
     let r = p.bounding_rect().expect("non-empty polygon");
     let margin = 1.0;
-    let left = rect(r.min().x - margin, r.min().y - margin, cut, r.max().y + margin);
-    let right = rect(cut, r.min().y - margin, r.max().x + margin, r.max().y + margin);
+    let left = rect(
+        r.min().x - margin,
+        r.min().y - margin,
+        cut,
+        r.max().y + margin,
+    );
+    let right = rect(
+        cut,
+        r.min().y - margin,
+        r.max().x + margin,
+        r.max().y + margin,
+    );
     let mut out = Vec::new();
     for half in [left, right] {
         let piece = p.intersection(&half);
         for q in piece.0 {
-            let Some(ext) = clean_ring(q.exterior()) else { continue };
+            let Some(ext) = clean_ring(q.exterior()) else {
+                continue;
+            };
             let holes: Vec<LineString> = q.interiors().iter().filter_map(clean_ring).collect();
-            out.extend(open_holes(Polygon::new(ext, holes).orient(Direction::Default)));
+            out.extend(open_holes(
+                Polygon::new(ext, holes).orient(Direction::Default),
+            ));
         }
     }
     out
@@ -198,7 +249,11 @@ mod tests {
     /// The geo-booleanop counter-example (layout-conventions.md): geo-booleanop 0.3.2 returns 11.
     #[test]
     fn rectangle_union_counter_example_has_area_21() {
-        let rs = [rect(3.0, 10.0, 4.0, 15.0), rect(3.0, 6.0, 9.0, 7.0), rect(2.0, 3.0, 5.0, 7.0)];
+        let rs = [
+            rect(3.0, 10.0, 4.0, 15.0),
+            rect(3.0, 6.0, 9.0, 7.0),
+            rect(2.0, 3.0, 5.0, 7.0),
+        ];
         let u = union(&rs);
         let a: f64 = u.iter().map(|p| p.unsigned_area()).sum();
         assert!((a - 21.0).abs() < 1e-9, "area {a}");
@@ -210,7 +265,12 @@ mod tests {
 
     #[test]
     fn holes_are_opened_into_touching_pieces() {
-        let frame = [rect(0.0, 0.0, 10.0, 2.0), rect(0.0, 8.0, 10.0, 10.0), rect(0.0, 0.0, 2.0, 10.0), rect(8.0, 0.0, 10.0, 10.0)];
+        let frame = [
+            rect(0.0, 0.0, 10.0, 2.0),
+            rect(0.0, 8.0, 10.0, 10.0),
+            rect(0.0, 0.0, 2.0, 10.0),
+            rect(8.0, 0.0, 10.0, 10.0),
+        ];
         let u = union(&frame);
         assert!(u.iter().all(|p| p.interiors().is_empty()));
         assert!(u.len() >= 2);

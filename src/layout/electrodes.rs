@@ -10,7 +10,12 @@ use super::boolean::{rect, union};
 use super::maskset::Electrode;
 
 /// The islands in die (= film) coordinates, named S11.., M1.., S21.. .
-pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_width_um: f64) -> Vec<Electrode> {
+pub fn islands(
+    e: &Electrodes,
+    die_length_um: f64,
+    die_width_um: f64,
+    support_width_um: f64,
+) -> Vec<Electrode> {
     if e.pattern == ElectrodePattern::FourCross {
         return four_cross(e, die_length_um, die_width_um, support_width_um);
     }
@@ -20,8 +25,16 @@ pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_wi
     let unit_w = (die_length_um - 2.0 * m - f64::from(n - 1) * g) / f64::from(n);
     let rows = [
         ("S1", m, support_width_um - g / 2.0),
-        ("M", support_width_um + g / 2.0, die_width_um - support_width_um - g / 2.0),
-        ("S2", die_width_um - support_width_um + g / 2.0, die_width_um - m),
+        (
+            "M",
+            support_width_um + g / 2.0,
+            die_width_um - support_width_um - g / 2.0,
+        ),
+        (
+            "S2",
+            die_width_um - support_width_um + g / 2.0,
+            die_width_um - m,
+        ),
     ];
     let p = e.wire_pad_um;
     let mut out = Vec::new();
@@ -40,9 +53,17 @@ pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_wi
                 _ => (xc - p / 2.0, *y0),
             };
             let shapes = union(&[rect(x0, *y0, x1, *y1), rect(px, py, px + p, py + p)]);
-            let name = if *prefix == "M" { format!("M{}", k + 1) } else { format!("{prefix}{}", k + 1) };
+            let name = if *prefix == "M" {
+                format!("M{}", k + 1)
+            } else {
+                format!("{prefix}{}", k + 1)
+            };
             for polygon in shapes {
-                out.push(Electrode { name: name.clone(), polygon, pad: [px, py, p] });
+                out.push(Electrode {
+                    name: name.clone(),
+                    polygon,
+                    pad: [px, py, p],
+                });
             }
         }
     }
@@ -53,22 +74,47 @@ pub fn islands(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_wi
 /// C (-x), D (-y). With s the span between the supports: width s / 4, inner end s / 8 + gap from
 /// the centre (so neighbouring corners stay `gap_um` apart in x and y), outer end s / 2 - gap (so
 /// B and D keep `gap_um` from the support edges). The wire pad sits at each island's outer end.
-pub fn four_cross(e: &Electrodes, die_length_um: f64, die_width_um: f64, support_width_um: f64) -> Vec<Electrode> {
+pub fn four_cross(
+    e: &Electrodes,
+    die_length_um: f64,
+    die_width_um: f64,
+    support_width_um: f64,
+) -> Vec<Electrode> {
     let (cx, cy) = (die_length_um / 2.0, die_width_um / 2.0);
     let span = die_width_um - 2.0 * support_width_um;
     let (half_w, r0, r1) = (span / 8.0, span / 8.0 + e.gap_um, span / 2.0 - e.gap_um);
     let p = e.wire_pad_um;
     // (name, island rectangle, pad lower-left)
     let specs = [
-        ("A", (cx + r0, cy - half_w, cx + r1, cy + half_w), (cx + r1 - p, cy - p / 2.0)),
-        ("B", (cx - half_w, cy + r0, cx + half_w, cy + r1), (cx - p / 2.0, cy + r1 - p)),
-        ("C", (cx - r1, cy - half_w, cx - r0, cy + half_w), (cx - r1, cy - p / 2.0)),
-        ("D", (cx - half_w, cy - r1, cx + half_w, cy - r0), (cx - p / 2.0, cy - r1)),
+        (
+            "A",
+            (cx + r0, cy - half_w, cx + r1, cy + half_w),
+            (cx + r1 - p, cy - p / 2.0),
+        ),
+        (
+            "B",
+            (cx - half_w, cy + r0, cx + half_w, cy + r1),
+            (cx - p / 2.0, cy + r1 - p),
+        ),
+        (
+            "C",
+            (cx - r1, cy - half_w, cx - r0, cy + half_w),
+            (cx - r1, cy - p / 2.0),
+        ),
+        (
+            "D",
+            (cx - half_w, cy - r1, cx + half_w, cy - r0),
+            (cx - p / 2.0, cy - r1),
+        ),
     ];
     let mut out = Vec::new();
     for (name, (x0, y0, x1, y1), (px, py)) in specs {
         for polygon in union(&[rect(x0, y0, x1, y1), rect(px, py, px + p, py + p)]) {
-            out.push(Electrode { name: name.to_string(), polygon, pad: [px, py, p] });
+            out.push(Electrode {
+                name: name.to_string(),
+                polygon,
+                pad: [px, py, p],
+            });
         }
     }
     out
@@ -82,20 +128,39 @@ mod tests {
 
     #[test]
     fn four_cross_islands_are_disjoint_symmetric_and_on_the_plate() {
-        let e = Electrodes { pattern: ElectrodePattern::FourCross, units: 1, gap_um: 500.0, edge_margin_um: 250.0, wire_pad_um: 1000.0, drawn_axis: Axis::X };
+        let e = Electrodes {
+            pattern: ElectrodePattern::FourCross,
+            units: 1,
+            gap_um: 500.0,
+            edge_margin_um: 250.0,
+            wire_pad_um: 1000.0,
+            drawn_axis: Axis::X,
+        };
         let v = four_cross(&e, 24_000.0, 22_000.0, 2500.0);
         let names: Vec<&str> = v.iter().map(|i| i.name.as_str()).collect();
         assert_eq!(names, ["A", "B", "C", "D"]);
-        let b: Vec<_> = v.iter().map(|i| i.polygon.bounding_rect().unwrap()).collect();
+        let b: Vec<_> = v
+            .iter()
+            .map(|i| i.polygon.bounding_rect().unwrap())
+            .collect();
         // Span 17 mm: 4.25 mm wide, from 2.625 mm to 8 mm off the centre (12, 11) mm.
         assert!((b[0].min().x - 14_625.0).abs() < 1e-9 && (b[0].max().x - 20_000.0).abs() < 1e-9);
-        assert!((b[1].max().y - 19_000.0).abs() < 1e-9 && b[1].max().y <= 22_000.0 - 2500.0 - 250.0);
+        assert!(
+            (b[1].max().y - 19_000.0).abs() < 1e-9 && b[1].max().y <= 22_000.0 - 2500.0 - 250.0
+        );
         // A and C, B and D mirror about the centre; all four have the same area (pad inside).
         assert!((b[0].min().x + b[2].max().x - 24_000.0).abs() < 1e-9);
         assert!((b[1].min().y + b[3].max().y - 22_000.0).abs() < 1e-9);
         let a0 = v[0].polygon.unsigned_area();
-        assert!(v.iter().all(|i| (i.polygon.unsigned_area() - a0).abs() < 1e-6) && (a0 - 4250.0 * 5375.0).abs() < 1e-6);
+        assert!(
+            v.iter()
+                .all(|i| (i.polygon.unsigned_area() - a0).abs() < 1e-6)
+                && (a0 - 4250.0 * 5375.0).abs() < 1e-6
+        );
         // Neighbouring corners (A and B) keep the gap in both x and y.
-        assert!(b[0].min().x - b[1].max().x >= 500.0 - 1e-9 && b[1].min().y - b[0].max().y >= 500.0 - 1e-9);
+        assert!(
+            b[0].min().x - b[1].max().x >= 500.0 - 1e-9
+                && b[1].min().y - b[0].max().y >= 500.0 - 1e-9
+        );
     }
 }

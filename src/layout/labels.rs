@@ -25,9 +25,19 @@ pub fn find_spot(
     }
     for j in 0..=(ny as i64) {
         for i in 0..=(nx as i64) {
-            let (x, y) = (clearance_um + i as f64 * step, clearance_um + j as f64 * step);
-            let (x0, y0, x1, y1) = (x - clearance_um, y - clearance_um, x + w + clearance_um, y + h + clearance_um);
-            let free = boxes.iter().all(|b| b.max().x <= x0 || b.min().x >= x1 || b.max().y <= y0 || b.min().y >= y1);
+            let (x, y) = (
+                clearance_um + i as f64 * step,
+                clearance_um + j as f64 * step,
+            );
+            let (x0, y0, x1, y1) = (
+                x - clearance_um,
+                y - clearance_um,
+                x + w + clearance_um,
+                y + h + clearance_um,
+            );
+            let free = boxes
+                .iter()
+                .all(|b| b.max().x <= x0 || b.min().x >= x1 || b.max().y <= y0 || b.min().y >= y1);
             if free {
                 return Some((x, y));
             }

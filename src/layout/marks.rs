@@ -20,7 +20,10 @@ pub const MARK_KEEPOUT_HALF_UM: f64 = 1000.0;
 pub fn mark(kind: MarkKind, x_um: f64, y_um: f64) -> Vec<Polygon> {
     let arm = 600.0;
     let bar = 30.0;
-    let mut s = vec![rect(x_um - arm, y_um - bar, x_um + arm, y_um + bar), rect(x_um - bar, y_um - arm, x_um + bar, y_um + arm)];
+    let mut s = vec![
+        rect(x_um - arm, y_um - bar, x_um + arm, y_um + bar),
+        rect(x_um - bar, y_um - arm, x_um + bar, y_um + arm),
+    ];
     let (pitch, band) = match kind {
         MarkKind::Front => (50.0, (-800.0, -700.0)),
         MarkKind::Back => (52.0, (-700.0, -600.0)),
@@ -30,10 +33,24 @@ pub fn mark(kind: MarkKind, x_um: f64, y_um: f64) -> Vec<Polygon> {
         let off = f64::from(k) * pitch;
         let ext = if k == 0 { 40.0 } else { 0.0 };
         // Horizontal scale below the cross, ticks vertical.
-        let (lo, hi) = if kind == MarkKind::Front { (band.0 - ext, band.1) } else { (band.0, band.1 + ext) };
-        s.push(rect(x_um + off - tick / 2.0, y_um + lo, x_um + off + tick / 2.0, y_um + hi));
+        let (lo, hi) = if kind == MarkKind::Front {
+            (band.0 - ext, band.1)
+        } else {
+            (band.0, band.1 + ext)
+        };
+        s.push(rect(
+            x_um + off - tick / 2.0,
+            y_um + lo,
+            x_um + off + tick / 2.0,
+            y_um + hi,
+        ));
         // Vertical scale left of the cross, ticks horizontal.
-        s.push(rect(x_um + lo, y_um + off - tick / 2.0, x_um + hi, y_um + off + tick / 2.0));
+        s.push(rect(
+            x_um + lo,
+            y_um + off - tick / 2.0,
+            x_um + hi,
+            y_um + off + tick / 2.0,
+        ));
     }
     union(&s)
 }

@@ -23,8 +23,14 @@ pub enum LayerKind {
 }
 
 impl LayerKind {
-    pub const ALL: [LayerKind; 6] =
-        [LayerKind::FrontSi, LayerKind::BackSi, LayerKind::Pvdf, LayerKind::Marks, LayerKind::Annotation, LayerKind::Outline];
+    pub const ALL: [LayerKind; 6] = [
+        LayerKind::FrontSi,
+        LayerKind::BackSi,
+        LayerKind::Pvdf,
+        LayerKind::Marks,
+        LayerKind::Annotation,
+        LayerKind::Outline,
+    ];
 
     /// Logical layer name (lyp, SVG group id, reports).
     pub fn name(self) -> &'static str {
@@ -41,18 +47,33 @@ impl LayerKind {
     /// What the drawn shapes mean.
     pub fn meaning(self) -> &'static str {
         match self {
-            LayerKind::FrontSi => "front Si kept (teeth tops + compensation), label, front alignment marks",
-            LayerKind::BackSi => "back Si kept (supports; the U-channel between them is etched), label, back alignment marks",
-            LayerKind::Pvdf => "Al kept on the PVDF film (nine islands with wire pads), label, marks",
-            LayerKind::Marks => "reference copy of all alignment marks (front and back overlaid); does not print by itself",
+            LayerKind::FrontSi => {
+                "front Si kept (teeth tops + compensation), label, front alignment marks"
+            }
+            LayerKind::BackSi => {
+                "back Si kept (supports; the U-channel between them is etched), label, back \
+                 alignment marks"
+            }
+            LayerKind::Pvdf => {
+                "Al kept on the PVDF film (nine islands with wire pads), label, marks"
+            }
+            LayerKind::Marks => {
+                "reference copy of all alignment marks (front and back overlaid); does not print \
+                 by itself"
+            }
             LayerKind::Annotation => "non-printing notes (GDS TEXT)",
-            LayerKind::Outline => "die outline; dicing streets lie between outlines; does not print",
+            LayerKind::Outline => {
+                "die outline; dicing streets lie between outlines; does not print"
+            }
         }
     }
 
     /// Whether a mask is made from this layer.
     pub fn printing(self) -> bool {
-        matches!(self, LayerKind::FrontSi | LayerKind::BackSi | LayerKind::Pvdf)
+        matches!(
+            self,
+            LayerKind::FrontSi | LayerKind::BackSi | LayerKind::Pvdf
+        )
     }
 
     /// The GDS layer/datatype from the process file's layer map.
@@ -102,14 +123,25 @@ pub struct Placement {
 
 impl Placement {
     pub fn single(cell: &str, x_um: f64, y_um: f64) -> Self {
-        Placement { cell: cell.to_string(), x_um, y_um, cols: 1, rows: 1, pitch_x_um: 0.0, pitch_y_um: 0.0 }
+        Placement {
+            cell: cell.to_string(),
+            x_um,
+            y_um,
+            cols: 1,
+            rows: 1,
+            pitch_x_um: 0.0,
+            pitch_y_um: 0.0,
+        }
     }
     /// Origins of every instance.
     pub fn origins(&self) -> Vec<Coord> {
         let mut out = Vec::new();
         for r in 0..self.rows {
             for c in 0..self.cols {
-                out.push(Coord { x: self.x_um + f64::from(c) * self.pitch_x_um, y: self.y_um + f64::from(r) * self.pitch_y_um });
+                out.push(Coord {
+                    x: self.x_um + f64::from(c) * self.pitch_x_um,
+                    y: self.y_um + f64::from(r) * self.pitch_y_um,
+                });
             }
         }
         out
@@ -133,7 +165,11 @@ impl Cell {
         self.shapes.entry(layer).or_default().extend(polys);
     }
     pub fn note(&mut self, text: impl Into<String>, x_um: f64, y_um: f64) {
-        self.notes.push(Note { text: text.into(), x_um, y_um });
+        self.notes.push(Note {
+            text: text.into(),
+            x_um,
+            y_um,
+        });
     }
 }
 
@@ -210,7 +246,10 @@ impl MaskSet {
     /// Every polygon of `layer` in `cell` and below it, in the cell's coordinates.
     #[track_caller]
     pub fn flatten(&self, cell: &str, layer: LayerKind) -> Vec<Polygon> {
-        let c = self.cells.get(cell).unwrap_or_else(|| panic!("no cell `{cell}` in the mask set"));
+        let c = self
+            .cells
+            .get(cell)
+            .unwrap_or_else(|| panic!("no cell `{cell}` in the mask set"));
         let mut out = c.shapes.get(&layer).cloned().unwrap_or_default();
         for p in &c.placements {
             let inner = self.flatten(&p.cell, layer);
@@ -244,7 +283,13 @@ impl MaskSet {
         out.push_str("layers (the drawn shape is what remains on the wafer or film):\n");
         for k in LayerKind::ALL {
             let g = k.gds(&self.layers);
-            out.push_str(&format!("  {:>2}/{:<2} {:<12} {}\n", g.layer, g.datatype, k.name(), k.meaning()));
+            out.push_str(&format!(
+                "  {:>2}/{:<2} {:<12} {}\n",
+                g.layer,
+                g.datatype,
+                k.name(),
+                k.meaning()
+            ));
         }
         out.push_str("masks:\n");
         for m in &self.masks {
@@ -263,15 +308,21 @@ impl MaskSet {
             ));
             if m.mirrored {
                 out.push_str(&format!(
-                    "             MIRRORED for the shop (x -> {} - x per die): `{}-{}.svg` is mirrored; GDS layer {}/{} is drawn unmirrored in die coordinates, the shop must mirror it\n",
+                    "             MIRRORED for the shop (x -> {} - x per die): `{}-{}.svg` is \
+                     mirrored; GDS layer {}/{} is drawn unmirrored in die coordinates, the shop \
+                     must mirror it\n",
                     self.die_length_um, self.device, m.name, m.gds.layer, m.gds.datatype
                 ));
             } else {
-                out.push_str(&format!("             not mirrored: `{}-{}.svg` and GDS layer {}/{} read as drawn\n", self.device, m.name, m.gds.layer, m.gds.datatype));
+                out.push_str(&format!(
+                    "             not mirrored: `{}-{}.svg` and GDS layer {}/{} read as drawn\n",
+                    self.device, m.name, m.gds.layer, m.gds.datatype
+                ));
             }
         }
         out.push_str(&format!(
-            "cells: {} (tooth), {} (die {} x {} mm), {} (wafer {} mm, {} dies at pitch {} x {} um, edge exclusion {} mm)\n",
+            "cells: {} (tooth), {} (die {} x {} mm), {} (wafer {} mm, {} dies at pitch {} x {} \
+             um, edge exclusion {} mm)\n",
             self.tooth_cell.as_deref().unwrap_or("-"),
             self.die_cell,
             self.die_length_um / 1000.0,
@@ -301,6 +352,12 @@ impl MaskSet {
         let name = format!("{}_FLAT", self.wafer_cell);
         let mut cells = BTreeMap::new();
         cells.insert(name.clone(), cell);
-        MaskSet { cells, tooth_cell: None, die_cell: name.clone(), wafer_cell: name, ..self.clone() }
+        MaskSet {
+            cells,
+            tooth_cell: None,
+            die_cell: name.clone(),
+            wafer_cell: name,
+            ..self.clone()
+        }
     }
 }

@@ -13,8 +13,18 @@ mod tests {
     use crate::process::CompensationGeometry;
 
     fn rects() -> impl Strategy<Value = Vec<Polygon>> {
-        prop::collection::vec((0i32..60, 0i32..60, 1i32..25, 1i32..25), 1..25)
-            .prop_map(|v| v.into_iter().map(|(x, y, w, h)| rect(f64::from(x), f64::from(y), f64::from(x + w), f64::from(y + h))).collect())
+        prop::collection::vec((0i32..60, 0i32..60, 1i32..25, 1i32..25), 1..25).prop_map(|v| {
+            v.into_iter()
+                .map(|(x, y, w, h)| {
+                    rect(
+                        f64::from(x),
+                        f64::from(y),
+                        f64::from(x + w),
+                        f64::from(y + h),
+                    )
+                })
+                .collect()
+        })
     }
 
     proptest! {
@@ -53,7 +63,7 @@ mod tests {
             let (a, b) = (union(&rs), union(&shuffled));
             prop_assert!((area_um2(&a) - area_um2(&b)).abs() < 1e-6);
             prop_assert!(xor_area_um2(&a, &b) < 1e-6);
-            let sum: f64 = a.iter().map(|p| geo::Area::unsigned_area(p)).sum();
+            let sum: f64 = a.iter().map(geo::Area::unsigned_area).sum();
             prop_assert!((sum - area_um2(&rs)).abs() < 1e-6, "pieces overlap: {} vs {}", sum, area_um2(&rs));
         }
 

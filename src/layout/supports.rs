@@ -9,6 +9,11 @@ use super::boolean::rect;
 pub fn supports(die_length_um: f64, die_width_um: f64, support_width_um: f64) -> Vec<Polygon> {
     vec![
         rect(0.0, 0.0, die_length_um, support_width_um),
-        rect(0.0, die_width_um - support_width_um, die_length_um, die_width_um),
+        rect(
+            0.0,
+            die_width_um - support_width_um,
+            die_length_um,
+            die_width_um,
+        ),
     ]
 }

@@ -12,7 +12,7 @@ use super::maskset::Tooth;
 /// Cells that carry a tooth: checkered = even i + j, matrix = all, none = no cell.
 pub fn has_tooth(pattern: TeethPattern, i: u32, j: u32) -> bool {
     match pattern {
-        TeethPattern::Checkered => (i + j) % 2 == 0,
+        TeethPattern::Checkered => (i + j).is_multiple_of(2),
         TeethPattern::Matrix => true,
         TeethPattern::None => false,
     }
@@ -27,8 +27,12 @@ pub fn teeth(t: &Teeth) -> Vec<Tooth> {
                 out.push(Tooth {
                     i,
                     j,
-                    x_um: t.origin_x_um + f64::from(i) * t.pitch_x_um + (t.pitch_x_um - t.top_um) / 2.0,
-                    y_um: t.origin_y_um + f64::from(j) * t.pitch_y_um + (t.pitch_y_um - t.top_um) / 2.0,
+                    x_um: t.origin_x_um
+                        + f64::from(i) * t.pitch_x_um
+                        + (t.pitch_x_um - t.top_um) / 2.0,
+                    y_um: t.origin_y_um
+                        + f64::from(j) * t.pitch_y_um
+                        + (t.pitch_y_um - t.top_um) / 2.0,
                 });
             }
         }
@@ -43,7 +47,12 @@ pub fn teeth(t: &Teeth) -> Vec<Tooth> {
 /// vertex would be a self-touching ring). Centred: side from the plan, centred on the corner.
 pub fn compensators(top_um: f64, c: &CompensationDesign, overlap_um: f64) -> Vec<Polygon> {
     let mut out = Vec::new();
-    for (cx, cy, sx, sy) in [(0.0, 0.0, -1.0, -1.0), (top_um, 0.0, 1.0, -1.0), (top_um, top_um, 1.0, 1.0), (0.0, top_um, -1.0, 1.0)] {
+    for (cx, cy, sx, sy) in [
+        (0.0, 0.0, -1.0, -1.0),
+        (top_um, 0.0, 1.0, -1.0),
+        (top_um, top_um, 1.0, 1.0),
+        (0.0, top_um, -1.0, 1.0),
+    ] {
         let sq = match c.kind {
             CompensationGeometry::CornerAttached => {
                 let (x0, y0) = (cx - sx * overlap_um, cy - sy * overlap_um);
@@ -81,7 +90,11 @@ mod tests {
         assert_eq!(t.len(), 1);
         let a = c.side_um;
         let expected = 2000.0 * 2000.0 + 4.0 * (a * a - 100.0);
-        assert!((t[0].unsigned_area() - expected).abs() < 1.0, "{} vs {expected}", t[0].unsigned_area());
+        assert!(
+            (t[0].unsigned_area() - expected).abs() < 1.0,
+            "{} vs {expected}",
+            t[0].unsigned_area()
+        );
     }
 
     #[test]
@@ -98,7 +111,21 @@ mod tests {
             origin_y_um: 0.0,
         };
         assert_eq!(teeth(&t).len(), 25);
-        assert_eq!(teeth(&Teeth { pattern: TeethPattern::Matrix, ..t.clone() }).len(), 50);
-        assert_eq!(teeth(&Teeth { pattern: TeethPattern::None, ..t }).len(), 0);
+        assert_eq!(
+            teeth(&Teeth {
+                pattern: TeethPattern::Matrix,
+                ..t.clone()
+            })
+            .len(),
+            50
+        );
+        assert_eq!(
+            teeth(&Teeth {
+                pattern: TeethPattern::None,
+                ..t
+            })
+            .len(),
+            0
+        );
     }
 }

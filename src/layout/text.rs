@@ -8,15 +8,26 @@ use super::font::pixels;
 /// Size of a line of `n` characters: 6 pixels per character (5 + 1 spacing) less the last
 /// spacing, 7 pixels high.
 pub fn line_size_um(n: usize, pixel_um: f64) -> (f64, f64) {
-    let w = if n == 0 { 0.0 } else { (6 * n - 1) as f64 * pixel_um };
+    let w = if n == 0 {
+        0.0
+    } else {
+        (6 * n - 1) as f64 * pixel_um
+    };
     (w, 7.0 * pixel_um)
 }
 
 /// Size of a block of lines, 3 pixels of leading between lines.
 pub fn block_size_um(lines: &[String], pixel_um: f64) -> (f64, f64) {
-    let w = lines.iter().map(|l| line_size_um(l.chars().count(), pixel_um).0).fold(0.0, f64::max);
+    let w = lines
+        .iter()
+        .map(|l| line_size_um(l.chars().count(), pixel_um).0)
+        .fold(0.0, f64::max);
     let n = lines.len();
-    let h = if n == 0 { 0.0 } else { (7 * n + 3 * (n - 1)) as f64 * pixel_um };
+    let h = if n == 0 {
+        0.0
+    } else {
+        (7 * n + 3 * (n - 1)) as f64 * pixel_um
+    };
     (w, h)
 }
 
@@ -40,5 +51,14 @@ pub fn text_polygons(lines: &[String], x_um: f64, y_um: f64, pixel_um: f64) -> V
 
 /// Upper-cases and replaces characters the font lacks with `-`.
 pub fn printable(s: &str) -> String {
-    s.to_uppercase().chars().map(|c| if super::font::glyph(c).is_some() { c } else { '-' }).collect()
+    s.to_uppercase()
+        .chars()
+        .map(|c| {
+            if super::font::glyph(c).is_some() {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
 }

@@ -13,9 +13,16 @@ pub struct Stepping {
     pub mark_sites: [Coord; 2],
 }
 
-/// Dies of `length x width` at pitch (length + street, width + street) whose four corners lie within
-/// the usable radius, keeping two square keep-outs of half-side `keepout_um` on the x axis free.
-pub fn step(length_um: f64, width_um: f64, street_um: f64, usable_radius_um: f64, keepout_um: f64) -> Stepping {
+/// Dies of `length x width` at pitch (length + street, width + street) whose four corners lie
+/// within the usable radius, keeping two square keep-outs of half-side `keepout_um` on the x axis
+/// free.
+pub fn step(
+    length_um: f64,
+    width_um: f64,
+    street_um: f64,
+    usable_radius_um: f64,
+    keepout_um: f64,
+) -> Stepping {
     let (px, py) = (length_um + street_um, width_um + street_um);
     let inside = |x: f64, y: f64| x * x + y * y <= usable_radius_um * usable_radius_um;
     let grid = |ox: f64, oy: f64| -> Vec<Coord> {
@@ -48,14 +55,22 @@ pub fn step(length_um: f64, width_um: f64, street_um: f64, usable_radius_um: f64
     let mut origins = best.unwrap_or_default();
     // Mark sites: as far out on the x axis as the usable circle allows; dies in the way give way.
     let k = keepout_um;
-    let xm = ((usable_radius_um - k) * (usable_radius_um - k) - k * k).max(0.0).sqrt() - k;
+    let xm = ((usable_radius_um - k) * (usable_radius_um - k) - k * k)
+        .max(0.0)
+        .sqrt()
+        - k;
     let xm = xm.max(0.0);
     let hits = |o: &Coord| -> bool {
-        [xm, -xm].iter().any(|&c| o.x < c + k && o.x + length_um > c - k && o.y < k && o.y + width_um > -k)
+        [xm, -xm]
+            .iter()
+            .any(|&c| o.x < c + k && o.x + length_um > c - k && o.y < k && o.y + width_um > -k)
     };
     origins.retain(|o| !hits(o));
     origins.sort_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).expect("finite"));
-    Stepping { origins, mark_sites: [Coord { x: -xm, y: 0.0 }, Coord { x: xm, y: 0.0 }] }
+    Stepping {
+        origins,
+        mark_sites: [Coord { x: -xm, y: 0.0 }, Coord { x: xm, y: 0.0 }],
+    }
 }
 
 /// Contiguous runs of dies in each row as single-row array references.
@@ -64,12 +79,23 @@ pub fn arrays(cell: &str, origins: &[Coord], pitch_x_um: f64, pitch_y_um: f64) -
     for o in origins {
         if let Some(last) = out.last_mut() {
             let next_x = last.x_um + f64::from(last.cols) * pitch_x_um;
-            if (last.y_um - o.y).abs() < 1e-6 && (next_x - o.x).abs() < 1e-6 && last.cols < i16::MAX as u16 {
+            if (last.y_um - o.y).abs() < 1e-6
+                && (next_x - o.x).abs() < 1e-6
+                && last.cols < i16::MAX as u16
+            {
                 last.cols += 1;
                 continue;
             }
         }
-        out.push(Placement { cell: cell.to_string(), x_um: o.x, y_um: o.y, cols: 1, rows: 1, pitch_x_um, pitch_y_um });
+        out.push(Placement {
+            cell: cell.to_string(),
+            x_um: o.x,
+            y_um: o.y,
+            cols: 1,
+            rows: 1,
+            pitch_x_um,
+            pitch_y_um,
+        });
     }
     out
 }
@@ -83,7 +109,12 @@ mod tests {
         let s = step(30000.0, 15000.0, 300.0, 47000.0, 1000.0);
         assert!(!s.origins.is_empty());
         for o in &s.origins {
-            for (x, y) in [(o.x, o.y), (o.x + 30000.0, o.y + 15000.0), (o.x, o.y + 15000.0), (o.x + 30000.0, o.y)] {
+            for (x, y) in [
+                (o.x, o.y),
+                (o.x + 30000.0, o.y + 15000.0),
+                (o.x, o.y + 15000.0),
+                (o.x + 30000.0, o.y),
+            ] {
                 assert!(x * x + y * y <= 47000.0f64.powi(2) + 1e-6);
             }
         }

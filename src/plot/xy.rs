@@ -11,10 +11,16 @@ pub struct Axis {
 
 impl Axis {
     pub fn linear(label: impl Into<String>) -> Self {
-        Axis { label: label.into(), log: false }
+        Axis {
+            label: label.into(),
+            log: false,
+        }
     }
     pub fn log(label: impl Into<String>) -> Self {
-        Axis { label: label.into(), log: true }
+        Axis {
+            label: label.into(),
+            log: true,
+        }
     }
 }
 
@@ -77,17 +83,38 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 
 /// The corner whose legend box (`box_w` x `box_h`, fractions of the plot area) covers the fewest
 /// data points, so the legend hides as little as it can.
-fn emptiest_corner<'a>(points: impl Iterator<Item = &'a (f64, f64)>, x: (f64, f64, bool), y: (f64, f64, bool), box_w: f64, box_h: f64) -> SeriesLabelPosition {
-    let unit = |v: f64, (lo, hi, log): (f64, f64, bool)| if log { (v / lo).ln() / (hi / lo).ln() } else { (v - lo) / (hi - lo) };
+fn emptiest_corner<'a>(
+    points: impl Iterator<Item = &'a (f64, f64)>,
+    x: (f64, f64, bool),
+    y: (f64, f64, bool),
+    box_w: f64,
+    box_h: f64,
+) -> SeriesLabelPosition {
+    let unit = |v: f64, (lo, hi, log): (f64, f64, bool)| {
+        if log {
+            (v / lo).ln() / (hi / lo).ln()
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
     // upper right, upper left, lower right, lower left
     let mut count = [0usize; 4];
     for (u, v) in points.map(|p| (unit(p.0, x), unit(p.1, y))) {
-        let (right, left, upper, lower) = (u >= 1.0 - box_w, u <= box_w, v >= 1.0 - box_h, v <= box_h);
-        for (i, inside) in [right && upper, left && upper, right && lower, left && lower].into_iter().enumerate() {
+        let (right, left, upper, lower) =
+            (u >= 1.0 - box_w, u <= box_w, v >= 1.0 - box_h, v <= box_h);
+        for (i, inside) in [right && upper, left && upper, right && lower, left && lower]
+            .into_iter()
+            .enumerate()
+        {
             count[i] += inside as usize;
         }
     }
-    let corners = [SeriesLabelPosition::UpperRight, SeriesLabelPosition::UpperLeft, SeriesLabelPosition::LowerRight, SeriesLabelPosition::LowerLeft];
+    let corners = [
+        SeriesLabelPosition::UpperRight,
+        SeriesLabelPosition::UpperLeft,
+        SeriesLabelPosition::LowerRight,
+        SeriesLabelPosition::LowerLeft,
+    ];
     let best = (0..4).min_by_key(|&i| count[i]).unwrap_or(0);
     corners[best].clone()
 }
@@ -103,13 +130,26 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
         // Errors from the SVG backend writing to a String cannot happen; keep going regardless.
         let _ = root.fill(&WHITE);
         let drawable = |p: &(f64, f64)| {
-            p.0.is_finite() && p.1.is_finite() && (!plot.x.log || p.0 > 0.0) && (!plot.y.log || p.1 > 0.0)
+            p.0.is_finite()
+                && p.1.is_finite()
+                && (!plot.x.log || p.0 > 0.0)
+                && (!plot.y.log || p.1 > 0.0)
         };
-        let all = || plot.series.iter().flat_map(|s| s.points.iter()).filter(|p| drawable(p));
+        let all = || {
+            plot.series
+                .iter()
+                .flat_map(|s| s.points.iter())
+                .filter(|p| drawable(p))
+        };
         let (x0, x1) = range(all().map(|p| p.0), plot.x.log);
         let (y0, y1) = range(all().map(|p| p.1), plot.y.log);
         // Legend box size as plotters lays it out (about 6 px per character, 15 px per row).
-        let longest = plot.series.iter().map(|s| s.name.chars().count()).max().unwrap_or(0) as f64;
+        let longest = plot
+            .series
+            .iter()
+            .map(|s| s.name.chars().count())
+            .max()
+            .unwrap_or(0) as f64;
         let box_w = ((longest * 6.5 + 60.0) / (width as f64 - 76.0)).min(1.0);
         let box_h = ((plot.series.len() as f64 * 15.0 + 15.0) / (height as f64 - 80.0)).min(1.0);
         // Lines count too: a few points along every drawn segment.
@@ -117,33 +157,63 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
         for s in plot.series.iter().filter(|s| s.style != Style::Markers) {
             let pts: Vec<&(f64, f64)> = s.points.iter().filter(|p| drawable(p)).collect();
             for w in pts.windows(2) {
-                let lerp = |a: f64, b: f64, t: f64, log: bool| if log { a * (b / a).powf(t) } else { a + (b - a) * t };
+                let lerp = |a: f64, b: f64, t: f64, log: bool| {
+                    if log {
+                        a * (b / a).powf(t)
+                    } else {
+                        a + (b - a) * t
+                    }
+                };
                 samples.extend((1..8).map(|k| {
                     let t = k as f64 / 8.0;
-                    (lerp(w[0].0, w[1].0, t, plot.x.log), lerp(w[0].1, w[1].1, t, plot.y.log))
+                    (
+                        lerp(w[0].0, w[1].0, t, plot.x.log),
+                        lerp(w[0].1, w[1].1, t, plot.y.log),
+                    )
                 }));
             }
         }
-        let legend_corner = emptiest_corner(samples.iter(), (x0, x1, plot.x.log), (y0, y1, plot.y.log), box_w, box_h);
+        let legend_corner = emptiest_corner(
+            samples.iter(),
+            (x0, x1, plot.x.log),
+            (y0, y1, plot.y.log),
+            box_w,
+            box_h,
+        );
         let mut builder = ChartBuilder::on(&root);
-        builder.caption(&plot.title, ("sans-serif", 18)).margin(12).x_label_area_size(42).y_label_area_size(64);
+        builder
+            .caption(&plot.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(42)
+            .y_label_area_size(64);
         macro_rules! draw {
             ($chart:expr) => {{
                 let mut chart = $chart;
-                let _ = chart.configure_mesh().x_desc(&plot.x.label).y_desc(&plot.y.label).draw();
+                let _ = chart
+                    .configure_mesh()
+                    .x_desc(&plot.x.label)
+                    .y_desc(&plot.y.label)
+                    .draw();
                 for (i, s) in plot.series.iter().enumerate() {
                     let colour = PALETTE[i % PALETTE.len()];
-                    let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| drawable(p)).collect();
+                    let pts: Vec<(f64, f64)> =
+                        s.points.iter().copied().filter(|p| drawable(p)).collect();
                     if matches!(s.style, Style::Line | Style::LineAndMarkers) {
-                        if let Ok(a) = chart.draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2))) {
-                            a.label(&s.name).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+                        if let Ok(a) =
+                            chart.draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
+                        {
+                            a.label(&s.name).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                            });
                         }
                     }
                     if matches!(s.style, Style::Markers | Style::LineAndMarkers) {
                         let marks = pts.iter().map(|&p| Circle::new(p, 3, colour.filled()));
                         if let Ok(a) = chart.draw_series(marks) {
                             if s.style == Style::Markers {
-                                a.label(&s.name).legend(move |(x, y)| Circle::new((x + 9, y), 3, colour.filled()));
+                                a.label(&s.name).legend(move |(x, y)| {
+                                    Circle::new((x + 9, y), 3, colour.filled())
+                                });
                             }
                         }
                     }
@@ -175,7 +245,9 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                 }
             }
             (true, true) => {
-                if let Ok(c) = builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()) {
+                if let Ok(c) =
+                    builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                {
                     draw!(c)
                 }
             }
@@ -195,8 +267,16 @@ mod tests {
             x: Axis::log("dofs"),
             y: Axis::log("estimated error"),
             series: vec![
-                Series { name: "sensor".into(), points: vec![(1e3, 1e-2), (4e3, 3e-3), (1.6e4, 8e-4)], style: Style::LineAndMarkers },
-                Series { name: "skip".into(), points: vec![(f64::NAN, 1.0), (10.0, 0.0)], style: Style::Markers },
+                Series {
+                    name: "sensor".into(),
+                    points: vec![(1e3, 1e-2), (4e3, 3e-3), (1.6e4, 8e-4)],
+                    style: Style::LineAndMarkers,
+                },
+                Series {
+                    name: "skip".into(),
+                    points: vec![(f64::NAN, 1.0), (10.0, 0.0)],
+                    style: Style::Markers,
+                },
             ],
         }
     }

@@ -59,13 +59,25 @@ pub fn deserialize_all<T: DeserializeOwned>(
             };
             let full = path::join(base, &path::format(&with_key(parent, &field)));
             if !is_suppressed(&full) {
-                let allowed = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
-                let names: Vec<String> = allowed.split('`').skip(1).step_by(2).map(str::to_string).collect();
+                let allowed = msg
+                    .split_once(", expected ")
+                    .map(|(_, e)| e.to_string())
+                    .unwrap_or_default();
+                let names: Vec<String> = allowed
+                    .split('`')
+                    .skip(1)
+                    .step_by(2)
+                    .map(str::to_string)
+                    .collect();
                 problems.push(RawProblem {
                     path: full,
                     key_of_parent: Some((path::join(base, &path::format(parent)), field.clone())),
                     message: format!("unknown field `{field}`{}", did_you_mean(&field, &names)),
-                    expected: if allowed.is_empty() { "no fields here".into() } else { allowed },
+                    expected: if allowed.is_empty() {
+                        "no fields here".into()
+                    } else {
+                        allowed
+                    },
                 });
             }
             match path::get_mut(&mut value, parent) {
@@ -80,7 +92,11 @@ pub fn deserialize_all<T: DeserializeOwned>(
             let here = with_key(&segs, &field);
             let full = path::join(base, &path::format(&here));
             if !is_suppressed(&full) {
-                problems.push(raw(full.clone(), format!("missing field `{field}`"), "it to be present".into()));
+                problems.push(raw(
+                    full.clone(),
+                    format!("missing field `{field}`"),
+                    "it to be present".into(),
+                ));
             }
             suppressed.push(full);
             match path::get_mut(&mut value, &segs) {
@@ -93,12 +109,29 @@ pub fn deserialize_all<T: DeserializeOwned>(
         }
         // Wrong type or value at `rel`.
         let full = path::join(base, &rel);
-        let expected = msg.split_once(", expected ").map(|(_, e)| e.to_string()).unwrap_or_default();
+        let expected = msg
+            .split_once(", expected ")
+            .map(|(_, e)| e.to_string())
+            .unwrap_or_default();
         if !is_suppressed(&full) {
-            let what = msg.split_once(", expected ").map(|(w, _)| w.to_string()).unwrap_or(msg.clone());
-            let variants: Vec<String> = expected.split('`').skip(1).step_by(2).map(str::to_string).collect();
-            let hint = between(&what, "unknown variant `", "`").map(|v| did_you_mean(&v, &variants)).unwrap_or_default();
-            problems.push(raw(full.clone(), format!("{what}{hint}"), readable(&expected)));
+            let what = msg
+                .split_once(", expected ")
+                .map(|(w, _)| w.to_string())
+                .unwrap_or(msg.clone());
+            let variants: Vec<String> = expected
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .map(str::to_string)
+                .collect();
+            let hint = between(&what, "unknown variant `", "`")
+                .map(|v| did_you_mean(&v, &variants))
+                .unwrap_or_default();
+            problems.push(raw(
+                full.clone(),
+                format!("{what}{hint}"),
+                readable(&expected),
+            ));
         }
         suppressed.push(full);
         let slot = path::get_mut(&mut value, &segs)?;
@@ -128,7 +161,9 @@ fn edit_distance(a: &str, b: &str) -> usize {
     for (i, ca) in a.chars().enumerate() {
         let mut cur = vec![i + 1; b.len() + 1];
         for (j, cb) in b.iter().enumerate() {
-            cur[j + 1] = (prev[j] + usize::from(ca != *cb)).min(prev[j + 1] + 1).min(cur[j] + 1);
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
         }
         prev = cur;
     }
@@ -147,7 +182,12 @@ fn readable(expected: &str) -> String {
 }
 
 fn raw(path: String, message: String, expected: String) -> RawProblem {
-    RawProblem { path, key_of_parent: None, message, expected }
+    RawProblem {
+        path,
+        key_of_parent: None,
+        message,
+        expected,
+    }
 }
 
 fn with_key(segs: &[Seg], key: &str) -> Vec<Seg> {
@@ -175,7 +215,14 @@ fn placeholder(expected: &str, current: &Value) -> Option<Value> {
     if e.contains("f64") || e.contains("f32") || e.contains("number") {
         return Some(Value::Number(f64::NAN.into()));
     }
-    if e.contains("u32") || e.contains("u16") || e.contains("usize") || e.contains("i64") || e.contains("u64") || e.contains("i32") || e.contains("integer") {
+    if e.contains("u32")
+        || e.contains("u16")
+        || e.contains("usize")
+        || e.contains("i64")
+        || e.contains("u64")
+        || e.contains("i32")
+        || e.contains("integer")
+    {
         return Some(Value::Number(0.into()));
     }
     if e.contains("string") {

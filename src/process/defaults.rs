@@ -123,22 +123,40 @@ pub fn compensation_ratio() -> f64 {
 }
 
 pub fn layer_front_si() -> GdsLayer {
-    GdsLayer { layer: 1, datatype: 0 }
+    GdsLayer {
+        layer: 1,
+        datatype: 0,
+    }
 }
 pub fn layer_back_si() -> GdsLayer {
-    GdsLayer { layer: 2, datatype: 0 }
+    GdsLayer {
+        layer: 2,
+        datatype: 0,
+    }
 }
 pub fn layer_pvdf() -> GdsLayer {
-    GdsLayer { layer: 3, datatype: 0 }
+    GdsLayer {
+        layer: 3,
+        datatype: 0,
+    }
 }
 pub fn layer_marks() -> GdsLayer {
-    GdsLayer { layer: 10, datatype: 0 }
+    GdsLayer {
+        layer: 10,
+        datatype: 0,
+    }
 }
 pub fn layer_annotation() -> GdsLayer {
-    GdsLayer { layer: 63, datatype: 0 }
+    GdsLayer {
+        layer: 63,
+        datatype: 0,
+    }
 }
 pub fn layer_outline() -> GdsLayer {
-    GdsLayer { layer: 64, datatype: 0 }
+    GdsLayer {
+        layer: 64,
+        datatype: 0,
+    }
 }
 pub fn edge_exclusion_mm() -> f64 {
     3.0
@@ -164,44 +182,166 @@ pub fn drc_min_electrode_gap_um() -> f64 {
 
 /// Every default with its provenance (reference/README.md tags).
 pub const DEFAULTS: &[DefaultSource] = &[
-    DefaultSource { path: "wafer.thickness_tolerance_um", source: "[est] typical supplier tolerance, reference/process-physics.md" },
-    DefaultSource { path: "wafer.diameter_mm", source: "[est] 100 mm wafer" },
-    DefaultSource { path: "geometry.dicing_street_um", source: "[est] saw kerf plus margin" },
-    DefaultSource { path: "materials.silicon.model", source: "anisotropic cubic silicon (reference/fe-validation.md)" },
-    DefaultSource { path: "materials.silicon.c11_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
-    DefaultSource { path: "materials.silicon.c12_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
-    DefaultSource { path: "materials.silicon.c44_gpa", source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010" },
-    DefaultSource { path: "materials.silicon.e_gpa", source: "[derived] E<110> from Hopcroft 2010" },
-    DefaultSource { path: "materials.silicon.nu", source: "[derived] nu<110> from Hopcroft 2010" },
-    DefaultSource { path: "materials.silicon.fracture_strength_mpa", source: "[paper] 001, fracture 4 GPa" },
-    DefaultSource { path: "materials.silicon.safety_factor", source: "[paper] 001, safety factor 3" },
-    DefaultSource { path: "materials.pvdf.thickness_um", source: "[paper] 002 sec. III" },
-    DefaultSource { path: "materials.pvdf.e_gpa", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.nu", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.density_g_per_cm3", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.d31_pc_per_n", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.d32_pc_per_n", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.d33_pc_per_n", source: "[paper] 002 sec. VI.B" },
-    DefaultSource { path: "materials.pvdf.eps_r", source: "[lit] PVDF datasheets ~12 (reference/fe-validation.md)" },
-    DefaultSource { path: "etchants.tmah", source: "[paper] 002: 25 wt %, 24 um/h at 80 C, measured" },
-    DefaultSource { path: "etchants.tmah_ea_ev", source: "[lit] Tabata 1992, Merlos 1993, Thong 1997 (band 0.5-0.65)" },
-    DefaultSource { path: "etchants.tmah_r110_over_r100", source: "[lit] Shikida 2000 (1.5-2)" },
-    DefaultSource { path: "etchants.tmah_r100_over_r111", source: "[lit] Tabata 1992 (12.5-50)" },
-    DefaultSource { path: "etchants.koh_r100_over_r111", source: "[lit] Sato 1998, 30 % KOH 70 C" },
-    DefaultSource { path: "etchants.tmah_oxide_rate_um_per_h", source: "[lit] 0.01-0.3 nm/min; planned at 1 nm/min worst case" },
-    DefaultSource { path: "etchants.koh_oxide_rate_um_per_h", source: "[lit] ~0.43 um/h at 30 %, 80 C" },
-    DefaultSource { path: "etchants.boe_rate_um_per_min", source: "[lit] 75-100 nm/min at room temperature (slow end)" },
-    DefaultSource { path: "steps[].ref_thickness_um", source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab" },
-    DefaultSource { path: "steps[].ref_speed_rpm", source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab" },
-    DefaultSource { path: "steps[].spin_exponent", source: "[derived] from S1813 1.4 um @ 3915 rpm and 2.0 um @ 1950 rpm" },
-    DefaultSource { path: "steps[].overetch_pct", source: "[est] 20 % over-etch" },
-    DefaultSource { path: "steps[].compensation.ratio", source: "[paper] 002 a = h/0.544 (a KOH rule, Sato 1998)" },
-    DefaultSource { path: "layout.layers", source: "[est] tactfab layer map: 1/0 front Si, 2/0 back Si, 3/0 PVDF, 10/0 marks, 63/0 annotations, 64/0 die outline" },
-    DefaultSource { path: "layout.edge_exclusion_mm", source: "[est] 3 mm wafer edge exclusion (edge bead, clamp ring)" },
-    DefaultSource { path: "layout.label_pixel_um", source: "[est] 25 um pixel: 175 um capitals, above contact-litho resolution" },
-    DefaultSource { path: "layout.compensation_overlap_um", source: "[est] 10 um overlap: one simple polygon per tooth (a vertex-only contact is invalid, reference/layout-conventions.md)" },
-    DefaultSource { path: "drc.min_width_um", source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin" },
-    DefaultSource { path: "drc.min_space_um", source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin" },
-    DefaultSource { path: "drc.min_electrode_gap_um", source: "[est] 200 um: Al wet-etch undercut and conductive-epoxy spread between islands" },
-    DefaultSource { path: "drc.max_vertices", source: "reference/layout-conventions.md: <= 4000 vertices per polygon" },
+    DefaultSource {
+        path: "wafer.thickness_tolerance_um",
+        source: "[est] typical supplier tolerance, reference/process-physics.md",
+    },
+    DefaultSource {
+        path: "wafer.diameter_mm",
+        source: "[est] 100 mm wafer",
+    },
+    DefaultSource {
+        path: "geometry.dicing_street_um",
+        source: "[est] saw kerf plus margin",
+    },
+    DefaultSource {
+        path: "materials.silicon.model",
+        source: "anisotropic cubic silicon (reference/fe-validation.md)",
+    },
+    DefaultSource {
+        path: "materials.silicon.c11_gpa",
+        source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010",
+    },
+    DefaultSource {
+        path: "materials.silicon.c12_gpa",
+        source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010",
+    },
+    DefaultSource {
+        path: "materials.silicon.c44_gpa",
+        source: "[lit] Hopcroft, Nix, Kenny, JMEMS 19(2) 2010",
+    },
+    DefaultSource {
+        path: "materials.silicon.e_gpa",
+        source: "[derived] E<110> from Hopcroft 2010",
+    },
+    DefaultSource {
+        path: "materials.silicon.nu",
+        source: "[derived] nu<110> from Hopcroft 2010",
+    },
+    DefaultSource {
+        path: "materials.silicon.fracture_strength_mpa",
+        source: "[paper] 001, fracture 4 GPa",
+    },
+    DefaultSource {
+        path: "materials.silicon.safety_factor",
+        source: "[paper] 001, safety factor 3",
+    },
+    DefaultSource {
+        path: "materials.pvdf.thickness_um",
+        source: "[paper] 002 sec. III",
+    },
+    DefaultSource {
+        path: "materials.pvdf.e_gpa",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.nu",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.density_g_per_cm3",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.d31_pc_per_n",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.d32_pc_per_n",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.d33_pc_per_n",
+        source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.pvdf.eps_r",
+        source: "[lit] PVDF datasheets ~12 (reference/fe-validation.md)",
+    },
+    DefaultSource {
+        path: "etchants.tmah",
+        source: "[paper] 002: 25 wt %, 24 um/h at 80 C, measured",
+    },
+    DefaultSource {
+        path: "etchants.tmah_ea_ev",
+        source: "[lit] Tabata 1992, Merlos 1993, Thong 1997 (band 0.5-0.65)",
+    },
+    DefaultSource {
+        path: "etchants.tmah_r110_over_r100",
+        source: "[lit] Shikida 2000 (1.5-2)",
+    },
+    DefaultSource {
+        path: "etchants.tmah_r100_over_r111",
+        source: "[lit] Tabata 1992 (12.5-50)",
+    },
+    DefaultSource {
+        path: "etchants.koh_r100_over_r111",
+        source: "[lit] Sato 1998, 30 % KOH 70 C",
+    },
+    DefaultSource {
+        path: "etchants.tmah_oxide_rate_um_per_h",
+        source: "[lit] 0.01-0.3 nm/min; planned at 1 nm/min worst case",
+    },
+    DefaultSource {
+        path: "etchants.koh_oxide_rate_um_per_h",
+        source: "[lit] ~0.43 um/h at 30 %, 80 C",
+    },
+    DefaultSource {
+        path: "etchants.boe_rate_um_per_min",
+        source: "[lit] 75-100 nm/min at room temperature (slow end)",
+    },
+    DefaultSource {
+        path: "steps[].ref_thickness_um",
+        source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab",
+    },
+    DefaultSource {
+        path: "steps[].ref_speed_rpm",
+        source: "[lit] S1813 1.4 um at 3915 rpm, McGill MicroFab",
+    },
+    DefaultSource {
+        path: "steps[].spin_exponent",
+        source: "[derived] from S1813 1.4 um @ 3915 rpm and 2.0 um @ 1950 rpm",
+    },
+    DefaultSource {
+        path: "steps[].overetch_pct",
+        source: "[est] 20 % over-etch",
+    },
+    DefaultSource {
+        path: "steps[].compensation.ratio",
+        source: "[paper] 002 a = h/0.544 (a KOH rule, Sato 1998)",
+    },
+    DefaultSource {
+        path: "layout.layers",
+        source: "[est] tactfab layer map: 1/0 front Si, 2/0 back Si, 3/0 PVDF, 10/0 marks, 63/0 \
+                 annotations, 64/0 die outline",
+    },
+    DefaultSource {
+        path: "layout.edge_exclusion_mm",
+        source: "[est] 3 mm wafer edge exclusion (edge bead, clamp ring)",
+    },
+    DefaultSource {
+        path: "layout.label_pixel_um",
+        source: "[est] 25 um pixel: 175 um capitals, above contact-litho resolution",
+    },
+    DefaultSource {
+        path: "layout.compensation_overlap_um",
+        source: "[est] 10 um overlap: one simple polygon per tooth (a vertex-only contact is \
+                 invalid, reference/layout-conventions.md)",
+    },
+    DefaultSource {
+        path: "drc.min_width_um",
+        source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin",
+    },
+    DefaultSource {
+        path: "drc.min_space_um",
+        source: "[est] contact/proximity lithography on S1813, ~5 um resolution with 2x margin",
+    },
+    DefaultSource {
+        path: "drc.min_electrode_gap_um",
+        source: "[est] 200 um: Al wet-etch undercut and conductive-epoxy spread between islands",
+    },
+    DefaultSource {
+        path: "drc.max_vertices",
+        source: "reference/layout-conventions.md: <= 4000 vertices per polygon",
+    },
 ];

@@ -6,9 +6,17 @@ use std::path::PathBuf;
 /// Where a problem sits: a position in the file, or a `--set` override from the command line.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Location {
-    File { file: String, line: usize, column: usize },
-    Override { arg: String },
-    Unknown { file: String },
+    File {
+        file: String,
+        line: usize,
+        column: usize,
+    },
+    Override {
+        arg: String,
+    },
+    Unknown {
+        file: String,
+    },
 }
 
 impl fmt::Display for Location {
@@ -47,9 +55,15 @@ impl fmt::Display for Problem {
 pub enum LoadError {
     /// The file could not be read.
     #[error("{}: cannot read the process file: {cause}\n  hint: check the path; process files live in process/*.yaml", path.display())]
-    Io { path: PathBuf, cause: std::io::Error },
+    Io {
+        path: PathBuf,
+        cause: std::io::Error,
+    },
     /// A `--set` argument is not `path=value`.
-    #[error("--set {arg}: {message}\n  hint: write --set path=value, e.g. --set steps.tmah-etch.temp_c=85")]
+    #[error(
+        "--set {arg}: {message}\n  hint: write --set path=value, e.g. --set \
+         steps.tmah-etch.temp_c=85"
+    )]
     BadOverride { arg: String, message: String },
     /// One or more problems in the file; all are listed.
     #[error("{}", format_problems(.0))]
@@ -64,7 +78,8 @@ fn format_problems(problems: &[Problem]) -> String {
     }
     let n = problems.len();
     out.push_str(&format!(
-        "{n} problem{} found; nothing was written\n  hint: fix every line above; `tactfab check FILE` re-validates",
+        "{n} problem{} found; nothing was written\n  hint: fix every line above; `tactfab check \
+         FILE` re-validates",
         if n == 1 { "" } else { "s" }
     ));
     out

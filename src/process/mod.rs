@@ -41,13 +41,20 @@ pub struct Loaded {
 
 /// Reads, overrides, deserialises and validates a process file.
 pub fn load(file: &Path, overrides: &[String]) -> Result<Loaded, LoadError> {
-    let text = std::fs::read_to_string(file).map_err(|cause| LoadError::Io { path: file.to_path_buf(), cause })?;
+    let text = std::fs::read_to_string(file).map_err(|cause| LoadError::Io {
+        path: file.to_path_buf(),
+        cause,
+    })?;
     load_str(&text, &file.display().to_string(), overrides)
 }
 
 /// As [`load`], from text; `file` names it in messages.
 pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, LoadError> {
-    let at = |line: usize, column: usize| Location::File { file: file.to_string(), line, column };
+    let at = |line: usize, column: usize| Location::File {
+        file: file.to_string(),
+        line,
+        column,
+    };
     let marked = match marked_yaml::parse_yaml_with_options(
         0,
         text,
@@ -59,7 +66,10 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
     let mut value: Value = match serde_yaml::from_str(text) {
         Ok(v) => v,
         Err(e) => {
-            let location = e.location().map(|l| at(l.line(), l.column())).unwrap_or(Location::Unknown { file: file.into() });
+            let location = e
+                .location()
+                .map(|l| at(l.line(), l.column()))
+                .unwrap_or(Location::Unknown { file: file.into() });
             return Err(LoadError::Invalid(vec![Problem {
                 location,
                 path: ".".into(),
@@ -82,7 +92,9 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
             return Location::Override { arg: a.arg.clone() };
         }
         let found = match key {
-            Some((parent, k)) => path::parse(parent).ok().and_then(|s| path::locate_key(&marked, &s, k)),
+            Some((parent, k)) => path::parse(parent)
+                .ok()
+                .and_then(|s| path::locate_key(&marked, &s, k)),
             None => path::parse(p).ok().and_then(|s| path::locate(&marked, &s)),
         };
         match found {
@@ -110,11 +122,20 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
             if is_placeholder(&v.path) {
                 continue;
             }
-            problems.push(Problem { location: locate(&v.path, None), path: v.path, message: v.message, expected: v.expected });
+            problems.push(Problem {
+                location: locate(&v.path, None),
+                path: v.path,
+                message: v.message,
+                expected: v.expected,
+            });
         }
     }
     if !problems.is_empty() {
-        problems.sort_by(|a, b| sort_key(&a.location).cmp(&sort_key(&b.location)).then(a.path.cmp(&b.path)));
+        problems.sort_by(|a, b| {
+            sort_key(&a.location)
+                .cmp(&sort_key(&b.location))
+                .then(a.path.cmp(&b.path))
+        });
         problems.dedup();
         return Err(LoadError::Invalid(problems));
     }
@@ -139,11 +160,23 @@ fn syntax_problem(e: &marked_yaml::LoadError, file: &str, _text: &str) -> Proble
     use marked_yaml::LoadError as E;
     let (marker, message) = match e {
         E::ScanError(m, se) => (Some(*m), format!("YAML syntax: {}", se.info())),
-        E::DuplicateKey(inner) => (inner.prev_key.span().start().copied().or(None), format!("duplicate key `{}`", inner.key.as_str())),
-        E::TopLevelMustBeMapping(m) => (Some(*m), "the document must be a mapping of sections".into()),
-        E::UnexpectedAnchor(m) => (Some(*m), "YAML anchors are not supported in process files".into()),
+        E::DuplicateKey(inner) => (
+            inner.prev_key.span().start().copied().or(None),
+            format!("duplicate key `{}`", inner.key.as_str()),
+        ),
+        E::TopLevelMustBeMapping(m) => (
+            Some(*m),
+            "the document must be a mapping of sections".into(),
+        ),
+        E::UnexpectedAnchor(m) => (
+            Some(*m),
+            "YAML anchors are not supported in process files".into(),
+        ),
         E::MappingKeyMustBeScalar(m) => (Some(*m), "mapping keys must be plain names".into()),
-        E::UnexpectedTag(m) => (Some(*m), "YAML tags are not supported in process files".into()),
+        E::UnexpectedTag(m) => (
+            Some(*m),
+            "YAML tags are not supported in process files".into(),
+        ),
         other => (None, format!("YAML: {other}")),
     };
     let location = match (e, marker) {
@@ -151,12 +184,25 @@ fn syntax_problem(e: &marked_yaml::LoadError, file: &str, _text: &str) -> Proble
             .key
             .span()
             .start()
-            .map(|m| Location::File { file: file.into(), line: m.line(), column: m.column() })
+            .map(|m| Location::File {
+                file: file.into(),
+                line: m.line(),
+                column: m.column(),
+            })
             .unwrap_or(Location::Unknown { file: file.into() }),
-        (_, Some(m)) => Location::File { file: file.into(), line: m.line(), column: m.column() },
+        (_, Some(m)) => Location::File {
+            file: file.into(),
+            line: m.line(),
+            column: m.column(),
+        },
         _ => Location::Unknown { file: file.into() },
     };
-    Problem { location, path: ".".into(), message, expected: "valid YAML with unique keys".into() }
+    Problem {
+        location,
+        path: ".".into(),
+        message,
+        expected: "valid YAML with unique keys".into(),
+    }
 }
 
 /// Deserialises the top level and each step on its own (the step's `kind` picks its fields).
@@ -236,7 +282,8 @@ fn deserialize_step(
             params.insert(k.clone(), v.clone());
         }
     }
-    let common: Option<StepCommon> = deserialize_all(Value::Mapping(common), base, raw, placeholders);
+    let common: Option<StepCommon> =
+        deserialize_all(Value::Mapping(common), base, raw, placeholders);
     let common = common?;
     let params_v = Value::Mapping(params);
     macro_rules! kinds {
@@ -275,7 +322,12 @@ fn deserialize_step(
         "metal_etch" => MetalEtch(MetalEtch),
         "assemble" => Assemble(Assemble),
     }?;
-    Some(Step { name: common.name, equipment: common.equipment, notes: common.notes, params })
+    Some(Step {
+        name: common.name,
+        equipment: common.equipment,
+        notes: common.notes,
+        params,
+    })
 }
 
 /// Lists every default the file relied on: the path was absent from the (overridden) tree.
@@ -285,12 +337,16 @@ fn defaults_used(tree: &Value, process: &Process) -> Vec<Provenance> {
     let mut out = Vec::new();
     for d in defaults::DEFAULTS {
         if let Some(field) = d.path.strip_prefix("steps[].") {
-            let Some(Value::Sequence(items)) = tree.get("steps") else { continue };
+            let Some(Value::Sequence(items)) = tree.get("steps") else {
+                continue;
+            };
             for (i, item) in items.iter().enumerate() {
                 let rel = path::parse(field).unwrap_or_default();
-                let parent_present = rel.len() < 2 || path::get(item, &rel[..rel.len() - 1]).is_some();
+                let parent_present =
+                    rel.len() < 2 || path::get(item, &rel[..rel.len() - 1]).is_some();
                 let resolved_v = steps_resolved.get(i).and_then(|s| path::get(s, &rel));
-                if let (true, None, Some(rv)) = (parent_present, path::get(item, &rel), resolved_v) {
+                if let (true, None, Some(rv)) = (parent_present, path::get(item, &rel), resolved_v)
+                {
                     out.push(Provenance {
                         path: format!("steps[{i}].{field}"),
                         value: render(rv),
@@ -307,7 +363,11 @@ fn defaults_used(tree: &Value, process: &Process) -> Vec<Provenance> {
         let segs = path::parse(d.path).unwrap_or_default();
         if path::get(tree, &segs).is_none() {
             if let Some(v) = path::get(&resolved, &segs) {
-                out.push(Provenance { path: d.path.into(), value: render(v), source: d.source.into() });
+                out.push(Provenance {
+                    path: d.path.into(),
+                    value: render(v),
+                    source: d.source.into(),
+                });
             }
         }
     }

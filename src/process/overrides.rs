@@ -18,15 +18,24 @@ pub struct Applied {
 pub fn apply(root: &mut Value, args: &[String]) -> Result<Vec<Applied>, LoadError> {
     let mut applied = Vec::new();
     for arg in args {
-        let bad = |message: String| LoadError::BadOverride { arg: arg.clone(), message };
-        let (p, v) = arg.split_once('=').ok_or_else(|| bad("missing `=`".into()))?;
-        let value: Value = serde_yaml::from_str(v).map_err(|e| bad(format!("value is not YAML: {e}")))?;
+        let bad = |message: String| LoadError::BadOverride {
+            arg: arg.clone(),
+            message,
+        };
+        let (p, v) = arg
+            .split_once('=')
+            .ok_or_else(|| bad("missing `=`".into()))?;
+        let value: Value =
+            serde_yaml::from_str(v).map_err(|e| bad(format!("value is not YAML: {e}")))?;
         let segs = path::parse(p.trim()).map_err(bad)?;
         if segs.is_empty() {
             return Err(bad("empty path".into()));
         }
         let resolved = set(root, &segs, value).map_err(bad)?;
-        applied.push(Applied { path: path::format(&resolved), arg: arg.clone() });
+        applied.push(Applied {
+            path: path::format(&resolved),
+            arg: arg.clone(),
+        });
     }
     Ok(applied)
 }
@@ -42,7 +51,9 @@ fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<Vec<Seg>, String>
                 let idx = items
                     .iter()
                     .position(|it| it.get("name").and_then(Value::as_str) == Some(name.as_str()))
-                    .ok_or_else(|| format!("no element named `{name}` in `{}`", path::format(&resolved)))?;
+                    .ok_or_else(|| {
+                        format!("no element named `{name}` in `{}`", path::format(&resolved))
+                    })?;
                 Seg::Index(idx)
             }
             (s, _) => s.clone(),
@@ -51,17 +62,26 @@ fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<Vec<Seg>, String>
         cur = match (seg, cur) {
             (Seg::Key(k), Value::Mapping(m)) => {
                 if !m.contains_key(k.as_str()) {
-                    let fill = if last { Value::Null } else { Value::Mapping(Default::default()) };
+                    let fill = if last {
+                        Value::Null
+                    } else {
+                        Value::Mapping(Default::default())
+                    };
                     m.insert(Value::String(k.clone()), fill);
                 }
                 m.get_mut(k.as_str()).expect("inserted above")
             }
             (Seg::Index(idx), Value::Sequence(s)) => {
                 let n = s.len();
-                s.get_mut(idx).ok_or_else(|| format!("index {idx} is out of range (the list has {n})"))?
+                s.get_mut(idx)
+                    .ok_or_else(|| format!("index {idx} is out of range (the list has {n})"))?
             }
             (s, _) => {
-                return Err(format!("`{}` does not lead into a mapping or list at {:?}", path::format(&resolved), s));
+                return Err(format!(
+                    "`{}` does not lead into a mapping or list at {:?}",
+                    path::format(&resolved),
+                    s
+                ));
             }
         };
     }
@@ -75,8 +95,13 @@ mod tests {
 
     #[test]
     fn sets_by_index_name_and_creates_keys() {
-        let mut v: Value = serde_yaml::from_str("a: {b: 1}\nsteps: [{name: x, t: 1}, {name: y, t: 2}]").unwrap();
-        let a = apply(&mut v, &["a.b=2".into(), "steps.y.t=5".into(), "a.c.d=true".into()]).unwrap();
+        let mut v: Value =
+            serde_yaml::from_str("a: {b: 1}\nsteps: [{name: x, t: 1}, {name: y, t: 2}]").unwrap();
+        let a = apply(
+            &mut v,
+            &["a.b=2".into(), "steps.y.t=5".into(), "a.c.d=true".into()],
+        )
+        .unwrap();
         assert_eq!(a[1].path, "steps[1].t");
         assert_eq!(v["a"]["b"], Value::from(2));
         assert_eq!(v["steps"][1]["t"], Value::from(5));

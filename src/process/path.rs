@@ -26,7 +26,9 @@ pub fn parse(path: &str) -> Result<Vec<Seg>, String> {
             segs.push(Seg::Key(key.to_string()));
         }
         while !rest.is_empty() {
-            let close = rest.find(']').ok_or_else(|| format!("unclosed `[` in `{path}`"))?;
+            let close = rest
+                .find(']')
+                .ok_or_else(|| format!("unclosed `[` in `{path}`"))?;
             let idx: usize = rest[1..close]
                 .parse()
                 .map_err(|_| format!("`{}` is not an index in `{path}`", &rest[1..close]))?;
@@ -75,7 +77,9 @@ pub fn join(base: &str, rel: &str) -> String {
 pub fn is_within(path: &str, prefix: &str) -> bool {
     prefix == "."
         || path == prefix
-        || path.strip_prefix(prefix).is_some_and(|r| r.starts_with('.') || r.starts_with('['))
+        || path
+            .strip_prefix(prefix)
+            .is_some_and(|r| r.starts_with('.') || r.starts_with('['))
 }
 
 pub fn get_mut<'a>(root: &'a mut Value, segs: &[Seg]) -> Option<&'a mut Value> {

@@ -139,12 +139,13 @@ pub enum Axis {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ElectrodePattern {
-    /// `units` sensing units along x, each S1k over support 1, Mk over the channel, S2k over support 2
-    /// (paper 002).
+    /// `units` sensing units along x, each S1k over support 1, Mk over the channel, S2k over
+    /// support 2 (paper 002).
     #[default]
     Nine,
     /// Four islands over the plate in a cross about the die centre: A (+x), B (+y), C (-x), D (-y)
-    /// (paper 000's four-element sensor; dimensions are a design choice, see process/four-element.yaml).
+    /// (paper 000's four-element sensor; dimensions are a design choice, see
+    /// process/four-element.yaml).
     FourCross,
 }
 
@@ -594,7 +595,12 @@ pub struct Scene {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum SceneLoad {
     /// A point force with a contact radius (the stress is reported for that patch).
-    Point { x_um: f64, y_um: f64, force_n: f64, radius_um: f64 },
+    Point {
+        x_um: f64,
+        y_um: f64,
+        force_n: f64,
+        radius_um: f64,
+    },
     /// Uniform pressure over the plate, or over a region, by total force.
     Pressure {
         force_n: f64,
@@ -602,8 +608,16 @@ pub enum SceneLoad {
         region: Option<RegionUm>,
     },
     /// A rectangular probe of the given size, centre and angle (deg, counter-clockwise from x).
-    Probe { x_um: f64, y_um: f64, width_um: f64, height_um: f64, angle_deg: f64, force_n: f64 },
-    /// A line force across the full plate length at `y_um` (the fixed-fixed beam case of paper 001).
+    Probe {
+        x_um: f64,
+        y_um: f64,
+        width_um: f64,
+        height_um: f64,
+        angle_deg: f64,
+        force_n: f64,
+    },
+    /// A line force across the full plate length at `y_um` (the fixed-fixed beam case of paper
+    /// 001).
     Line { y_um: f64, force_n: f64 },
 }
 

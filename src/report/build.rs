@@ -26,7 +26,10 @@ pub enum ReportError {
     UnknownWaivers { codes: String, known: String },
     #[error("layout: {0}")]
     Layout(#[from] LayoutError),
-    #[error("export: {0}\n  hint: a coordinate or file could not be written; check the geometry and the output path")]
+    #[error(
+        "export: {0}\n  hint: a coordinate or file could not be written; check the geometry and \
+         the output path"
+    )]
     Export(#[from] ExportError),
     #[error("finite-element solve failed: {0}")]
     Fe(#[from] crate::fe::FeError),
@@ -97,7 +100,13 @@ impl Built {
     /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations,
     /// declared FE limits.
     pub fn failures(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.plan.warnings.iter().filter(|c| c.is_error()).map(|c| format!("etch plan: {c}")).collect();
+        let mut v: Vec<String> = self
+            .plan
+            .warnings
+            .iter()
+            .filter(|c| c.is_error())
+            .map(|c| format!("etch plan: {c}"))
+            .collect();
         for x in self.drc.violations.iter().filter(|x| !x.waived) {
             v.push(format!("DRC: {x}"));
         }
@@ -109,15 +118,24 @@ impl Built {
 
     /// File names of the traveler.
     pub fn traveler_names(&self) -> (String, String) {
-        (format!("{}-traveler.md", self.set.device), format!("{}-traveler.html", self.set.device))
+        (
+            format!("{}-traveler.md", self.set.device),
+            format!("{}-traveler.html", self.set.device),
+        )
     }
 
     /// Every output file except the summary: masks, etch plan, DRC report, traveler.
     pub fn files(&self) -> Vec<(String, Vec<u8>)> {
         let mut files = self.mask_files.clone();
         let d = &self.set.device;
-        files.push((format!("{d}-etch-plan.json"), self.plan_json.clone().into_bytes()));
-        files.push((format!("{d}-drc.txt"), self.drc.summary(usize::MAX).into_bytes()));
+        files.push((
+            format!("{d}-etch-plan.json"),
+            self.plan_json.clone().into_bytes(),
+        ));
+        files.push((
+            format!("{d}-drc.txt"),
+            self.drc.summary(usize::MAX).into_bytes(),
+        ));
         let (md, html) = self.traveler_names();
         files.push((md, self.markdown.clone().into_bytes()));
         files.push((html, self.html.clone().into_bytes()));
@@ -126,22 +144,39 @@ impl Built {
 }
 
 /// Builds everything for `loaded`; `progress` hears each stage as it starts.
-pub fn build(loaded: &Loaded, opts: &Options, progress: &mut dyn FnMut(Stage)) -> Result<Built, ReportError> {
+pub fn build(
+    loaded: &Loaded,
+    opts: &Options,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<Built, ReportError> {
     let p = &loaded.process;
     let unknown = crate::drc::unknown_waivers(p);
     if !unknown.is_empty() {
         return Err(ReportError::UnknownWaivers {
             codes: unknown.join(", "),
-            known: crate::drc::CODES.iter().map(|(c, _)| *c).collect::<Vec<_>>().join(", "),
+            known: crate::drc::CODES
+                .iter()
+                .map(|(c, _)| *c)
+                .collect::<Vec<_>>()
+                .join(", "),
         });
     }
     progress(Stage::Masks);
     let plan = crate::etch::plan(p);
     let set = crate::layout::build(p, &plan)?;
-    let gds = set.to_gds(&GdsOptions { date_epoch_s: opts.gds_epoch_s })?;
-    let svgs: Vec<String> = set.masks.iter().map(|m| set.to_svg(m)).collect::<Result<_, _>>()?;
+    let gds = set.to_gds(&GdsOptions {
+        date_epoch_s: opts.gds_epoch_s,
+    })?;
+    let svgs: Vec<String> = set
+        .masks
+        .iter()
+        .map(|m| set.to_svg(m))
+        .collect::<Result<_, _>>()?;
     let inv = inventory(&set, &gds, &svgs);
-    let mut mask_files = vec![(inv.gds_file.clone(), gds), (inv.lyp_file.clone(), set.to_lyp().into_bytes())];
+    let mut mask_files = vec![
+        (inv.gds_file.clone(), gds),
+        (inv.lyp_file.clone(), set.to_lyp().into_bytes()),
+    ];
     for (m, svg) in inv.masks.iter().zip(&svgs) {
         mask_files.push((m.svg_file.clone(), svg.clone().into_bytes()));
     }
@@ -152,7 +187,8 @@ pub fn build(loaded: &Loaded, opts: &Options, progress: &mut dyn FnMut(Stage)) -
     let (fe_reports, fe) = match opts.fe {
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
-            let geometry = SensorGeometry::new(p, &plan, SensorGeometry::electrodes_from_masks(&set));
+            let geometry =
+                SensorGeometry::new(p, &plan, SensorGeometry::electrodes_from_masks(&set));
             let reports = evaluate_many(&geometry, scenes, o.tol_rel, o.max_levels)?;
             let summary = summarise(scenes, &reports, o.tol_rel, o.max_levels);
             (reports, Some(summary))
@@ -161,7 +197,10 @@ pub fn build(loaded: &Loaded, opts: &Options, progress: &mut dyn FnMut(Stage)) -
     };
 
     progress(Stage::Traveler);
-    let figures = Figures { masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(), tooth: tooth_svg(&set)? };
+    let figures = Figures {
+        masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(),
+        tooth: tooth_svg(&set)?,
+    };
     let t = traveler(TravelerInput {
         process: p,
         process_file: &opts.process_file,
@@ -178,21 +217,42 @@ pub fn build(loaded: &Loaded, opts: &Options, progress: &mut dyn FnMut(Stage)) -
     let mut v = serde_json::to_value(&plan)?;
     v["defaults_used"] = serde_json::to_value(&loaded.defaults_used)?;
     let plan_json = serde_json::to_string_pretty(&v)? + "\n";
-    Ok(Built { plan, set, drc, mask_files, inventory: inv, fe_reports, fe, traveler: t, markdown: md, html: page, plan_json })
+    Ok(Built {
+        plan,
+        set,
+        drc,
+        mask_files,
+        inventory: inv,
+        fe_reports,
+        fe,
+        traveler: t,
+        markdown: md,
+        html: page,
+        plan_json,
+    })
 }
 
 /// One tooth of the front mask (tooth top and compensators) as a small SVG, in um.
 fn tooth_svg(set: &MaskSet) -> Result<Option<String>, ExportError> {
-    let Some(cell) = set.tooth_cell.as_ref() else { return Ok(None) };
+    let Some(cell) = set.tooth_cell.as_ref() else {
+        return Ok(None);
+    };
     let polys = set.flatten(cell, LayerKind::FrontSi);
-    let Some(r) = geo::MultiPolygon::new(polys.clone()).bounding_rect() else { return Ok(None) };
+    let Some(r) = geo::MultiPolygon::new(polys.clone()).bounding_rect() else {
+        return Ok(None);
+    };
     let m = 0.05 * (r.width().max(r.height()));
     let (x0, y0) = (r.min().x - m, r.min().y - m);
-    let shifted: Vec<geo::Polygon> = polys.iter().map(|p| geo::MapCoords::map_coords(p, |c| geo::coord! { x: c.x - x0, y: c.y - y0 })).collect();
+    let shifted: Vec<geo::Polygon> = polys
+        .iter()
+        .map(|p| geo::MapCoords::map_coords(p, |c| geo::coord! { x: c.x - x0, y: c.y - y0 }))
+        .collect();
     let (w, h) = (r.width() + 2.0 * m, r.height() + 2.0 * m);
     let h_nm = i64::from(nm(h)?);
     Ok(Some(format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {} {}\" role=\"img\"><title>tooth with compensators</title><path d=\"{}\" fill=\"#3c6fb4\" stroke=\"none\"/></svg>",
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 {} {}\" \
+         role=\"img\"><title>tooth with compensators</title><path d=\"{}\" fill=\"#3c6fb4\" \
+         stroke=\"none\"/></svg>",
         um_text(i64::from(nm(w)?)),
         um_text(h_nm),
         path_data(&shifted, h_nm)?

@@ -65,38 +65,76 @@ pub struct FeSummary {
 impl FeSummary {
     /// Failing limits as `scene `name`: what` lines.
     pub fn failures(&self) -> Vec<String> {
-        self.scenes.iter().flat_map(|s| s.limits.iter().filter(|l| !l.passed).map(move |l| format!("scene `{}`: {l}", s.name))).collect()
+        self.scenes
+            .iter()
+            .flat_map(|s| {
+                s.limits
+                    .iter()
+                    .filter(|l| !l.passed)
+                    .map(move |l| format!("scene `{}`: {l}", s.name))
+            })
+            .collect()
     }
 }
 
 /// The load in words, die coordinates in mm.
 pub fn describe_load(load: &SceneLoad) -> String {
     match load {
-        SceneLoad::Point { x_um, y_um, force_n, radius_um } => {
-            format!("{force_n} N at ({}, {}) mm, contact radius {} mm", x_um / 1000.0, y_um / 1000.0, radius_um / 1000.0)
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => {
+            format!(
+                "{force_n} N at ({}, {}) mm, contact radius {} mm",
+                x_um / 1000.0,
+                y_um / 1000.0,
+                radius_um / 1000.0
+            )
         }
-        SceneLoad::Pressure { force_n, region: None } => format!("{force_n} N uniform pressure over the plate"),
-        SceneLoad::Pressure { force_n, region: Some(r) } => format!(
+        SceneLoad::Pressure {
+            force_n,
+            region: None,
+        } => format!("{force_n} N uniform pressure over the plate"),
+        SceneLoad::Pressure {
+            force_n,
+            region: Some(r),
+        } => format!(
             "{force_n} N uniform pressure over x {}..{} mm, y {}..{} mm",
             r.x0_um / 1000.0,
             r.x1_um / 1000.0,
             r.y0_um / 1000.0,
             r.y1_um / 1000.0
         ),
-        SceneLoad::Probe { x_um, y_um, width_um, height_um, angle_deg, force_n } => format!(
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            force_n,
+        } => format!(
             "{force_n} N probe {} x {} mm at ({}, {}) mm, {angle_deg} deg",
             width_um / 1000.0,
             height_um / 1000.0,
             x_um / 1000.0,
             y_um / 1000.0
         ),
-        SceneLoad::Line { y_um, force_n } => format!("{force_n} N line load along x at y = {} mm", y_um / 1000.0),
+        SceneLoad::Line { y_um, force_n } => {
+            format!("{force_n} N line load along x at y = {} mm", y_um / 1000.0)
+        }
     }
 }
 
 /// The summary of `reports`, solved for `scenes` in the same order.
 #[track_caller]
-pub fn summarise(scenes: &[Scene], reports: &[SceneReport], tol_rel: f64, max_levels: usize) -> FeSummary {
+pub fn summarise(
+    scenes: &[Scene],
+    reports: &[SceneReport],
+    tol_rel: f64,
+    max_levels: usize,
+) -> FeSummary {
     assert_eq!(scenes.len(), reports.len(), "one report per scene");
     let scenes = scenes
         .iter()
@@ -118,24 +156,47 @@ pub fn summarise(scenes: &[Scene], reports: &[SceneReport], tol_rel: f64, max_le
             max_permissible_load_n: r.max_permissible_load_n,
             sensitivity_mv_per_n: r.sensitivity_mv_per_n,
             most_sensitive: r.most_sensitive.clone(),
-            electrodes: r.electrodes.iter().map(|e| FeElectrode { name: e.name.clone(), charge_pc: e.charge_pc, voltage_mv: e.voltage_mv }).collect(),
+            electrodes: r
+                .electrodes
+                .iter()
+                .map(|e| FeElectrode {
+                    name: e.name.clone(),
+                    charge_pc: e.charge_pc,
+                    voltage_mv: e.voltage_mv,
+                })
+                .collect(),
             limits: check_limits(r, &s.limits),
             warnings: r.warnings.clone(),
-            deflection_by_level: r.convergence.iter().map(|l| (l.max_element_um, l.deflection_at_load_um / r.force_n)).collect(),
+            deflection_by_level: r
+                .convergence
+                .iter()
+                .map(|l| (l.max_element_um, l.deflection_at_load_um / r.force_n))
+                .collect(),
         })
         .collect();
-    FeSummary { tol_rel, max_levels, scenes }
+    FeSummary {
+        tol_rel,
+        max_levels,
+        scenes,
+    }
 }
 
 /// Wall time per scene (ms): for the build summary's `timings_ms` only, never the traveler.
 /// Scenes solved together share their meshes and report the same total.
 pub fn timings_ms(reports: &[SceneReport]) -> BTreeMap<String, f64> {
-    reports.iter().map(|r| (r.scene.clone(), r.solve_ms)).collect()
+    reports
+        .iter()
+        .map(|r| (r.scene.clone(), r.solve_ms))
+        .collect()
 }
 
 /// Plots of the summary: voltage per newton by electrode, and deflection per newton by mesh level.
 pub fn plots(fe: &FeSummary) -> Vec<(String, String)> {
-    let names: Vec<String> = fe.scenes.first().map(|s| s.electrodes.iter().map(|e| e.name.clone()).collect()).unwrap_or_default();
+    let names: Vec<String> = fe
+        .scenes
+        .first()
+        .map(|s| s.electrodes.iter().map(|e| e.name.clone()).collect())
+        .unwrap_or_default();
     let volts = XyPlot {
         title: "voltage per newton by electrode".into(),
         x: Axis::linear(format!("electrode 1-{}: {}", names.len(), names.join(" "))),
@@ -145,7 +206,12 @@ pub fn plots(fe: &FeSummary) -> Vec<(String, String)> {
             .iter()
             .map(|s| Series {
                 name: s.name.clone(),
-                points: s.electrodes.iter().enumerate().map(|(i, e)| ((i + 1) as f64, e.voltage_mv / s.force_n)).collect(),
+                points: s
+                    .electrodes
+                    .iter()
+                    .enumerate()
+                    .map(|(i, e)| ((i + 1) as f64, e.voltage_mv / s.force_n))
+                    .collect(),
                 style: Style::LineAndMarkers,
             })
             .collect(),
@@ -158,7 +224,11 @@ pub fn plots(fe: &FeSummary) -> Vec<(String, String)> {
             .scenes
             .iter()
             .filter(|s| s.deflection_by_level.len() > 1)
-            .map(|s| Series { name: s.name.clone(), points: s.deflection_by_level.clone(), style: Style::LineAndMarkers })
+            .map(|s| Series {
+                name: s.name.clone(),
+                points: s.deflection_by_level.clone(),
+                style: Style::LineAndMarkers,
+            })
             .collect(),
     };
     let mut out = vec![(volts.title.clone(), xy_svg(&volts, 640, 320))];

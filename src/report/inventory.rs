@@ -9,7 +9,10 @@ use crate::process::{Side, Tone};
 
 /// Lower-case hex SHA-256 of `bytes`.
 pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// One mask as the shop and the operator need it.
@@ -36,7 +39,8 @@ pub struct Inventory {
     pub masks: Vec<MaskRow>,
 }
 
-/// The inventory from the set and the bytes actually written (GDS, and each mask's SVG in mask order).
+/// The inventory from the set and the bytes actually written (GDS, and each mask's SVG in mask
+/// order).
 #[track_caller]
 pub fn inventory(set: &MaskSet, gds: &[u8], svgs: &[String]) -> Inventory {
     assert_eq!(svgs.len(), set.masks.len(), "one SVG per mask");
@@ -57,7 +61,12 @@ pub fn inventory(set: &MaskSet, gds: &[u8], svgs: &[String]) -> Inventory {
             svg_sha256: sha256_hex(svg.as_bytes()),
         })
         .collect();
-    Inventory { gds_file: format!("{}.gds", set.device), gds_sha256: sha256_hex(gds), lyp_file: format!("{}.lyp", set.device), masks }
+    Inventory {
+        gds_file: format!("{}.gds", set.device),
+        gds_sha256: sha256_hex(gds),
+        lyp_file: format!("{}.lyp", set.device),
+        masks,
+    }
 }
 
 #[cfg(test)]
@@ -67,7 +76,13 @@ mod tests {
     #[test]
     fn sha256_matches_published_vectors() {
         // FIPS 180-2 appendix B.1 and the empty message.
-        assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-        assert_eq!(sha256_hex(b""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        assert_eq!(
+            sha256_hex(b""),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+        );
     }
 }

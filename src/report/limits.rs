@@ -24,40 +24,93 @@ impl std::fmt::Display for LimitCheck {
         let (v, b) = (self.value, self.bound);
         let ok = self.passed;
         match self.limit {
-            "min_sensitivity_mv_per_n" => write!(f, "sensitivity {v:.3} mV/N {} {b} mV/N", if ok { ">=" } else { "<" }),
-            "max_stress_mpa" => write!(f, "stress {v:.1} MPa {} {b} MPa", if ok { "<=" } else { ">" }),
-            "min_safety_factor" => write!(f, "safety factor {v:.2} {} {b}", if ok { ">=" } else { "<" }),
-            _ => write!(f, "deflection {v:.1} um {} {b} um", if ok { "<=" } else { ">" }),
+            "min_sensitivity_mv_per_n" => write!(
+                f,
+                "sensitivity {v:.3} mV/N {} {b} mV/N",
+                if ok { ">=" } else { "<" }
+            ),
+            "max_stress_mpa" => write!(
+                f,
+                "stress {v:.1} MPa {} {b} MPa",
+                if ok { "<=" } else { ">" }
+            ),
+            "min_safety_factor" => write!(
+                f,
+                "safety factor {v:.2} {} {b}",
+                if ok { ">=" } else { "<" }
+            ),
+            _ => write!(
+                f,
+                "deflection {v:.1} um {} {b} um",
+                if ok { "<=" } else { ">" }
+            ),
         }
     }
 }
 
 /// Every declared limit of `l` checked against `r`, in a fixed order (sensitivity, stress, safety
-/// factor, deflection). Sensitivity is the largest |V|/F; the deflection limit bounds |max deflection|.
+/// factor, deflection). Sensitivity is the largest |V|/F; the deflection limit bounds |max
+/// deflection|.
 pub fn check_limits(r: &SceneReport, l: &Limits) -> Vec<LimitCheck> {
-    check_values(r.sensitivity_mv_per_n, r.max_stress_mpa, r.safety_factor, r.max_deflection_um, l)
+    check_values(
+        r.sensitivity_mv_per_n,
+        r.max_stress_mpa,
+        r.safety_factor,
+        r.max_deflection_um,
+        l,
+    )
 }
 
-fn check_values(sensitivity_mv_per_n: f64, stress_mpa: f64, safety_factor: f64, deflection_um: f64, l: &Limits) -> Vec<LimitCheck> {
+fn check_values(
+    sensitivity_mv_per_n: f64,
+    stress_mpa: f64,
+    safety_factor: f64,
+    deflection_um: f64,
+    l: &Limits,
+) -> Vec<LimitCheck> {
     let mut v = Vec::new();
     if let Some(b) = l.min_sensitivity_mv_per_n {
-        v.push(LimitCheck { limit: "min_sensitivity_mv_per_n", value: sensitivity_mv_per_n, bound: b, passed: sensitivity_mv_per_n >= b });
+        v.push(LimitCheck {
+            limit: "min_sensitivity_mv_per_n",
+            value: sensitivity_mv_per_n,
+            bound: b,
+            passed: sensitivity_mv_per_n >= b,
+        });
     }
     if let Some(b) = l.max_stress_mpa {
-        v.push(LimitCheck { limit: "max_stress_mpa", value: stress_mpa, bound: b, passed: stress_mpa <= b });
+        v.push(LimitCheck {
+            limit: "max_stress_mpa",
+            value: stress_mpa,
+            bound: b,
+            passed: stress_mpa <= b,
+        });
     }
     if let Some(b) = l.min_safety_factor {
-        v.push(LimitCheck { limit: "min_safety_factor", value: safety_factor, bound: b, passed: safety_factor >= b });
+        v.push(LimitCheck {
+            limit: "min_safety_factor",
+            value: safety_factor,
+            bound: b,
+            passed: safety_factor >= b,
+        });
     }
     if let Some(b) = l.max_deflection_um {
-        v.push(LimitCheck { limit: "max_deflection_um", value: deflection_um, bound: b, passed: deflection_um.abs() <= b });
+        v.push(LimitCheck {
+            limit: "max_deflection_um",
+            value: deflection_um,
+            bound: b,
+            passed: deflection_um.abs() <= b,
+        });
     }
     v
 }
 
 /// The limits `r` violates, as readable lines (`stress 812.0 MPa > 500 MPa`).
 pub fn limit_failures(r: &SceneReport, l: &Limits) -> Vec<String> {
-    check_limits(r, l).iter().filter(|c| !c.passed).map(ToString::to_string).collect()
+    check_limits(r, l)
+        .iter()
+        .filter(|c| !c.passed)
+        .map(ToString::to_string)
+        .collect()
 }
 
 #[cfg(test)]
@@ -66,18 +119,34 @@ mod tests {
 
     #[test]
     fn limits_pass_fail_and_text() {
-        let l = Limits { min_sensitivity_mv_per_n: Some(10.0), max_stress_mpa: Some(500.0), min_safety_factor: Some(1.0), max_deflection_um: Some(5.0) };
+        let l = Limits {
+            min_sensitivity_mv_per_n: Some(10.0),
+            max_stress_mpa: Some(500.0),
+            min_safety_factor: Some(1.0),
+            max_deflection_um: Some(5.0),
+        };
         let ok = check_values(12.0, 400.0, 3.0, -4.0, &l);
         assert_eq!(ok.len(), 4);
         assert!(ok.iter().all(|c| c.passed), "{ok:?}");
         let bad = check_values(9.5, 812.0, 0.8, -6.0, &l);
-        let text: Vec<String> = bad.iter().filter(|c| !c.passed).map(ToString::to_string).collect();
+        let text: Vec<String> = bad
+            .iter()
+            .filter(|c| !c.passed)
+            .map(ToString::to_string)
+            .collect();
         assert_eq!(
             text,
-            ["sensitivity 9.500 mV/N < 10 mV/N", "stress 812.0 MPa > 500 MPa", "safety factor 0.80 < 1", "deflection -6.0 um > 5 um"]
+            [
+                "sensitivity 9.500 mV/N < 10 mV/N",
+                "stress 812.0 MPa > 500 MPa",
+                "safety factor 0.80 < 1",
+                "deflection -6.0 um > 5 um"
+            ]
         );
         // Bounds are inclusive; undeclared limits are not checked.
-        assert!(check_values(10.0, 500.0, 1.0, 5.0, &l).iter().all(|c| c.passed));
+        assert!(check_values(10.0, 500.0, 1.0, 5.0, &l)
+            .iter()
+            .all(|c| c.passed));
         assert!(check_values(0.0, 1e9, 0.0, 1e9, &Limits::default()).is_empty());
     }
 }

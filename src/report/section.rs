@@ -49,11 +49,16 @@ impl Stack {
             if f.thickness_um <= 0.0 {
                 "-".to_string()
             } else {
-                format!("{:.3} um{}", f.thickness_um, if f.patterned { " patterned" } else { "" })
+                format!(
+                    "{:.3} um{}",
+                    f.thickness_um,
+                    if f.patterned { " patterned" } else { "" }
+                )
             }
         };
         let mut s = format!(
-            "Si front etched {:.1} um, back {:.1} um; oxide front {}, back {}; resist front {}, back {}",
+            "Si front etched {:.1} um, back {:.1} um; oxide front {}, back {}; resist front {}, \
+             back {}",
             self.front_etch_um,
             self.back_etch_um,
             film(&self.oxide_front),
@@ -72,7 +77,11 @@ impl Stack {
                     "free"
                 },
                 film(&p.resist),
-                if p.electrodes_patterned { "patterned (9 islands)" } else { "blanket" }
+                if p.electrodes_patterned {
+                    "patterned (9 islands)"
+                } else {
+                    "blanket"
+                }
             ));
         }
         s
@@ -82,14 +91,21 @@ impl Stack {
 /// The stack after every step of the process, in step order.
 pub fn stacks(p: &Process, plan: &EtchPlan) -> Vec<Stack> {
     let mut st = Stack::default();
-    let (mut ox, mut rs, mut si) = (plan.oxidations.iter(), plan.resists.iter(), plan.steps.iter());
+    let (mut ox, mut rs, mut si) = (
+        plan.oxidations.iter(),
+        plan.resists.iter(),
+        plan.steps.iter(),
+    );
     let mut out = Vec::with_capacity(p.steps.len());
     for step in &p.steps {
         let film_phase = st.pvdf.is_some_and(|f| !f.attached);
         match &step.params {
             StepParams::Oxidation(_) => {
                 if let Some(o) = ox.next() {
-                    st.oxide_front = Film { thickness_um: o.thickness_um, patterned: false };
+                    st.oxide_front = Film {
+                        thickness_um: o.thickness_um,
+                        patterned: false,
+                    };
                     st.oxide_back = st.oxide_front;
                 }
             }
@@ -98,16 +114,25 @@ pub fn stacks(p: &Process, plan: &EtchPlan) -> Vec<Stack> {
                 match c.substrate {
                     Substrate::Pvdf => {
                         if let Some(f) = st.pvdf.as_mut() {
-                            f.resist = Film { thickness_um: t, patterned: false };
+                            f.resist = Film {
+                                thickness_um: t,
+                                patterned: false,
+                            };
                         }
                     }
                     Substrate::Carrier => {}
                     Substrate::Wafer => {
                         if matches!(c.side, Side::Front | Side::Both) {
-                            st.resist_front = Film { thickness_um: t, patterned: false };
+                            st.resist_front = Film {
+                                thickness_um: t,
+                                patterned: false,
+                            };
                         }
                         if matches!(c.side, Side::Back | Side::Both) {
-                            st.resist_back = Film { thickness_um: t, patterned: false };
+                            st.resist_back = Film {
+                                thickness_um: t,
+                                patterned: false,
+                            };
                         }
                     }
                 }
@@ -163,7 +188,12 @@ pub fn stacks(p: &Process, plan: &EtchPlan) -> Vec<Stack> {
                     st.oxide_back = Film::default();
                 }
             },
-            StepParams::Mount(_) => st.pvdf = Some(PvdfState { on_carrier: true, ..PvdfState::default() }),
+            StepParams::Mount(_) => {
+                st.pvdf = Some(PvdfState {
+                    on_carrier: true,
+                    ..PvdfState::default()
+                })
+            }
             StepParams::MetalEtch(_) => {
                 if let Some(f) = st.pvdf.as_mut() {
                     f.electrodes_patterned = true;
@@ -202,8 +232,17 @@ impl Cut {
     pub fn new(p: &Process, set: &MaskSet) -> Cut {
         let g = &p.geometry;
         let top = set.tooth_top_um;
-        let x = set.teeth.first().map(|t| t.x_um + top / 2.0).unwrap_or(g.die_length_um / 2.0);
-        let mut teeth: Vec<(f64, f64)> = set.teeth.iter().filter(|t| t.x_um <= x && x <= t.x_um + top).map(|t| (t.y_um, t.y_um + top)).collect();
+        let x = set
+            .teeth
+            .first()
+            .map(|t| t.x_um + top / 2.0)
+            .unwrap_or(g.die_length_um / 2.0);
+        let mut teeth: Vec<(f64, f64)> = set
+            .teeth
+            .iter()
+            .filter(|t| t.x_um <= x && x <= t.x_um + top)
+            .map(|t| (t.y_um, t.y_um + top))
+            .collect();
         teeth.sort_by(|a, b| a.0.total_cmp(&b.0));
         let w = g.die_width_um;
         let supports = vec![(0.0, g.support_width_um), (w - g.support_width_um, w)];
@@ -217,7 +256,15 @@ impl Cut {
             })
             .collect();
         electrodes.sort_by(|a, b| a.1.total_cmp(&b.1));
-        Cut { x_um: x, width_um: w, thickness_um: p.wafer.thickness_um, teeth, supports, electrodes, pvdf_thickness_um: p.materials.pvdf.thickness_um }
+        Cut {
+            x_um: x,
+            width_um: w,
+            thickness_um: p.wafer.thickness_um,
+            teeth,
+            supports,
+            electrodes,
+            pvdf_thickness_um: p.materials.pvdf.thickness_um,
+        }
     }
 
     /// Front surface height z(y) (z = 0 at the back face) after a front etch of `depth_um`.
@@ -248,12 +295,18 @@ impl Cut {
 
     /// Front profile as (y, z) points from y = 0 to the die width.
     pub fn front_profile(&self, depth_um: f64) -> Vec<(f64, f64)> {
-        self.breaks(&self.teeth, depth_um).into_iter().map(|y| (y, self.front_z(y, depth_um))).collect()
+        self.breaks(&self.teeth, depth_um)
+            .into_iter()
+            .map(|y| (y, self.front_z(y, depth_um)))
+            .collect()
     }
 
     /// Back profile as (y, z) points from y = 0 to the die width.
     pub fn back_profile(&self, depth_um: f64) -> Vec<(f64, f64)> {
-        self.breaks(&self.supports, depth_um).into_iter().map(|y| (y, self.back_z(y, depth_um))).collect()
+        self.breaks(&self.supports, depth_um)
+            .into_iter()
+            .map(|y| (y, self.back_z(y, depth_um)))
+            .collect()
     }
 }
 
@@ -267,7 +320,13 @@ fn mesa_lift(y: f64, depth_um: f64, mesas: &[(f64, f64)]) -> f64 {
     mesas
         .iter()
         .map(|&(a, b)| {
-            let d = if y < a { a - y } else if y > b { y - b } else { 0.0 };
+            let d = if y < a {
+                a - y
+            } else if y > b {
+                y - b
+            } else {
+                0.0
+            };
             (depth_um - slope * d).max(0.0)
         })
         .fold(0.0, f64::max)
@@ -279,7 +338,11 @@ fn clip(poly: &[(f64, f64)], y0: f64, y1: f64) -> Vec<(f64, f64)> {
         for w in poly.windows(2) {
             let ((ya, za), (yb, zb)) = (w[0], w[1]);
             if ya <= y && y <= yb {
-                return if yb > ya { za + (zb - za) * (y - ya) / (yb - ya) } else { za };
+                return if yb > ya {
+                    za + (zb - za) * (y - ya) / (yb - ya)
+                } else {
+                    za
+                };
             }
         }
         poly.last().map(|p| p.1).unwrap_or(0.0)
@@ -323,29 +386,50 @@ pub fn svg(cut: &Cut, st: &Stack, caption: &str) -> String {
     let mut body = String::new();
     let mut outline: Vec<(f64, f64)> = front.clone();
     outline.extend(back.iter().rev().copied());
-    body.push_str(&format!("<polygon points=\"{}\" fill=\"{SI}\" stroke=\"#333\" stroke-width=\"0.6\"/>", pts(&outline, 0.0)));
+    body.push_str(&format!(
+        "<polygon points=\"{}\" fill=\"{SI}\" stroke=\"#333\" stroke-width=\"0.6\"/>",
+        pts(&outline, 0.0)
+    ));
     // A film along a polyline: stroke of width w px, shifted off the surface by `off` px (up > 0).
     let stroke = |poly: &[(f64, f64)], colour: &str, w: f64, off: f64| {
-        format!("<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{w:.2}\"/>", pts(poly, off + w / 2.0))
+        format!(
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{w:.2}\"/>",
+            pts(poly, off + w / 2.0)
+        )
     };
     let film_w = |t: f64| (t * sz).max(2.0);
-    let mut layer = |surface: &[(f64, f64)], masks: &[(f64, f64)], films: [(&Film, &str); 2], up: bool| {
-        let mut off = 0.0;
-        for (f, colour) in films {
-            if f.thickness_um <= 0.0 {
-                continue;
+    let mut layer =
+        |surface: &[(f64, f64)], masks: &[(f64, f64)], films: [(&Film, &str); 2], up: bool| {
+            let mut off = 0.0;
+            for (f, colour) in films {
+                if f.thickness_um <= 0.0 {
+                    continue;
+                }
+                let w = film_w(f.thickness_um);
+                let shift = if up { off } else { -off - w };
+                let parts: Vec<Vec<(f64, f64)>> = if f.patterned {
+                    masks.iter().map(|&(a, b)| clip(surface, a, b)).collect()
+                } else {
+                    vec![surface.to_vec()]
+                };
+                for part in parts {
+                    body.push_str(&stroke(&part, colour, w, shift));
+                }
+                off += w;
             }
-            let w = film_w(f.thickness_um);
-            let shift = if up { off } else { -off - w };
-            let parts: Vec<Vec<(f64, f64)>> = if f.patterned { masks.iter().map(|&(a, b)| clip(surface, a, b)).collect() } else { vec![surface.to_vec()] };
-            for part in parts {
-                body.push_str(&stroke(&part, colour, w, shift));
-            }
-            off += w;
-        }
-    };
-    layer(&front, &cut.teeth, [(&st.oxide_front, OXIDE), (&st.resist_front, RESIST)], true);
-    layer(&back, &cut.supports, [(&st.oxide_back, OXIDE), (&st.resist_back, RESIST)], false);
+        };
+    layer(
+        &front,
+        &cut.teeth,
+        [(&st.oxide_front, OXIDE), (&st.resist_front, RESIST)],
+        true,
+    );
+    layer(
+        &back,
+        &cut.supports,
+        [(&st.oxide_back, OXIDE), (&st.resist_back, RESIST)],
+        false,
+    );
     if let Some(f) = &st.pvdf {
         let pw = film_w(cut.pvdf_thickness_um);
         let aw = 2.0;
@@ -361,16 +445,33 @@ pub fn svg(cut: &Cut, st: &Stack, caption: &str) -> String {
             let flat = vec![(0.0, zf), (cut.width_um, zf)];
             if f.on_carrier {
                 let (a, b) = px(0.0, zf);
-                body.push_str(&format!("<rect x=\"{a:.2}\" y=\"{b:.2}\" width=\"{W_PX:.2}\" height=\"8.00\" fill=\"{GLASS}\" stroke=\"#888\" stroke-width=\"0.5\"/>"));
+                body.push_str(&format!(
+                    "<rect x=\"{a:.2}\" y=\"{b:.2}\" width=\"{W_PX:.2}\" height=\"8.00\" \
+                     fill=\"{GLASS}\" stroke=\"#888\" stroke-width=\"0.5\"/>"
+                ));
             }
             body.push_str(&stroke(&flat, PVDF, pw, 0.0));
-            let al: Vec<Vec<(f64, f64)>> = if f.electrodes_patterned { cut.electrodes.iter().map(|(_, a, b)| clip(&flat, *a, *b)).collect() } else { vec![flat.clone()] };
+            let al: Vec<Vec<(f64, f64)>> = if f.electrodes_patterned {
+                cut.electrodes
+                    .iter()
+                    .map(|(_, a, b)| clip(&flat, *a, *b))
+                    .collect()
+            } else {
+                vec![flat.clone()]
+            };
             for part in &al {
                 body.push_str(&stroke(part, AL, aw, pw));
             }
             if f.resist.thickness_um > 0.0 {
                 let rw = film_w(f.resist.thickness_um);
-                let parts: Vec<Vec<(f64, f64)>> = if f.resist.patterned { cut.electrodes.iter().map(|(_, a, b)| clip(&flat, *a, *b)).collect() } else { vec![flat] };
+                let parts: Vec<Vec<(f64, f64)>> = if f.resist.patterned {
+                    cut.electrodes
+                        .iter()
+                        .map(|(_, a, b)| clip(&flat, *a, *b))
+                        .collect()
+                } else {
+                    vec![flat]
+                };
                 for part in &parts {
                     body.push_str(&stroke(part, RESIST, rw, pw + aw));
                 }
@@ -378,13 +479,30 @@ pub fn svg(cut: &Cut, st: &Stack, caption: &str) -> String {
         }
     }
     let mut legend = String::new();
-    for (i, (c, name)) in [(SI, "Si"), (OXIDE, "SiO2"), (RESIST, "resist"), (PVDF, "PVDF"), (AL, "Al")].iter().enumerate() {
+    for (i, (c, name)) in [
+        (SI, "Si"),
+        (OXIDE, "SiO2"),
+        (RESIST, "resist"),
+        (PVDF, "PVDF"),
+        (AL, "Al"),
+    ]
+    .iter()
+    .enumerate()
+    {
         let x = X0 + 70.0 * i as f64;
-        legend.push_str(&format!("<rect x=\"{x:.2}\" y=\"210\" width=\"10\" height=\"10\" fill=\"{c}\"/><text x=\"{:.2}\" y=\"219\">{name}</text>", x + 14.0));
+        legend.push_str(&format!(
+            "<rect x=\"{x:.2}\" y=\"210\" width=\"10\" height=\"10\" fill=\"{c}\"/><text \
+             x=\"{:.2}\" y=\"219\">{name}</text>",
+            x + 14.0
+        ));
     }
     let exaggeration = sz / sx;
     format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 640 228\" width=\"640\" height=\"228\" font-family=\"sans-serif\" font-size=\"10\" role=\"img\"><title>{}</title>{body}{legend}<text x=\"{X0}\" y=\"12\">{}</text><text x=\"{X0}\" y=\"24\" fill=\"#555\">cut across y at x = {:.0} um; vertical x{exaggeration:.1}, films not to scale; front (teeth) up</text></svg>",
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 640 228\" width=\"640\" \
+         height=\"228\" font-family=\"sans-serif\" font-size=\"10\" \
+         role=\"img\"><title>{}</title>{body}{legend}<text x=\"{X0}\" y=\"12\">{}</text><text \
+         x=\"{X0}\" y=\"24\" fill=\"#555\">cut across y at x = {:.0} um; vertical \
+         x{exaggeration:.1}, films not to scale; front (teeth) up</text></svg>",
         xml(caption),
         xml(caption),
         cut.x_um
@@ -393,7 +511,10 @@ pub fn svg(cut: &Cut, st: &Stack, caption: &str) -> String {
 
 /// Escapes text for XML/HTML.
 pub fn xml(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 #[cfg(test)]
@@ -422,7 +543,10 @@ mod tests {
         let run = h / 2f64.sqrt();
         assert!((c.front_z(6500.0 - run, h) - 300.0).abs() < 1e-6);
         let mid = c.front_z(6500.0 - run / 2.0, h);
-        assert!((mid - 400.0).abs() < 1e-6, "half-way down the sidewall: {mid}");
+        assert!(
+            (mid - 400.0).abs() < 1e-6,
+            "half-way down the sidewall: {mid}"
+        );
         let angle = (h / run).atan().to_degrees();
         assert!((angle - 54.7356).abs() < 1e-3);
     }
@@ -463,6 +587,9 @@ mod tests {
     #[test]
     fn clip_interpolates_ends() {
         let poly = [(0.0, 0.0), (10.0, 10.0), (20.0, 0.0)];
-        assert_eq!(clip(&poly, 5.0, 15.0), vec![(5.0, 5.0), (10.0, 10.0), (15.0, 5.0)]);
+        assert_eq!(
+            clip(&poly, 5.0, 15.0),
+            vec![(5.0, 5.0), (10.0, 10.0), (15.0, 5.0)]
+        );
     }
 }

@@ -44,7 +44,14 @@ pub struct BuildSummary {
 /// The summary of `built` whose other files are `files`.
 pub fn summary(built: &Built, process_file: &str, files: &[(String, Vec<u8>)]) -> BuildSummary {
     let failures = built.failures();
-    let mut entries: Vec<FileEntry> = files.iter().map(|(n, b)| FileEntry { name: n.clone(), bytes: b.len(), sha256: sha256_hex(b) }).collect();
+    let mut entries: Vec<FileEntry> = files
+        .iter()
+        .map(|(n, b)| FileEntry {
+            name: n.clone(),
+            bytes: b.len(),
+            sha256: sha256_hex(b),
+        })
+        .collect();
     entries.sort_by(|a, b| a.name.cmp(&b.name));
     BuildSummary {
         device: built.set.device.clone(),

@@ -20,7 +20,8 @@ pub const OXIDE_TOL_REL: f64 = 0.05;
 pub const DEPTH_TOL_REL: f64 = 0.01;
 /// Plate tolerance: the 5 % of the plan's PLATE_TOLERANCE check.
 pub const PLATE_TOL_REL: f64 = 0.05;
-/// Resist thickness tolerance [choice]: spin-coat repeatability of a few %; 10 % flags a wrong speed.
+/// Resist thickness tolerance [choice]: spin-coat repeatability of a few %; 10 % flags a wrong
+/// speed.
 pub const RESIST_TOL_REL: f64 = 0.10;
 /// Stop for a depth measurement at this fraction of the computed time (process-physics.md).
 pub const HOLD_FRACTION: f64 = 0.9;
@@ -100,8 +101,16 @@ pub struct CompensationRow {
 
 impl CompensationRow {
     /// Column titles of the compensation table, shared by the Markdown and HTML writers.
-    pub const HEADINGS: [&'static str; 8] =
-        ["step", "geometry", "depth h (um)", "a = h / ratio (um)", "reach (um)", "needs between corners (um)", "street x / y (um)", "TMAH test die"];
+    pub const HEADINGS: [&'static str; 8] = [
+        "step",
+        "geometry",
+        "depth h (um)",
+        "a = h / ratio (um)",
+        "reach (um)",
+        "needs between corners (um)",
+        "street x / y (um)",
+        "TMAH test die",
+    ];
 
     /// The row's cells as plain text (each writer escapes for its own format).
     pub fn cells(&self) -> Vec<String> {
@@ -113,7 +122,9 @@ impl CompensationRow {
             format!("{:.1}", self.reach_um),
             format!("{:.1}", self.min_gap_um),
             format!("{:.0} / {:.0}", self.street_um.0, self.street_um.1),
-            self.test_die_um.map(|(a, b)| format!("a from {a:.0} to {b:.0} um")).unwrap_or_else(|| "-".into()),
+            self.test_die_um
+                .map(|(a, b)| format!("a from {a:.0} to {b:.0} um"))
+                .unwrap_or_else(|| "-".into()),
         ]
     }
 }
@@ -180,24 +191,39 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
     let p = input.process;
     let plan = input.plan;
     let prov = |path: &str| -> String {
-        input.defaults_used.iter().find(|d| d.path == path).map(|d| format!("default: {}", d.source)).unwrap_or_else(|| "process file".into())
+        input
+            .defaults_used
+            .iter()
+            .find(|d| d.path == path)
+            .map(|d| format!("default: {}", d.source))
+            .unwrap_or_else(|| "process file".into())
     };
     let mut holds: Vec<HoldPoint> = Vec::new();
     let w = &p.wafer;
-    let two_sided = plan.steps.iter().any(|s| s.side == Side::Both) || (plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0);
+    let two_sided = plan.steps.iter().any(|s| s.side == Side::Both)
+        || (plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0);
     holds.push(HoldPoint {
         id: "H1".into(),
         step: "start".into(),
         when: "before the first step".into(),
         measure: "wafer thickness w at the centre and 4 points 10 mm from the edge (um)".into(),
-        accept: format!("{} +/- {} um (supplier tolerance)", w.thickness_um, w.thickness_tolerance_um),
+        accept: format!(
+            "{} +/- {} um (supplier tolerance)",
+            w.thickness_um, w.thickness_tolerance_um
+        ),
         then: format!(
-            "the tolerance goes straight into the plate ({:.0}-{:.0} um with the recipe as written); record w: the etch hold points finish to the plate target",
+            "the tolerance goes straight into the plate ({:.0}-{:.0} um with the recipe as \
+             written); record w: the etch hold points finish to the plate target",
             plan.plate_range_um[0], plan.plate_range_um[1]
         ),
     });
 
-    let (mut ox, mut rs, mut oe, mut si) = (plan.oxidations.iter(), plan.resists.iter(), plan.oxide_etches.iter(), plan.steps.iter());
+    let (mut ox, mut rs, mut oe, mut si) = (
+        plan.oxidations.iter(),
+        plan.resists.iter(),
+        plan.oxide_etches.iter(),
+        plan.steps.iter(),
+    );
     let mut steps = Vec::new();
     for (i, s) in p.steps.iter().enumerate() {
         let mut computed = Vec::new();
@@ -205,7 +231,11 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         let mut step_holds = Vec::new();
         let (process, parameters) = match &s.params {
             StepParams::Clean(g) | StepParams::Mount(g) => {
-                let kind = if matches!(s.params, StepParams::Clean(_)) { "clean" } else { "mount on carrier" };
+                let kind = if matches!(s.params, StepParams::Clean(_)) {
+                    "clean"
+                } else {
+                    "mount on carrier"
+                };
                 let mut v = Vec::new();
                 if let Some(t) = g.temp_c {
                     v.push(format!("{t} C"));
@@ -216,13 +246,19 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                 (kind.to_string(), v.join(", "))
             }
             StepParams::Oxidation(o) => {
-                let params = format!("{} ambient, {} C, {} h", label(&o.ambient), o.temp_c, o.time_h);
+                let params = format!(
+                    "{} ambient, {} C, {} h",
+                    label(&o.ambient),
+                    o.temp_c,
+                    o.time_h
+                );
                 if let Some(r) = ox.next() {
                     computed.push(Computed {
                         what: "oxide per face".into(),
                         value: format!("{:.3} um", r.thickness_um),
                         provenance: format!(
-                            "Deal-Grove x^2 + A x = B (t + tau), B = {:.4} um2/h, B/A = {:.3} um/h (Plummer, Deal & Griffin Table 6-2)",
+                            "Deal-Grove x^2 + A x = B (t + tau), B = {:.4} um2/h, B/A = {:.3} \
+                             um/h (Plummer, Deal & Griffin Table 6-2)",
                             r.b_um2_per_h, r.b_over_a_um_per_h
                         ),
                     });
@@ -233,27 +269,41 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                     });
                     target = Some(Target {
                         quantity: "oxide thickness (ellipsometer), each face".into(),
-                        value: format!("{:.3} um +/- {:.3} um", r.thickness_um, OXIDE_TOL_REL * r.thickness_um),
+                        value: format!(
+                            "{:.3} um +/- {:.3} um",
+                            r.thickness_um,
+                            OXIDE_TOL_REL * r.thickness_um
+                        ),
                         basis: "Deal-Grove; 5 % as the OXIDE_CLAIM check".into(),
                     });
                     // The oxide must outlive the next silicon etch it masks.
-                    if let Some(e) = plan.steps.iter().find(|e| e.mask == crate::process::EtchMask::Oxide && e.mask_consumed_um > 0.0) {
+                    if let Some(e) = plan.steps.iter().find(|e| {
+                        e.mask == crate::process::EtchMask::Oxide && e.mask_consumed_um > 0.0
+                    }) {
                         let need = e.mask_consumed_um / (1.0 - MASK_MARGIN_REL);
                         let id = format!("H{}", holds.len() + 1);
                         holds.push(HoldPoint {
                             id: id.clone(),
                             step: s.name.clone(),
                             when: "after oxidation, before lithography".into(),
-                            measure: "oxide thickness on both faces (ellipsometer, 5 points)".into(),
+                            measure: "oxide thickness on both faces (ellipsometer, 5 points)"
+                                .into(),
                             accept: format!(
-                                ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and {:.0} % must be left",
+                                ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and \
+                                 {:.0} % must be left",
                                 e.name,
                                 e.mask_consumed_um,
                                 e.time_h,
-                                if e.etchant == "TMAH" { p.etchants.tmah_oxide_rate_um_per_h } else { p.etchants.koh_oxide_rate_um_per_h },
+                                if e.etchant == "TMAH" {
+                                    p.etchants.tmah_oxide_rate_um_per_h
+                                } else {
+                                    p.etchants.koh_oxide_rate_um_per_h
+                                },
                                 MASK_MARGIN_REL * 100.0
                             ),
-                            then: "below: oxidise longer (re-run the plan with the measured thickness as initial_oxide_um)".into(),
+                            then: "below: oxidise longer (re-run the plan with the measured \
+                                   thickness as initial_oxide_um)"
+                                .into(),
                         });
                         step_holds.push(id);
                     }
@@ -261,13 +311,21 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                 (format!("thermal oxidation ({})", label(&o.ambient)), params)
             }
             StepParams::SpinCoat(c) => {
-                let params = format!("{}, {} rpm, {} s, {}, on {}", c.resist, c.speed_rpm, c.time_s, side(c.side), label(&c.substrate));
+                let params = format!(
+                    "{}, {} rpm, {} s, {}, on {}",
+                    c.resist,
+                    c.speed_rpm,
+                    c.time_s,
+                    side(c.side),
+                    label(&c.substrate)
+                );
                 if let Some(r) = rs.next() {
                     computed.push(Computed {
                         what: "resist".into(),
                         value: format!("{:.2} um", r.thickness_um),
                         provenance: format!(
-                            "spin curve t = t_ref (rpm / rpm_ref)^-n: {} um at {} rpm ({}), n = {:.3} ({})",
+                            "spin curve t = t_ref (rpm / rpm_ref)^-n: {} um at {} rpm ({}), n = \
+                             {:.3} ({})",
                             c.ref_thickness_um,
                             c.ref_speed_rpm,
                             prov(&format!("steps[{i}].ref_thickness_um")),
@@ -277,7 +335,11 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                     });
                     target = Some(Target {
                         quantity: "resist thickness".into(),
-                        value: format!("{:.2} um +/- {:.2} um", r.thickness_um, RESIST_TOL_REL * r.thickness_um),
+                        value: format!(
+                            "{:.2} um +/- {:.2} um",
+                            r.thickness_um,
+                            RESIST_TOL_REL * r.thickness_um
+                        ),
                         basis: "[choice] 10 %: a larger error means a wrong speed or resist".into(),
                     });
                 }
@@ -289,14 +351,28 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                     if let Some(m) = input.inventory.masks.iter().find(|m| &m.name == name) {
                         computed.push(Computed {
                             what: format!("mask {name}"),
-                            value: format!("{}, {}, {} side{}", m.svg_file, m.tone, side(m.side), if m.mirrored { ", MIRRORED" } else { "" }),
-                            provenance: format!("GDS layer {} of {}", m.gds_layer, input.inventory.gds_file),
+                            value: format!(
+                                "{}, {}, {} side{}",
+                                m.svg_file,
+                                m.tone,
+                                side(m.side),
+                                if m.mirrored { ", MIRRORED" } else { "" }
+                            ),
+                            provenance: format!(
+                                "GDS layer {} of {}",
+                                m.gds_layer, input.inventory.gds_file
+                            ),
                         });
                     }
                 }
-                ("UV exposure".into(), format!("masks {}; {} s", e.masks.join(", "), e.time_s))
+                (
+                    "UV exposure".into(),
+                    format!("masks {}; {} s", e.masks.join(", "), e.time_s),
+                )
             }
-            StepParams::Develop(d) => ("develop".into(), format!("{}, {} s", d.developer, d.time_s)),
+            StepParams::Develop(d) => {
+                ("develop".into(), format!("{}, {} s", d.developer, d.time_s))
+            }
             StepParams::OxideEtch(e) => {
                 if let Some(r) = oe.next() {
                     computed.push(Computed {
@@ -316,7 +392,15 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                         basis: "a hard mask needs bare Si in every opening".into(),
                     });
                 }
-                ("oxide etch".into(), format!("{}, {}, over-etch {} %", e.etchant, side(e.side), e.overetch_pct))
+                (
+                    "oxide etch".into(),
+                    format!(
+                        "{}, {}, over-etch {} %",
+                        e.etchant,
+                        side(e.side),
+                        e.overetch_pct
+                    ),
+                )
             }
             StepParams::SiliconEtch(e) => {
                 let params = format!(
@@ -326,7 +410,9 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                     e.temp_c,
                     side(e.side),
                     label(&e.mask),
-                    e.time_h.map(|t| format!(", recipe time {t} h")).unwrap_or_default()
+                    e.time_h
+                        .map(|t| format!(", recipe time {t} h"))
+                        .unwrap_or_default()
                 );
                 if let Some(r) = si.next() {
                     silicon_rows(r, &mut computed);
@@ -340,24 +426,37 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                     let t_hold = HOLD_FRACTION * r.time_for_depth_h;
                     let finish = if two_sided && plan.steps.len() == 1 {
                         format!(
-                            "for the {} um plate finish to depth D = (w - {})/2 per face (w from H1), remaining time = {:.3} h x (D / d - 1)",
+                            "for the {} um plate finish to depth D = (w - {})/2 per face (w from \
+                             H1), remaining time = {:.3} h x (D / d - 1)",
                             plan.plate_target_um, plan.plate_target_um, t_hold
                         )
                     } else {
-                        format!("remaining time = {t_hold:.3} h x ({} um / d - 1)", r.depth_um)
+                        format!(
+                            "remaining time = {t_hold:.3} h x ({} um / d - 1)",
+                            r.depth_um
+                        )
                     };
                     holds.push(HoldPoint {
                         id: id.clone(),
                         step: r.name.clone(),
                         when: format!(
-                            "at {:.0} % of the computed time: {:.3} h = {:.0} min (not the recipe's {} h)",
+                            "at {:.0} % of the computed time: {:.3} h = {:.0} min (not the \
+                             recipe's {} h)",
                             HOLD_FRACTION * 100.0,
                             t_hold,
                             t_hold * 60.0,
                             r.time_h
                         ),
-                        measure: format!("etch depth d on each etched face (microscope focus or profilometer), expected {:.1} um", HOLD_FRACTION * r.depth_um),
-                        accept: format!("d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h", HOLD_FRACTION * r.depth_um, HOLD_FRACTION * tol),
+                        measure: format!(
+                            "etch depth d on each etched face (microscope focus or profilometer), \
+                             expected {:.1} um",
+                            HOLD_FRACTION * r.depth_um
+                        ),
+                        accept: format!(
+                            "d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h",
+                            HOLD_FRACTION * r.depth_um,
+                            HOLD_FRACTION * tol
+                        ),
                         then: finish,
                     });
                     step_holds.push(id);
@@ -369,10 +468,22 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                 let n = input.set.electrodes.len();
                 target = Some(Target {
                     quantity: "electrode islands".into(),
-                    value: format!("{n} isolated islands ({})", input.set.electrodes.iter().map(|e| e.name.as_str()).collect::<Vec<_>>().join(", ")),
+                    value: format!(
+                        "{n} isolated islands ({})",
+                        input
+                            .set
+                            .electrodes
+                            .iter()
+                            .map(|e| e.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
                     basis: "PVDF mask; check no continuity between neighbours".into(),
                 });
-                ("metal etch".into(), format!("{}, {} C, {} min", m.etchant, m.temp_c, m.time_min))
+                (
+                    "metal etch".into(),
+                    format!("{}, {} C, {} min", m.etchant, m.temp_c, m.time_min),
+                )
             }
             StepParams::Assemble(a) => {
                 let mut v = Vec::new();
@@ -393,19 +504,38 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
             (true, false) => s.notes.clone(),
             (false, false) => format!("{parameters}; {}", s.notes),
         };
-        steps.push(StepRow { number: i + 1, name: s.name.clone(), process, equipment: s.equipment.clone(), parameters, computed, target, holds: step_holds });
+        steps.push(StepRow {
+            number: i + 1,
+            name: s.name.clone(),
+            process,
+            equipment: s.equipment.clone(),
+            parameters,
+            computed,
+            target,
+            holds: step_holds,
+        });
     }
 
     if plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0 {
         let id = format!("H{}", holds.len() + 1);
-        let last_si = plan.steps.last().map(|s| s.name.clone()).unwrap_or_default();
+        let last_si = plan
+            .steps
+            .last()
+            .map(|s| s.name.clone())
+            .unwrap_or_default();
         holds.push(HoldPoint {
             id: id.clone(),
             step: last_si.clone(),
             when: "after the last silicon etch, before stripping the oxide".into(),
             measure: "plate thickness = w - front depth - back depth (um)".into(),
-            accept: format!("{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)", plan.plate_target_um, PLATE_TOL_REL * plan.plate_target_um),
-            then: "thicker: etch on (both faces); thinner: record, the FE sensitivity scales with the plate".into(),
+            accept: format!(
+                "{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)",
+                plan.plate_target_um,
+                PLATE_TOL_REL * plan.plate_target_um
+            ),
+            then: "thicker: etch on (both faces); thinner: record, the FE sensitivity scales with \
+                   the plate"
+                .into(),
         });
         if let Some(row) = steps.iter_mut().rev().find(|r| r.name == last_si) {
             row.holds.push(id);
@@ -415,18 +545,64 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
     let mut checks = plan.warnings.clone();
     checks.sort_by(|a, b| b.severity.cmp(&a.severity).then(a.code.cmp(b.code)));
     let material = vec![
-        ("wafer".to_string(), format!("({}) Si, {} +/- {} um, {} mm diameter", label(&w.orientation), w.thickness_um, w.thickness_tolerance_um, w.diameter_mm)),
-        ("die edges".to_string(), format!("along <{}>", label(&w.die_edge))),
-        ("die".to_string(), format!("{} x {} mm", p.geometry.die_length_um / 1000.0, p.geometry.die_width_um / 1000.0)),
-        ("PVDF film".to_string(), format!("{} um, metallised both sides, drawn axis (d31) along {}", p.materials.pvdf.thickness_um, label(&p.geometry.electrodes.drawn_axis))),
-        ("plate".to_string(), format!("target {} um; the recipe leaves {:.1} um ({:.0}-{:.0} um over the wafer tolerance)", plan.plate_target_um, plan.plate_thickness_um, plan.plate_range_um[0], plan.plate_range_um[1])),
+        (
+            "wafer".to_string(),
+            format!(
+                "({}) Si, {} +/- {} um, {} mm diameter",
+                label(&w.orientation),
+                w.thickness_um,
+                w.thickness_tolerance_um,
+                w.diameter_mm
+            ),
+        ),
+        (
+            "die edges".to_string(),
+            format!("along <{}>", label(&w.die_edge)),
+        ),
+        (
+            "die".to_string(),
+            format!(
+                "{} x {} mm",
+                p.geometry.die_length_um / 1000.0,
+                p.geometry.die_width_um / 1000.0
+            ),
+        ),
+        (
+            "PVDF film".to_string(),
+            format!(
+                "{} um, metallised both sides, drawn axis (d31) along {}",
+                p.materials.pvdf.thickness_um,
+                label(&p.geometry.electrodes.drawn_axis)
+            ),
+        ),
+        (
+            "plate".to_string(),
+            format!(
+                "target {} um; the recipe leaves {:.1} um ({:.0}-{:.0} um over the wafer \
+                 tolerance)",
+                plan.plate_target_um,
+                plan.plate_thickness_um,
+                plan.plate_range_um[0],
+                plan.plate_range_um[1]
+            ),
+        ),
     ];
     Traveler {
         device: p.device.name.clone(),
         revision: p.device.revision.clone(),
         description: p.device.description.clone(),
         process_file: input.process_file.to_string(),
-        header_fields: ["Lot ID", "Wafer ID(s)", "Start date", "End date", "Engineer", "Operator(s)"].iter().map(|s| s.to_string()).collect(),
+        header_fields: [
+            "Lot ID",
+            "Wafer ID(s)",
+            "Start date",
+            "End date",
+            "Engineer",
+            "Operator(s)",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect(),
         material,
         inventory: input.inventory,
         steps,
@@ -436,7 +612,12 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         checks,
         drc_summary: input.drc.summary(10),
         drc_passed: input.drc.passed(),
-        layout_warnings: input.set.warnings.iter().map(|w| (w.code.to_string(), w.message.clone())).collect(),
+        layout_warnings: input
+            .set
+            .warnings
+            .iter()
+            .map(|w| (w.code.to_string(), w.message.clone()))
+            .collect(),
         discrepancies: discrepancies(p, plan),
         compensation: compensation(p, plan),
         defaults_used: input.defaults_used.to_vec(),
@@ -447,23 +628,71 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
 
 /// The computed column of a silicon etch.
 fn silicon_rows(r: &EtchStep, c: &mut Vec<Computed>) {
-    let mut push = |what: &str, value: String, provenance: String| c.push(Computed { what: what.into(), value, provenance });
-    push("(100) rate", format!("{:.2} um/h", r.rate_um_per_h), format!("{}; model {:.2} um/h", r.rate_source, r.model_rate_um_per_h));
-    push("time for target", format!("{:.3} h", r.time_for_depth_h), format!("{} um / {:.2} um/h", r.depth_um, r.rate_um_per_h));
-    push("depth at run time", format!("{:.1} um", r.achieved_depth_um), format!("{:.3} h x {:.2} um/h", r.time_h, r.rate_um_per_h));
-    push("sidewall run-out", format!("{:.1} um", r.sidewall_run_out_um), "h / tan 54.74 deg ({111} sidewalls)".into());
-    push("undercut", format!("{:.1} um", r.undercut_um), format!("R111 t / sin 54.74 deg, R111 = {:.3} um/h", r.rate_111_um_per_h));
+    let mut push = |what: &str, value: String, provenance: String| {
+        c.push(Computed {
+            what: what.into(),
+            value,
+            provenance,
+        })
+    };
+    push(
+        "(100) rate",
+        format!("{:.2} um/h", r.rate_um_per_h),
+        format!("{}; model {:.2} um/h", r.rate_source, r.model_rate_um_per_h),
+    );
+    push(
+        "time for target",
+        format!("{:.3} h", r.time_for_depth_h),
+        format!("{} um / {:.2} um/h", r.depth_um, r.rate_um_per_h),
+    );
+    push(
+        "depth at run time",
+        format!("{:.1} um", r.achieved_depth_um),
+        format!("{:.3} h x {:.2} um/h", r.time_h, r.rate_um_per_h),
+    );
+    push(
+        "sidewall run-out",
+        format!("{:.1} um", r.sidewall_run_out_um),
+        "h / tan 54.74 deg ({111} sidewalls)".into(),
+    );
+    push(
+        "undercut",
+        format!("{:.1} um", r.undercut_um),
+        format!(
+            "R111 t / sin 54.74 deg, R111 = {:.3} um/h",
+            r.rate_111_um_per_h
+        ),
+    );
     if let Some(b) = r.mesa_base_um {
-        push("tooth base", format!("{b:.1} um"), "top + 2 h / tan 54.74 deg".into());
+        push(
+            "tooth base",
+            format!("{b:.1} um"),
+            "top + 2 h / tan 54.74 deg".into(),
+        );
     }
-    let erosion = if r.time_h > 0.0 { r.mask_consumed_um / r.time_h } else { 0.0 };
+    let erosion = if r.time_h > 0.0 {
+        r.mask_consumed_um / r.time_h
+    } else {
+        0.0
+    };
     push(
         "mask erosion",
-        format!("{:.3} um consumed, {:.3} um left", r.mask_consumed_um, r.mask_remaining_um),
-        format!("{} mask at {erosion:.3} um/h for {:.3} h", label(&r.mask), r.time_h),
+        format!(
+            "{:.3} um consumed, {:.3} um left",
+            r.mask_consumed_um, r.mask_remaining_um
+        ),
+        format!(
+            "{} mask at {erosion:.3} um/h for {:.3} h",
+            label(&r.mask),
+            r.time_h
+        ),
     );
     if let Some(k) = &r.compensation {
-        push("compensation square", format!("{:.1} um", k.side_um), format!("a = h / {} ({})", k.ratio, label(&k.kind)));
+        push(
+            "compensation square",
+            format!("{:.1} um", k.side_um),
+            format!("a = h / {} ({})", k.ratio, label(&k.kind)),
+        );
     }
 }
 
@@ -477,44 +706,76 @@ pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
                     code: "OXIDE_CLAIM".into(),
                     quantity: format!("oxide of `{}`", o.name),
                     source_says: format!("{e} um in {} h at {} C", o.time_h, o.temp_c),
-                    computed: format!("{:.3} um (Deal-Grove); {e} um needs {t:.2} h", o.thickness_um),
+                    computed: format!(
+                        "{:.3} um (Deal-Grove); {e} um needs {t:.2} h",
+                        o.thickness_um
+                    ),
                 });
             }
         }
     }
-    for (s, e) in plan.steps.iter().zip(p.steps.iter().filter_map(|s| match &s.params {
-        StepParams::SiliconEtch(e) => Some(e),
-        _ => None,
-    })) {
+    for (s, e) in plan
+        .steps
+        .iter()
+        .zip(p.steps.iter().filter_map(|s| match &s.params {
+            StepParams::SiliconEtch(e) => Some(e),
+            _ => None,
+        }))
+    {
         if let Some(t) = e.time_h {
             if (s.achieved_depth_um - s.depth_um).abs() / s.depth_um > DEPTH_TOL_REL {
                 v.push(Discrepancy {
                     code: "ETCH_TIME_DEPTH_MISMATCH".into(),
                     quantity: format!("etch time of `{}`", s.name),
-                    source_says: format!("{t} h for {} um per face at {} um/h", s.depth_um, s.rate_um_per_h),
-                    computed: format!("{:.3} h for {} um; {t} h etches {:.1} um", s.time_for_depth_h, s.depth_um, s.achieved_depth_um),
+                    source_says: format!(
+                        "{t} h for {} um per face at {} um/h",
+                        s.depth_um, s.rate_um_per_h
+                    ),
+                    computed: format!(
+                        "{:.3} h for {} um; {t} h etches {:.1} um",
+                        s.time_for_depth_h, s.depth_um, s.achieved_depth_um
+                    ),
                 });
             }
         }
     }
-    if !plan.steps.is_empty() && (plan.plate_thickness_um - plan.plate_target_um).abs() / plan.plate_target_um > DEPTH_TOL_REL {
+    if !plan.steps.is_empty()
+        && (plan.plate_thickness_um - plan.plate_target_um).abs() / plan.plate_target_um
+            > DEPTH_TOL_REL
+    {
         v.push(Discrepancy {
             code: "PLATE_THICKNESS_MISMATCH".into(),
             quantity: "plate thickness".into(),
             source_says: format!("{} um", plan.plate_target_um),
             computed: format!(
                 "{:.1} um = {} - {:.1} - {:.1} um with the recipe's times",
-                plan.plate_thickness_um, plan.wafer_thickness_um, plan.front_depth_um, plan.back_depth_um
+                plan.plate_thickness_um,
+                plan.wafer_thickness_um,
+                plan.front_depth_um,
+                plan.back_depth_um
             ),
         });
     }
-    for c in plan.warnings.iter().filter(|c| matches!(c.code, "COMP_RATIO_FROM_KOH" | "PIEZO_CONSTANTS_INCONSISTENT" | "RATE_MODEL_DISAGREES")) {
+    for c in plan.warnings.iter().filter(|c| {
+        matches!(
+            c.code,
+            "COMP_RATIO_FROM_KOH" | "PIEZO_CONSTANTS_INCONSISTENT" | "RATE_MODEL_DISAGREES"
+        )
+    }) {
         let (quantity, source_says) = match c.code {
-            "COMP_RATIO_FROM_KOH" => ("corner compensation ratio", "a = h / 0.544 (a KOH rule) for TMAH"),
+            "COMP_RATIO_FROM_KOH" => (
+                "corner compensation ratio",
+                "a = h / 0.544 (a KOH rule) for TMAH",
+            ),
             "PIEZO_CONSTANTS_INCONSISTENT" => ("PVDF g and d constants", "d, g and eps_r as given"),
             _ => ("(100) etch rate", "the measured rate"),
         };
-        v.push(Discrepancy { code: c.code.into(), quantity: quantity.into(), source_says: source_says.into(), computed: c.message.clone() });
+        v.push(Discrepancy {
+            code: c.code.into(),
+            quantity: quantity.into(),
+            source_says: source_says.into(),
+            computed: c.message.clone(),
+        });
     }
     v
 }
@@ -537,7 +798,8 @@ fn compensation(p: &Process, plan: &EtchPlan) -> Vec<CompensationRow> {
                 reach_um: c.reach_um,
                 min_gap_um: c.min_gap_um,
                 street_um: street,
-                test_die_um: koh_rule.then(|| (0.8 * s.depth_um / c.ratio, 1.5 * s.depth_um / c.ratio)),
+                test_die_um: koh_rule
+                    .then(|| (0.8 * s.depth_um / c.ratio, 1.5 * s.depth_um / c.ratio)),
             })
         })
         .collect()
@@ -573,7 +835,11 @@ mod tests {
     }
 
     fn computed<'a>(r: &'a StepRow, what: &str) -> &'a str {
-        &r.computed.iter().find(|c| c.what == what).unwrap_or_else(|| panic!("no `{what}` in {r:?}")).value
+        &r.computed
+            .iter()
+            .find(|c| c.what == what)
+            .unwrap_or_else(|| panic!("no `{what}` in {r:?}"))
+            .value
     }
 
     #[test]
@@ -596,20 +862,37 @@ mod tests {
         let ox = t.holds.iter().find(|h| h.step == "wet-oxidation").unwrap();
         assert!(ox.accept.starts_with(">= "), "{}", ox.accept);
         let codes: Vec<&str> = t.discrepancies.iter().map(|d| d.code.as_str()).collect();
-        for c in ["OXIDE_CLAIM", "ETCH_TIME_DEPTH_MISMATCH", "PLATE_THICKNESS_MISMATCH", "COMP_RATIO_FROM_KOH", "PIEZO_CONSTANTS_INCONSISTENT"] {
+        for c in [
+            "OXIDE_CLAIM",
+            "ETCH_TIME_DEPTH_MISMATCH",
+            "PLATE_THICKNESS_MISMATCH",
+            "COMP_RATIO_FROM_KOH",
+            "PIEZO_CONSTANTS_INCONSISTENT",
+        ] {
             assert!(codes.contains(&c), "{c} missing from {codes:?}");
         }
-        let oxide = t.discrepancies.iter().find(|d| d.code == "OXIDE_CLAIM").unwrap();
+        let oxide = t
+            .discrepancies
+            .iter()
+            .find(|d| d.code == "OXIDE_CLAIM")
+            .unwrap();
         assert!(oxide.computed.starts_with("0.942 um"), "{}", oxide.computed);
         let comp = &t.compensation[0];
-        assert_eq!(comp.test_die_um.map(|(a, b)| (a.round(), b.round())), Some((294.0, 551.0)));
+        assert_eq!(
+            comp.test_die_um.map(|(a, b)| (a.round(), b.round())),
+            Some((294.0, 551.0))
+        );
     }
 
     #[test]
     fn computed_time_leaves_no_etch_discrepancy() {
         let t = bundled(&["steps.tmah-etch.time_h=null"]);
         let codes: Vec<&str> = t.discrepancies.iter().map(|d| d.code.as_str()).collect();
-        assert!(!codes.contains(&"ETCH_TIME_DEPTH_MISMATCH") && !codes.contains(&"PLATE_THICKNESS_MISMATCH"), "{codes:?}");
+        assert!(
+            !codes.contains(&"ETCH_TIME_DEPTH_MISMATCH")
+                && !codes.contains(&"PLATE_THICKNESS_MISMATCH"),
+            "{codes:?}"
+        );
         assert!(codes.contains(&"OXIDE_CLAIM"));
     }
 
@@ -618,12 +901,19 @@ mod tests {
         let t = bundled(&[]);
         let by = |name: &str| t.stacks[t.steps.iter().position(|r| r.name == name).unwrap()];
         let etched = by("tmah-etch");
-        assert!((etched.front_etch_um - 204.0).abs() < 1e-9 && (etched.back_etch_um - 204.0).abs() < 1e-9);
+        assert!(
+            (etched.front_etch_um - 204.0).abs() < 1e-9
+                && (etched.back_etch_um - 204.0).abs() < 1e-9
+        );
         // The section's plate under the street between two teeth is the plan's plate.
         let y = 0.5 * (t.cut.teeth[0].1 + t.cut.teeth[1].0);
         let plate = t.cut.front_z(y, etched.front_etch_um) - t.cut.back_z(y, etched.back_etch_um);
         assert!((plate - 92.0).abs() < 1e-9, "{plate}");
-        assert!(etched.oxide_front.patterned && etched.oxide_front.thickness_um > 0.0 && etched.oxide_front.thickness_um < 0.942);
+        assert!(
+            etched.oxide_front.patterned
+                && etched.oxide_front.thickness_um > 0.0
+                && etched.oxide_front.thickness_um < 0.942
+        );
         assert_eq!(by("strip-oxide").oxide_front.thickness_um, 0.0);
         let film = by("al-etch").pvdf.unwrap();
         assert!(film.on_carrier && film.electrodes_patterned && !film.attached);
@@ -639,12 +929,33 @@ mod tests {
         let t = bundled(&[]);
         let md = crate::report::markdown::markdown(&t);
         assert_eq!(md, crate::report::markdown::markdown(&bundled(&[])));
-        for h in ["## Header", "## Starting material", "## Masks", "## Steps", "## Hold points", "## Cross-sections", "## Checks and warnings", "## FE sensitivity", "## Corner compensation"] {
+        for h in [
+            "## Header",
+            "## Starting material",
+            "## Masks",
+            "## Steps",
+            "## Hold points",
+            "## Cross-sections",
+            "## Checks and warnings",
+            "## FE sensitivity",
+            "## Corner compensation",
+        ] {
             assert!(md.contains(h), "missing {h}");
         }
         let html = crate::report::html::html(&t, &Default::default());
-        assert_eq!(html.matches("<figure>").count(), t.steps.len(), "one cross-section per step");
-        assert!(!html.contains("<script") && !html.contains(" src=") && !html.contains("href="), "self-contained");
-        assert!(!html.contains("http://") || html.matches("http://").count() == html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count());
+        assert_eq!(
+            html.matches("<figure>").count(),
+            t.steps.len(),
+            "one cross-section per step"
+        );
+        assert!(
+            !html.contains("<script") && !html.contains(" src=") && !html.contains("href="),
+            "self-contained"
+        );
+        assert!(
+            !html.contains("http://")
+                || html.matches("http://").count()
+                    == html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count()
+        );
     }
 }

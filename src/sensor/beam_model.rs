@@ -1,9 +1,9 @@
 //! The cheapest model: the sensor as a fixed-fixed strip (paper 001, Eq. 3-6) in cylindrical
 //! bending, for a line load across the whole length of a plate of uniform thickness.
 //!
-//! Far from the free ends such a plate bends cylindrically (kappa_x = 0), so per unit length in x it
-//! is a clamped-clamped beam of stiffness D22: the reactions are those of Eq. 3-6 (independent of
-//! the stiffness), the moment is piecewise linear, and every electrode reading follows in closed
+//! Far from the free ends such a plate bends cylindrically (kappa_x = 0), so per unit length in x
+//! it is a clamped-clamped beam of stiffness D22: the reactions are those of Eq. 3-6 (independent
+//! of the stiffness), the moment is piecewise linear, and every electrode reading follows in closed
 //! form. Near the free ends the plate is free to bend anticlastically (M_x = 0, kappa_x =
 //! -D12/D11 kappa_y) over a boundary layer about one span wide; that is the model's error, bounded
 //! by [`beam_error_estimate`] and checked against the plate in the tests.
@@ -44,8 +44,16 @@ pub fn beam_error_estimate(g: &SensorGeometry) -> f64 {
     let d = g.material.bending_stiffness(g.plate_thickness_um * 1e-6);
     let coupling = (d.d12_nm / d.d11_nm).abs();
     let span = g.plate_y1_um - g.plate_y0_um;
-    let shortest = g.electrodes.iter().map(|e| e.x1_um - e.x0_um).fold(f64::INFINITY, f64::min);
-    let ratio = if g.d31_pc_per_n != 0.0 { (g.d32_pc_per_n / g.d31_pc_per_n).abs() } else { 1.0 };
+    let shortest = g
+        .electrodes
+        .iter()
+        .map(|e| e.x1_um - e.x0_um)
+        .fold(f64::INFINITY, f64::min);
+    let ratio = if g.d31_pc_per_n != 0.0 {
+        (g.d32_pc_per_n / g.d31_pc_per_n).abs()
+    } else {
+        1.0
+    };
     coupling * (g.pvdf_nu + ratio + 1.0) * (span / (2.0 * shortest)).min(1.0)
 }
 
@@ -66,13 +74,18 @@ fn moment_integral(p: f64, a: f64, span: f64, s0: f64, s1: f64) -> f64 {
         cuts.push(a);
     }
     cuts.push(s1);
-    cuts.windows(2).map(|w| 0.5 * (moment(p, a, span, w[0]) + moment(p, a, span, w[1])) * (w[1] - w[0])).sum()
+    cuts.windows(2)
+        .map(|w| 0.5 * (moment(p, a, span, w[0]) + moment(p, a, span, w[1])) * (w[1] - w[0]))
+        .sum()
 }
 
 /// Readings of all electrodes for `force_n` spread over the whole length at `y_um`.
 #[track_caller]
 pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
-    assert!(beam_applies(g, y_um), "the strip model needs a line load inside the span of a plate without teeth");
+    assert!(
+        beam_applies(g, y_um),
+        "the strip model needs a line load inside the span of a plate without teeth"
+    );
     let um = 1e-6;
     let span = (g.plate_y1_um - g.plate_y0_um) * um;
     let a = (y_um - g.plate_y0_um) * um;
@@ -92,7 +105,8 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
                 // int eps_y dA = l_e (t/2) int M / D22 ds; eps_x = 0 (cylindrical bending).
                 let s0 = ((e.y0_um - g.plate_y0_um) * um).clamp(0.0, span);
                 let s1 = ((e.y1_um - g.plate_y0_um) * um).clamp(0.0, span);
-                let iy = (e.x1_um - e.x0_um) * um * 0.5 * t * moment_integral(p, a, span, s0, s1) / d22;
+                let iy =
+                    (e.x1_um - e.x0_um) * um * 0.5 * t * moment_integral(p, a, span, s0, s1) / d22;
                 let (sx, sy) = (ep * g.pvdf_nu * iy, ep * iy);
                 let (s1_, s2_) = match g.drawn_axis {
                     Axis::Y => (sy, sx),
@@ -103,7 +117,12 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
             SupportSide::Support1 => (g.d33_pc_per_n * r.r1 * along, Some(r.r1 * along)),
             SupportSide::Support2 => (g.d33_pc_per_n * r.r2 * along, Some(r.r2 * along)),
         };
-        electrodes.push(ElectrodeReading { name: e.name.clone(), charge_pc, voltage_mv: charge_pc * 1e-12 / c_f * 1e3, force_n: force });
+        electrodes.push(ElectrodeReading {
+            name: e.name.clone(),
+            charge_pc,
+            voltage_mv: charge_pc * 1e-12 / c_f * 1e3,
+            force_n: force,
+        });
     }
     // w(a) = P a^3 b^3 / (3 D lambda^3); w_max = 2 P a^3 b^2 / (3 D (lambda + 2a)^2) at
     // s = 2 a lambda / (lambda + 2 a) for a >= b (Roark, Table 8.1 case 1d; mirrored for a < b).
@@ -111,7 +130,11 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
     let (long, short) = if a >= b { (a, b) } else { (b, a) };
     let w_max = 2.0 * p * long.powi(3) * short.powi(2) / (3.0 * d22 * (span + 2.0 * long).powi(2));
     BeamAnswer {
-        readout: Readout { electrodes, support1_n: r.r1, support2_n: r.r2 },
+        readout: Readout {
+            electrodes,
+            support1_n: r.r1,
+            support2_n: r.r2,
+        },
         deflection_at_load_m: w_at,
         max_deflection_m: w_max,
         stress_at_load_pa: 6.0 * moment(p, a, span, a).abs() / (t * t),
@@ -152,6 +175,9 @@ mod tests {
         let long = a.max(b);
         let short = a.min(b);
         let formula = 2.0 * p * long.powi(3) * short.powi(2) / (3.0 * d * (l + 2.0 * long).powi(2));
-        assert!((wmax - formula).abs() < 1e-4 * formula, "{wmax} vs {formula}");
+        assert!(
+            (wmax - formula).abs() < 1e-4 * formula,
+            "{wmax} vs {formula}"
+        );
     }
 }

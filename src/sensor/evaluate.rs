@@ -5,17 +5,23 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::fe::{richardson_ratios, Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion};
 use crate::fe::problem::Axis as FeAxis;
 use crate::fe::solution::LINEAR_RANGE_LIMIT;
+use crate::fe::{
+    richardson_ratios, Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind,
+    ThicknessRegion,
+};
 use crate::process::{Scene, SceneLoad};
 
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 
 use super::geometry::{SensorGeometry, SupportSide};
+use super::mesh_lines::{
+    base_lines, grading_description, level_ratios, subdivide, MeshOptions, COARSE_ELEMENT_UM,
+    SUBDIVISIONS,
+};
 use super::readout::{group_for, read, ElectrodeReading, Readout};
 use super::scene::{split, SceneLoads};
-use super::mesh_lines::{base_lines, grading_description, level_ratios, subdivide, MeshOptions, COARSE_ELEMENT_UM, SUBDIVISIONS};
 use super::symmetry::Symmetry;
 
 /// Which model answered and what it cost.
@@ -41,7 +47,16 @@ pub struct ModelInfo {
 impl ModelInfo {
     /// The load lies wholly over the supports: no plate solve.
     fn direct() -> Self {
-        ModelInfo { kind: "direct".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None, grading: None }
+        ModelInfo {
+            kind: "direct".into(),
+            elements: 0,
+            dofs: 0,
+            levels: 1,
+            max_element_um: 0.0,
+            observed_order: None,
+            symmetry: None,
+            grading: None,
+        }
     }
 }
 
@@ -95,7 +110,12 @@ pub struct SceneReport {
 }
 
 /// Solves one scene; see [`evaluate_many`].
-pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) -> Result<SceneReport, FeError> {
+pub fn evaluate(
+    g: &SensorGeometry,
+    scene: &Scene,
+    tol: f64,
+    max_levels: usize,
+) -> Result<SceneReport, FeError> {
     Ok(evaluate_many(g, std::slice::from_ref(scene), tol, max_levels)?.remove(0))
 }
 
@@ -104,14 +124,25 @@ pub fn evaluate(g: &SensorGeometry, scene: &Scene, tol: f64, max_levels: usize) 
 /// allows, else the plate, all plate scenes on a shared sequence of meshes (one factorisation per
 /// level, all scenes as one multi-column solve) until every estimate is under `tol` or `max_levels`
 /// is reached. Mirror symmetry is used when every plate scene has it ([`Symmetry`]).
-pub fn evaluate_many(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize) -> Result<Vec<SceneReport>, FeError> {
+pub fn evaluate_many(
+    g: &SensorGeometry,
+    scenes: &[Scene],
+    tol: f64,
+    max_levels: usize,
+) -> Result<Vec<SceneReport>, FeError> {
     evaluate_many_with(g, scenes, tol, max_levels, MeshOptions::default())
 }
 
 /// [`evaluate_many`] with a choice of mesh sequence: symmetry off solves the whole plate (the
 /// cross-check of the half model, `tactfab fe --no-symmetry`); graded meshes refine towards the
 /// loads and tooth corners (`tactfab fe --graded`).
-pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, mesh: MeshOptions) -> Result<Vec<SceneReport>, FeError> {
+pub fn evaluate_many_with(
+    g: &SensorGeometry,
+    scenes: &[Scene],
+    tol: f64,
+    max_levels: usize,
+    mesh: MeshOptions,
+) -> Result<Vec<SceneReport>, FeError> {
     assert!(max_levels >= 1, "at least one mesh level");
     let max_levels = max_levels.min(SUBDIVISIONS.len());
     let beam_error = beam_error_estimate(g);
@@ -120,18 +151,32 @@ pub fn evaluate_many_with(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_le
         _ => false,
     };
     let plate_scenes: Vec<Scene> = scenes.iter().filter(|s| !by_beam(s)).cloned().collect();
-    let mut plate = if plate_scenes.is_empty() { Vec::new() } else { evaluate_plate(g, &plate_scenes, tol, max_levels, mesh)? }.into_iter();
+    let mut plate = if plate_scenes.is_empty() {
+        Vec::new()
+    } else {
+        evaluate_plate(g, &plate_scenes, tol, max_levels, mesh)?
+    }
+    .into_iter();
     Ok(scenes
         .iter()
         .map(|s| match s.load {
-            SceneLoad::Line { y_um, force_n } if by_beam(s) => beam_report(g, s, y_um, force_n, beam_error, tol),
+            SceneLoad::Line { y_um, force_n } if by_beam(s) => {
+                beam_report(g, s, y_um, force_n, beam_error, tol)
+            }
             _ => plate.next().expect("one plate report per plate scene"),
         })
         .collect())
 }
 
 /// A scene answered by the strip model.
-fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error: f64, tol: f64) -> SceneReport {
+fn beam_report(
+    g: &SensorGeometry,
+    scene: &Scene,
+    y_um: f64,
+    force_n: f64,
+    error: f64,
+    tol: f64,
+) -> SceneReport {
     let t0 = Instant::now();
     let b = beam_answer(g, y_um, force_n);
     let r = b.readout;
@@ -141,18 +186,38 @@ fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error
     SceneReport {
         scene: scene.name.clone(),
         force_n,
-        model: ModelInfo { kind: "beam".into(), elements: 0, dofs: 0, levels: 1, max_element_um: 0.0, observed_order: None, symmetry: None, grading: None },
+        model: ModelInfo {
+            kind: "beam".into(),
+            elements: 0,
+            dofs: 0,
+            levels: 1,
+            max_element_um: 0.0,
+            observed_order: None,
+            symmetry: None,
+            grading: None,
+        },
         solve_ms: t0.elapsed().as_secs_f64() * 1e3,
         error_estimate: Some(error),
         converged: error < tol,
         deflection_at_load_um: b.deflection_at_load_m * 1e6,
         max_deflection_um: b.max_deflection_m * 1e6,
         max_stress_mpa: stress * 1e-6,
-        safety_factor: if stress > 0.0 { g.fracture_strength_mpa * 1e6 / stress } else { f64::INFINITY },
-        max_permissible_load_n: if stress > 0.0 { force_n.abs() * allowed_pa / stress } else { f64::INFINITY },
+        safety_factor: if stress > 0.0 {
+            g.fracture_strength_mpa * 1e6 / stress
+        } else {
+            f64::INFINITY
+        },
+        max_permissible_load_n: if stress > 0.0 {
+            force_n.abs() * allowed_pa / stress
+        } else {
+            f64::INFINITY
+        },
         sensitivity_mv_per_n: sens,
         most_sensitive: best,
-        reactions_n: Reactions { support1: r.support1_n, support2: r.support2_n },
+        reactions_n: Reactions {
+            support1: r.support1_n,
+            support2: r.support2_n,
+        },
         electrodes: r.electrodes,
         warnings: Vec::new(),
         convergence: Vec::new(),
@@ -163,19 +228,42 @@ fn beam_report(g: &SensorGeometry, scene: &Scene, y_um: f64, force_n: f64, error
 fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
     r.electrodes
         .iter()
-        .map(|e| (e.name.clone(), if force_n != 0.0 { (e.voltage_mv / force_n).abs() } else { 0.0 }))
+        .map(|e| {
+            (
+                e.name.clone(),
+                if force_n != 0.0 {
+                    (e.voltage_mv / force_n).abs()
+                } else {
+                    0.0
+                },
+            )
+        })
         .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a })
 }
 
 /// The plate path of [`evaluate_many`].
-fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: usize, mesh: MeshOptions) -> Result<Vec<SceneReport>, FeError> {
+fn evaluate_plate(
+    g: &SensorGeometry,
+    scenes: &[Scene],
+    tol: f64,
+    max_levels: usize,
+    mesh: MeshOptions,
+) -> Result<Vec<SceneReport>, FeError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
-    let sym = if mesh.symmetry { Symmetry::detect(g, &cases) } else { Symmetry::none(g) };
+    let sym = if mesh.symmetry {
+        Symmetry::detect(g, &cases)
+    } else {
+        Symmetry::none(g)
+    };
     let part_cases: Vec<Vec<_>> = cases.iter().map(|c| sym.restrict(c)).collect();
     let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
-    let mut last: Option<(Vec<Option<crate::fe::PlateSolution>>, ModelInfo, Vec<Readout>)> = None;
+    let mut last: Option<(
+        Vec<Option<crate::fe::PlateSolution>>,
+        ModelInfo,
+        Vec<Readout>,
+    )> = None;
     let mut elapsed_ms = 0.0;
     let levels = if needs_plate { max_levels } else { 1 };
     let mut base: Option<(Vec<f64>, Vec<f64>)> = None;
@@ -191,7 +279,11 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
             let problem = build_problem(g, base, level, &sym);
             let fact = Factorised::new(&problem)?;
             let solved = fact.solve(&part_cases)?;
-            let sols: Vec<_> = solved.into_iter().zip(&loads).map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s))).collect();
+            let sols: Vec<_> = solved
+                .into_iter()
+                .zip(&loads)
+                .map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s)))
+                .collect();
             let info = ModelInfo {
                 kind: "plate".into(),
                 elements: problem.mesh.n_elements(),
@@ -212,7 +304,10 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
         let mut readouts = Vec::with_capacity(loads.len());
         for (k, l) in loads.iter().enumerate() {
             let r = read(g, sols[k].as_ref(), &l.direct);
-            let w = sols[k].as_ref().map(|s| s.deflection_m(l.at_um.0, l.at_um.1)).unwrap_or(0.0);
+            let w = sols[k]
+                .as_ref()
+                .map(|s| s.deflection_m(l.at_um.0, l.at_um.1))
+                .unwrap_or(0.0);
             let mut q = vec![w];
             q.extend(r.electrodes.iter().map(|e| e.charge_pc));
             history[k].push(q);
@@ -226,7 +321,10 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
             readouts.push(r);
         }
         last = Some((sols, info, readouts));
-        let done = level_est.iter().zip(&loads).all(|(est, l)| l.plate.is_empty() || latest(est).0.is_some_and(|e| e < tol));
+        let done = level_est
+            .iter()
+            .zip(&loads)
+            .all(|(est, l)| l.plate.is_empty() || latest(est).0.is_some_and(|e| e < tol));
         if done {
             break;
         }
@@ -236,36 +334,63 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
     for (k, ((scene, l), r)) in scenes.iter().zip(&loads).zip(readouts).enumerate() {
         let sol = sols[k].as_ref();
         let (estimate_k, order_k) = latest(&level_est[k]);
-        let mut info = if sol.is_some() { info.clone() } else { ModelInfo::direct() };
+        let mut info = if sol.is_some() {
+            info.clone()
+        } else {
+            ModelInfo::direct()
+        };
         info.observed_order = order_k;
         let w_load = history[k].last().map_or(0.0, |q| q[0]);
         let peak = sol.map(|s| s.max_deflection());
         let w_max = peak.map_or(0.0, |p| p.w_m);
-        let stress_pa = sol.and_then(|s| s.max_principal_stress(l.patch)).map_or(0.0, |p| p.sigma_pa);
+        let stress_pa = sol
+            .and_then(|s| s.max_principal_stress(l.patch))
+            .map_or(0.0, |p| p.sigma_pa);
         let f = l.total_force_n;
         let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
-        let safety = if stress_pa > 0.0 { g.fracture_strength_mpa * 1e6 / stress_pa } else { f64::INFINITY };
+        let safety = if stress_pa > 0.0 {
+            g.fracture_strength_mpa * 1e6 / stress_pa
+        } else {
+            f64::INFINITY
+        };
         let (best, sens) = most_sensitive(&r, f);
         let mut warnings = Vec::new();
-        let ratio = sol.zip(peak.as_ref()).map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
+        let ratio = sol
+            .zip(peak.as_ref())
+            .map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
         if ratio > LINEAR_RANGE_LIMIT {
             warnings.push(format!(
-                "LINEAR_RANGE: maximum deflection {:.1} um is {ratio:.2} x the local thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings overestimate",
+                "LINEAR_RANGE: maximum deflection {:.1} um is {ratio:.2} x the local thickness \
+                 (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings \
+                 overestimate",
                 w_max.abs() * 1e6,
             ));
         }
         let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
         if !converged {
             warnings.push(match estimate_k {
-                Some(e) => format!("NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} after {} mesh levels", info.levels),
-                None => format!("NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate", info.levels),
+                Some(e) => format!(
+                    "NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} \
+                     after {} mesh levels",
+                    info.levels
+                ),
+                None => format!(
+                    "NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate",
+                    info.levels
+                ),
             });
         }
         if order_k.is_none() && estimate_k.is_some() && sol.is_some() {
-            warnings.push("ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error estimate is the last change".into());
+            warnings.push(
+                "ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error \
+                 estimate is the last change"
+                    .into(),
+            );
         }
         let largest = history[k].last().map(|q| {
-            (1..q.len()).max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs())).unwrap_or(0)
+            (1..q.len())
+                .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
+                .unwrap_or(0)
         });
         let convergence = level_cost
             .iter()
@@ -293,10 +418,17 @@ fn evaluate_plate(g: &SensorGeometry, scenes: &[Scene], tol: f64, max_levels: us
             max_deflection_um: w_max * 1e6,
             max_stress_mpa: stress_pa * 1e-6,
             safety_factor: safety,
-            max_permissible_load_n: if stress_pa > 0.0 { f.abs() * allowed_pa / stress_pa } else { f64::INFINITY },
+            max_permissible_load_n: if stress_pa > 0.0 {
+                f.abs() * allowed_pa / stress_pa
+            } else {
+                f64::INFINITY
+            },
             sensitivity_mv_per_n: sens,
             most_sensitive: best,
-            reactions_n: Reactions { support1: r.support1_n, support2: r.support2_n },
+            reactions_n: Reactions {
+                support1: r.support1_n,
+                support2: r.support2_n,
+            },
             electrodes: r.electrodes,
             warnings,
             convergence,
@@ -348,13 +480,24 @@ fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
 
 /// The plate over the U-channel (or the part of it solved): clamped along the inner support
 /// edges, teeth as thicker regions, symmetry lines on the mirrors.
-fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize, sym: &Symmetry) -> PlateProblem {
+fn build_problem(
+    g: &SensorGeometry,
+    base: &(Vec<f64>, Vec<f64>),
+    level: usize,
+    sym: &Symmetry,
+) -> PlateProblem {
     let xs = subdivide(&base.0, level);
     let ys = subdivide(&base.1, level);
     let mesh = RectMesh { x_um: xs, y_um: ys };
     let mut p = PlateProblem::new(mesh, g.plate_thickness_um, g.material);
     // Tooth edges on the base lines, so every level sees the same footprint.
-    let snap = |v: f64, lines: &[f64]| lines.iter().copied().min_by(|a, b| (a - v).abs().total_cmp(&(b - v).abs())).unwrap_or(v);
+    let snap = |v: f64, lines: &[f64]| {
+        lines
+            .iter()
+            .copied()
+            .min_by(|a, b| (a - v).abs().total_cmp(&(b - v).abs()))
+            .unwrap_or(v)
+    };
     p.thickness_regions = g
         .teeth
         .iter()
@@ -368,10 +511,20 @@ fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize, 
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();
     let (x0, x1, y0, y1) = sym.domain_um;
-    for (side, y) in [(SupportSide::Support1, g.plate_y0_um), (SupportSide::Support2, g.plate_y1_um)] {
+    for (side, y) in [
+        (SupportSide::Support1, g.plate_y0_um),
+        (SupportSide::Support2, g.plate_y1_um),
+    ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();
-            p.supports.push(LineSupport { group, kind: SupportKind::Clamped, along: FeAxis::X, at_um: y, from_um: x0, to_um: x1 });
+            p.supports.push(LineSupport {
+                group,
+                kind: SupportKind::Clamped,
+                along: FeAxis::X,
+                at_um: y,
+                from_um: x0,
+                to_um: x1,
+            });
         }
     }
     for m in &sym.mirrors {
@@ -379,7 +532,14 @@ fn build_problem(g: &SensorGeometry, base: &(Vec<f64>, Vec<f64>), level: usize, 
             FeAxis::X => (x0, x1),
             FeAxis::Y => (y0, y1),
         };
-        p.supports.push(LineSupport { group: "symmetry".into(), kind: SupportKind::Symmetry, along: m.along, at_um: m.at_um, from_um, to_um });
+        p.supports.push(LineSupport {
+            group: "symmetry".into(),
+            kind: SupportKind::Symmetry,
+            along: m.along,
+            at_um: m.at_um,
+            from_um,
+            to_um,
+        });
     }
     p
 }

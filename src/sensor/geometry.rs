@@ -81,10 +81,19 @@ impl SensorGeometry {
                     }
                     let cx = t.origin_x_um + (f64::from(i) + 0.5) * t.pitch_x_um;
                     let cy = t.origin_y_um + (f64::from(j) + 0.5) * t.pitch_y_um;
-                    let (x0, x1) = ((cx - side / 2.0).max(0.0), (cx + side / 2.0).min(g.die_length_um));
+                    let (x0, x1) = (
+                        (cx - side / 2.0).max(0.0),
+                        (cx + side / 2.0).min(g.die_length_um),
+                    );
                     let (y0, y1) = ((cy - side / 2.0).max(py0), (cy + side / 2.0).min(py1));
                     if x1 > x0 && y1 > y0 {
-                        teeth.push(ThicknessRegion { x0_um: x0, y0_um: y0, x1_um: x1, y1_um: y1, thickness_um: plate + height });
+                        teeth.push(ThicknessRegion {
+                            x0_um: x0,
+                            y0_um: y0,
+                            x1_um: x1,
+                            y1_um: y1,
+                            thickness_um: plate + height,
+                        });
                     }
                 }
             }
@@ -118,9 +127,12 @@ impl SensorGeometry {
     /// bounding box and its metallised area (pad included).
     pub fn electrodes_from_masks(masks: &crate::layout::MaskSet) -> Vec<ElectrodeArea> {
         use geo::{Area, BoundingRect};
-        let mut by_name: std::collections::BTreeMap<String, ElectrodeArea> = std::collections::BTreeMap::new();
+        let mut by_name: std::collections::BTreeMap<String, ElectrodeArea> =
+            std::collections::BTreeMap::new();
         for e in &masks.electrodes {
-            let Some(b) = e.polygon.bounding_rect() else { continue };
+            let Some(b) = e.polygon.bounding_rect() else {
+                continue;
+            };
             let side = match e.name.chars().nth(1) {
                 _ if e.name.starts_with("S1") => SupportSide::Support1,
                 _ if e.name.starts_with("S2") => SupportSide::Support2,

@@ -41,14 +41,18 @@ pub struct MeshOptions {
 }
 
 impl Default for MeshOptions {
-    /// Symmetry on; no grading. With 25 teeth the 100 tooth corners, whose singular moments hold the
-    /// observed order near 1, are all over the plate, so on a rectilinear mesh grading towards them
-    /// refines almost everywhere: on the bundled design (`fe_bench`) the graded sequence took 80 ms
-    /// for the centre load where the ungraded one took 30 ms for the default 1 %, but reached an
-    /// estimated 0.44 % in those 80 ms where the ungraded needed 192 ms for 0.31 % (true errors of
-    /// the deflection 0.30 % and 0.27 %); off-centre the ungraded sequence stayed cheaper at 0.5 %.
+    /// Symmetry on; no grading. With 25 teeth the 100 tooth corners, whose singular moments hold
+    /// the observed order near 1, are all over the plate, so on a rectilinear mesh grading
+    /// towards them refines almost everywhere: on the bundled design (`fe_bench`) the graded
+    /// sequence took 80 ms for the centre load where the ungraded one took 30 ms for the
+    /// default 1 %, but reached an estimated 0.44 % in those 80 ms where the ungraded needed
+    /// 192 ms for 0.31 % (true errors of the deflection 0.30 % and 0.27 %); off-centre the
+    /// ungraded sequence stayed cheaper at 0.5 %.
     fn default() -> Self {
-        MeshOptions { symmetry: true, graded: false }
+        MeshOptions {
+            symmetry: true,
+            graded: false,
+        }
     }
 }
 
@@ -58,7 +62,12 @@ impl Default for MeshOptions {
 /// than [`MIN_LINE_GAP_UM`] to a kept line is dropped, tooth lines taking precedence over grading.
 ///
 /// On a symmetric problem the lines are folded into the part solved ([`Symmetry::fold`]).
-pub(super) fn base_lines(g: &SensorGeometry, loads: &[SceneLoads], sym: &Symmetry, graded: bool) -> (Vec<f64>, Vec<f64>) {
+pub(super) fn base_lines(
+    g: &SensorGeometry,
+    loads: &[SceneLoads],
+    sym: &Symmetry,
+    graded: bool,
+) -> (Vec<f64>, Vec<f64>) {
     let (mut xs, mut ys) = g.exact_lines();
     for l in loads {
         let p = &l.patch;
@@ -77,12 +86,26 @@ pub(super) fn base_lines(g: &SensorGeometry, loads: &[SceneLoads], sym: &Symmetr
             let p = &l.patch;
             let first = LOAD_FIRST_SPACING * (p.x1_um - p.x0_um).max(p.y1_um - p.y0_um);
             if first > 0.0 {
-                gx.extend([p.x0_um, p.x1_um].iter().flat_map(|&c| grading_lines(c, first)));
-                gy.extend([p.y0_um, p.y1_um].iter().flat_map(|&c| grading_lines(c, first)));
+                gx.extend(
+                    [p.x0_um, p.x1_um]
+                        .iter()
+                        .flat_map(|&c| grading_lines(c, first)),
+                );
+                gy.extend(
+                    [p.y0_um, p.y1_um]
+                        .iter()
+                        .flat_map(|&c| grading_lines(c, first)),
+                );
             }
         }
-        gx.extend(tx.iter().flat_map(|&c| grading_lines(c, TOOTH_FIRST_SPACING_UM)));
-        gy.extend(ty.iter().flat_map(|&c| grading_lines(c, TOOTH_FIRST_SPACING_UM)));
+        gx.extend(
+            tx.iter()
+                .flat_map(|&c| grading_lines(c, TOOTH_FIRST_SPACING_UM)),
+        );
+        gy.extend(
+            ty.iter()
+                .flat_map(|&c| grading_lines(c, TOOTH_FIRST_SPACING_UM)),
+        );
         xs = merge_lines(xs, sym.fold(true, gx), x0, x1);
         ys = merge_lines(ys, sym.fold(false, gy), y0, y1);
     }
@@ -92,9 +115,14 @@ pub(super) fn base_lines(g: &SensorGeometry, loads: &[SceneLoads], sym: &Symmetr
 
 /// What [`base_lines`] grades towards, for the report.
 pub(super) fn grading_description(loads: &[SceneLoads]) -> String {
-    let patches = loads.iter().filter(|l| l.patch.x1_um > l.patch.x0_um && l.patch.y1_um > l.patch.y0_um).count();
+    let patches = loads
+        .iter()
+        .filter(|l| l.patch.x1_um > l.patch.x0_um && l.patch.y1_um > l.patch.y0_um)
+        .count();
     format!(
-        "geometric (growth {GRADING_GROWTH}) towards {patches} load patch(es) (first spacing {LOAD_FIRST_SPACING} x the patch side) and the tooth edges (first spacing {TOOTH_FIRST_SPACING_UM} um)"
+        "geometric (growth {GRADING_GROWTH}) towards {patches} load patch(es) (first spacing \
+         {LOAD_FIRST_SPACING} x the patch side) and the tooth edges (first spacing \
+         {TOOTH_FIRST_SPACING_UM} um)"
     )
 }
 
@@ -155,14 +183,25 @@ mod tests {
 
     #[test]
     fn grading_lines_double_their_spacing_up_to_the_coarse_size() {
-        assert_eq!(grading_lines(0.0, 500.0), vec![-500.0, 500.0, -1500.0, 1500.0]);
-        assert_eq!(grading_lines(10.0, 250.0), vec![-240.0, 260.0, -740.0, 760.0, -1740.0, 1760.0]);
+        assert_eq!(
+            grading_lines(0.0, 500.0),
+            vec![-500.0, 500.0, -1500.0, 1500.0]
+        );
+        assert_eq!(
+            grading_lines(10.0, 250.0),
+            vec![-240.0, 260.0, -740.0, 760.0, -1740.0, 1760.0]
+        );
         assert!(grading_lines(0.0, COARSE_ELEMENT_UM).is_empty());
     }
 
     #[test]
     fn merged_lines_keep_the_kept_and_drop_extras_too_close() {
-        let m = merge_lines(vec![0.0, 1000.0, 5000.0], vec![100.0, 1300.0, 1400.0, 4900.0, 6000.0], 0.0, 5000.0);
+        let m = merge_lines(
+            vec![0.0, 1000.0, 5000.0],
+            vec![100.0, 1300.0, 1400.0, 4900.0, 6000.0],
+            0.0,
+            5000.0,
+        );
         assert_eq!(m, vec![0.0, 1000.0, 1300.0, 5000.0]);
     }
 }

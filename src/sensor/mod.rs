@@ -3,25 +3,27 @@
 //!
 //! [`SensorGeometry`] collects what the model needs from the process, the etch plan (the plate
 //! thickness the recipe leaves, the tooth footprint) and the PVDF mask (electrode rectangles).
-//! [`evaluate`] solves a scene on successively refined meshes until the estimated error is under the
-//! tolerance and reports charges, voltages, deflection, stress and reactions with the cost. When
-//! the teeth and every load are mirror-symmetric it solves half (or a quarter) of the plate
+//! [`evaluate`] solves a scene on successively refined meshes until the estimated error is under
+//! the tolerance and reports charges, voltages, deflection, stress and reactions with the cost.
+//! When the teeth and every load are mirror-symmetric it solves half (or a quarter) of the plate
 //! ([`Symmetry`]) and reads the electrodes on the mirrored whole-plate field.
 
-mod geometry;
-mod readout;
-mod scene;
-mod evaluate;
-mod mesh_lines;
 mod beam_model;
 mod convergence_plot;
+mod evaluate;
+mod geometry;
+mod mesh_lines;
+mod readout;
+mod scene;
 mod symmetry;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
-pub use evaluate::{evaluate, evaluate_many, evaluate_many_with, LevelRecord, ModelInfo, SceneReport};
-pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
+pub use evaluate::{
+    evaluate, evaluate_many, evaluate_many_with, LevelRecord, ModelInfo, SceneReport,
+};
 pub use geometry::{silicon_material, ElectrodeArea, SensorGeometry, SupportSide};
+pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};
 pub use symmetry::{Mirror, Symmetry};

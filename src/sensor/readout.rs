@@ -39,13 +39,25 @@ pub fn group_for(side: SupportSide) -> &'static str {
 /// (half-way to its neighbours) and counted by the overlap with [x0, x1], so a node on an
 /// electrode edge is shared, not given to one side.
 fn edge_force(sol: &PlateSolution, side: SupportSide, x0: f64, x1: f64) -> f64 {
-    let mut nodes: Vec<(f64, f64)> = sol.nodal_reactions(group_for(side)).iter().map(|r| (r.x_um, r.force_n)).collect();
+    let mut nodes: Vec<(f64, f64)> = sol
+        .nodal_reactions(group_for(side))
+        .iter()
+        .map(|r| (r.x_um, r.force_n))
+        .collect();
     nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
     let n = nodes.len();
     let mut f = 0.0;
     for i in 0..n {
-        let lo = if i == 0 { nodes[0].0 } else { 0.5 * (nodes[i - 1].0 + nodes[i].0) };
-        let hi = if i + 1 == n { nodes[n - 1].0 } else { 0.5 * (nodes[i].0 + nodes[i + 1].0) };
+        let lo = if i == 0 {
+            nodes[0].0
+        } else {
+            0.5 * (nodes[i - 1].0 + nodes[i].0)
+        };
+        let hi = if i + 1 == n {
+            nodes[n - 1].0
+        } else {
+            0.5 * (nodes[i].0 + nodes[i + 1].0)
+        };
         if hi <= lo {
             // A lone end node: all of it if it lies inside.
             if nodes[i].0 >= x0 && nodes[i].0 <= x1 {
@@ -61,7 +73,8 @@ fn edge_force(sol: &PlateSolution, side: SupportSide, x0: f64, x1: f64) -> f64 {
 
 /// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
 /// extension mode Q = integral of (d31 s1 + d32 s2) dA over each middle electrode with s the
-/// plane-stress PVDF stress from the plate's bottom-surface strain; V = Q / C, C = eps0 eps_r A / t.
+/// plane-stress PVDF stress from the plate's bottom-surface strain; V = Q / C, C = eps0 eps_r A /
+/// t.
 pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoad]) -> Readout {
     let mut out = Vec::new();
     let (mut s1, mut s2) = (0.0, 0.0);
@@ -88,7 +101,14 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
         let (charge_pc, force_n) = match e.side {
             SupportSide::Middle => {
                 let (ix, iy) = sol
-                    .map(|s| s.integrate_bottom_strain(RectUm { x0_um: e.x0_um, y0_um: e.y0_um, x1_um: e.x1_um, y1_um: e.y1_um }))
+                    .map(|s| {
+                        s.integrate_bottom_strain(RectUm {
+                            x0_um: e.x0_um,
+                            y0_um: e.y0_um,
+                            x1_um: e.x1_um,
+                            y1_um: e.y1_um,
+                        })
+                    })
                     .unwrap_or((0.0, 0.0));
                 // Integrated PVDF stresses (N): s_x = E'(e_x + nu e_y), s_y = E'(e_y + nu e_x).
                 let sx = ep * (ix + g.pvdf_nu * iy);
@@ -100,16 +120,33 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
                 (g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_, None)
             }
             side => {
-                let mut f = sol.map(|s| edge_force(s, side, e.x0_um, e.x1_um)).unwrap_or(0.0);
+                let mut f = sol
+                    .map(|s| edge_force(s, side, e.x0_um, e.x1_um))
+                    .unwrap_or(0.0);
                 for d in direct.iter().filter(|d| d.side == side) {
                     let overlap = (d.x1_um.min(e.x1_um) - d.x0_um.max(e.x0_um)).max(0.0);
                     let span = d.x1_um - d.x0_um;
-                    f += if span > 0.0 { d.force_n * overlap / span } else if d.x0_um >= e.x0_um && d.x0_um <= e.x1_um { d.force_n } else { 0.0 };
+                    f += if span > 0.0 {
+                        d.force_n * overlap / span
+                    } else if d.x0_um >= e.x0_um && d.x0_um <= e.x1_um {
+                        d.force_n
+                    } else {
+                        0.0
+                    };
                 }
                 (g.d33_pc_per_n * f, Some(f))
             }
         };
-        out.push(ElectrodeReading { name: e.name.clone(), charge_pc, voltage_mv: charge_pc * 1e-12 / c_f * 1e3, force_n });
+        out.push(ElectrodeReading {
+            name: e.name.clone(),
+            charge_pc,
+            voltage_mv: charge_pc * 1e-12 / c_f * 1e3,
+            force_n,
+        });
     }
-    Readout { electrodes: out, support1_n: s1, support2_n: s2 }
+    Readout {
+        electrodes: out,
+        support1_n: s1,
+        support2_n: s2,
+    }
 }

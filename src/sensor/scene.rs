@@ -36,54 +36,132 @@ pub struct SceneLoads {
 pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
     let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
     match *load {
-        SceneLoad::Point { x_um, y_um, force_n, radius_um } => {
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => {
             // Square patch of equal area, as the FE point load with a radius uses.
             let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
-            let poly = [(x_um - h, y_um - h), (x_um + h, y_um - h), (x_um + h, y_um + h), (x_um - h, y_um + h)];
+            let poly = [
+                (x_um - h, y_um - h),
+                (x_um + h, y_um - h),
+                (x_um + h, y_um + h),
+                (x_um - h, y_um + h),
+            ];
             let mut s = polygon_split(&poly, force_n, g);
             let inside = y_um - h >= py0 && y_um + h <= py1 && x_um - h >= 0.0 && x_um + h <= l;
             if inside {
-                s.plate = vec![Load::Point { x_um, y_um, force_n, radius_um }];
+                s.plate = vec![Load::Point {
+                    x_um,
+                    y_um,
+                    force_n,
+                    radius_um,
+                }];
             }
             // The centre may lie over a support while the patch reaches the plate: read there.
             s.at_um = (x_um.clamp(0.0, l), y_um.clamp(py0, py1));
-            s.patch = RectUm { x0_um: x_um - h, y0_um: y_um - h, x1_um: x_um + h, y1_um: y_um + h };
+            s.patch = RectUm {
+                x0_um: x_um - h,
+                y0_um: y_um - h,
+                x1_um: x_um + h,
+                y1_um: y_um + h,
+            };
             s
         }
         SceneLoad::Pressure { force_n, region } => {
-            let r = region.map(|r| (r.x0_um, r.y0_um, r.x1_um, r.y1_um)).unwrap_or((0.0, py0, l, py1));
+            let r = region
+                .map(|r| (r.x0_um, r.y0_um, r.x1_um, r.y1_um))
+                .unwrap_or((0.0, py0, l, py1));
             let poly = [(r.0, r.1), (r.2, r.1), (r.2, r.3), (r.0, r.3)];
             let mut s = polygon_split(&poly, force_n, g);
             s.at_um = ((r.0 + r.2) / 2.0, ((r.1 + r.3) / 2.0).clamp(py0, py1));
-            s.patch = RectUm { x0_um: r.0, y0_um: r.1.max(py0), x1_um: r.2, y1_um: r.3.min(py1) };
+            s.patch = RectUm {
+                x0_um: r.0,
+                y0_um: r.1.max(py0),
+                x1_um: r.2,
+                y1_um: r.3.min(py1),
+            };
             s
         }
-        SceneLoad::Probe { x_um, y_um, width_um, height_um, angle_deg, force_n } => {
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            force_n,
+        } => {
             let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
             let mut s = polygon_split(&poly, force_n, g);
-            let inside = poly.iter().all(|&(x, y)| x >= 0.0 && x <= l && y >= py0 && y <= py1);
+            let inside = poly
+                .iter()
+                .all(|&(x, y)| x >= 0.0 && x <= l && y >= py0 && y <= py1);
             if inside {
-                s.plate = vec![Load::Probe { x_um, y_um, width_um, height_um, angle_deg, total_force_n: force_n }];
+                s.plate = vec![Load::Probe {
+                    x_um,
+                    y_um,
+                    width_um,
+                    height_um,
+                    angle_deg,
+                    total_force_n: force_n,
+                }];
             }
-            let (bx0, bx1) = poly.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
-            let (by0, by1) = poly.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
+            let (bx0, bx1) = poly
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
+            let (by0, by1) = poly
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
             s.at_um = (x_um, y_um.clamp(py0, py1));
-            s.patch = RectUm { x0_um: bx0.max(0.0), y0_um: by0.max(py0), x1_um: bx1.min(l), y1_um: by1.min(py1) };
+            s.patch = RectUm {
+                x0_um: bx0.max(0.0),
+                y0_um: by0.max(py0),
+                x1_um: bx1.min(l),
+                y1_um: by1.min(py1),
+            };
             s
         }
         SceneLoad::Line { y_um, force_n } => {
             let (plate, direct) = if y_um > py0 && y_um < py1 {
-                (vec![Load::Line { x0_um: 0.0, y0_um: y_um, x1_um: l, y1_um: y_um, total_force_n: force_n }], vec![])
+                (
+                    vec![Load::Line {
+                        x0_um: 0.0,
+                        y0_um: y_um,
+                        x1_um: l,
+                        y1_um: y_um,
+                        total_force_n: force_n,
+                    }],
+                    vec![],
+                )
             } else {
-                let side = if y_um <= py0 { SupportSide::Support1 } else { SupportSide::Support2 };
-                (vec![], vec![DirectLoad { side, x0_um: 0.0, x1_um: l, force_n }])
+                let side = if y_um <= py0 {
+                    SupportSide::Support1
+                } else {
+                    SupportSide::Support2
+                };
+                (
+                    vec![],
+                    vec![DirectLoad {
+                        side,
+                        x0_um: 0.0,
+                        x1_um: l,
+                        force_n,
+                    }],
+                )
             };
             SceneLoads {
                 plate,
                 direct,
                 total_force_n: force_n,
                 at_um: (l / 2.0, y_um.clamp(py0, py1)),
-                patch: RectUm { x0_um: 0.0, y0_um: (y_um - 50.0).max(py0), x1_um: l, y1_um: (y_um + 50.0).min(py1) },
+                patch: RectUm {
+                    x0_um: 0.0,
+                    y0_um: (y_um - 50.0).max(py0),
+                    x1_um: l,
+                    y1_um: (y_um + 50.0).min(py1),
+                },
             }
         }
     }
@@ -95,7 +173,11 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
     let area = polygon_area(poly);
     let mut plate = Vec::new();
     let mut direct = Vec::new();
-    for (side, y0, y1) in [(SupportSide::Support1, 0.0, py0), (SupportSide::Middle, py0, py1), (SupportSide::Support2, py1, w)] {
+    for (side, y0, y1) in [
+        (SupportSide::Support1, 0.0, py0),
+        (SupportSide::Middle, py0, py1),
+        (SupportSide::Support2, py1, w),
+    ] {
         let c = clip_polygon(poly, 0.0, y0, l, y1);
         if c.len() < 3 {
             continue;
@@ -106,11 +188,32 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
         }
         let f = force_n * a / area;
         if side == SupportSide::Middle {
-            plate.push(Load::Polygon { points_um: c, total_force_n: f });
+            plate.push(Load::Polygon {
+                points_um: c,
+                total_force_n: f,
+            });
         } else {
-            let (x0, x1) = c.iter().fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
-            direct.push(DirectLoad { side, x0_um: x0, x1_um: x1, force_n: f });
+            let (x0, x1) = c
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
+            direct.push(DirectLoad {
+                side,
+                x0_um: x0,
+                x1_um: x1,
+                force_n: f,
+            });
         }
     }
-    SceneLoads { plate, direct, total_force_n: force_n, at_um: (0.0, 0.0), patch: RectUm { x0_um: 0.0, y0_um: 0.0, x1_um: 0.0, y1_um: 0.0 } }
+    SceneLoads {
+        plate,
+        direct,
+        total_force_n: force_n,
+        at_um: (0.0, 0.0),
+        patch: RectUm {
+            x0_um: 0.0,
+            y0_um: 0.0,
+            x1_um: 0.0,
+            y1_um: 0.0,
+        },
+    }
 }

@@ -42,8 +42,11 @@ impl Mirror {
     }
 
     fn symmetric_points(&self, pts: &[(f64, f64)]) -> bool {
-        let near = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).abs() <= TOL_UM && (a.1 - b.1).abs() <= TOL_UM;
-        pts.iter().all(|&p| pts.iter().any(|&q| near(self.image(p), q)))
+        let near = |a: (f64, f64), b: (f64, f64)| {
+            (a.0 - b.0).abs() <= TOL_UM && (a.1 - b.1).abs() <= TOL_UM
+        };
+        pts.iter()
+            .all(|&p| pts.iter().any(|&q| near(self.image(p), q)))
     }
 
     fn symmetric_region(&self, r: &ThicknessRegion, all: &[ThicknessRegion]) -> bool {
@@ -66,18 +69,36 @@ impl Mirror {
         match *load {
             Load::Point { x_um, y_um, .. } => self.off((x_um, y_um)) <= TOL_UM,
             Load::Pressure { region: None, .. } => true,
-            Load::Pressure { region: Some(r), .. } => self.symmetric_points(&rect_points(&r)),
-            Load::Line { x0_um, y0_um, x1_um, y1_um, .. } => self.symmetric_points(&[(x0_um, y0_um), (x1_um, y1_um)]),
-            Load::Probe { x_um, y_um, width_um, height_um, angle_deg, .. } => {
-                self.symmetric_points(&probe_polygon(x_um, y_um, width_um, height_um, angle_deg))
-            }
+            Load::Pressure {
+                region: Some(r), ..
+            } => self.symmetric_points(&rect_points(&r)),
+            Load::Line {
+                x0_um,
+                y0_um,
+                x1_um,
+                y1_um,
+                ..
+            } => self.symmetric_points(&[(x0_um, y0_um), (x1_um, y1_um)]),
+            Load::Probe {
+                x_um,
+                y_um,
+                width_um,
+                height_um,
+                angle_deg,
+                ..
+            } => self.symmetric_points(&probe_polygon(x_um, y_um, width_um, height_um, angle_deg)),
             Load::Polygon { ref points_um, .. } => self.symmetric_points(points_um),
         }
     }
 }
 
 fn rect_points(r: &RectUm) -> [(f64, f64); 4] {
-    [(r.x0_um, r.y0_um), (r.x1_um, r.y0_um), (r.x1_um, r.y1_um), (r.x0_um, r.y1_um)]
+    [
+        (r.x0_um, r.y0_um),
+        (r.x1_um, r.y0_um),
+        (r.x1_um, r.y1_um),
+        (r.x0_um, r.y1_um),
+    ]
 }
 
 /// The part of the plate solved and the mirror lines that bound it (none, one or two).
@@ -94,7 +115,11 @@ impl Symmetry {
     /// The whole plate, no mirror.
     pub fn none(g: &SensorGeometry) -> Self {
         let plate = (0.0, g.length_um, g.plate_y0_um, g.plate_y1_um);
-        Symmetry { mirrors: Vec::new(), domain_um: plate, plate_um: plate }
+        Symmetry {
+            mirrors: Vec::new(),
+            domain_um: plate,
+            plate_um: plate,
+        }
     }
 
     /// Every mirror line under which the teeth and every plate load of every case are symmetric;
@@ -102,8 +127,14 @@ impl Symmetry {
     pub fn detect(g: &SensorGeometry, cases: &[Vec<Load>]) -> Self {
         let mut s = Symmetry::none(g);
         let candidates = [
-            Mirror { along: FeAxis::X, at_um: 0.5 * (g.plate_y0_um + g.plate_y1_um) },
-            Mirror { along: FeAxis::Y, at_um: 0.5 * g.length_um },
+            Mirror {
+                along: FeAxis::X,
+                at_um: 0.5 * (g.plate_y0_um + g.plate_y1_um),
+            },
+            Mirror {
+                along: FeAxis::Y,
+                at_um: 0.5 * g.length_um,
+            },
         ];
         for m in candidates {
             let teeth = g.teeth.iter().all(|t| m.symmetric_region(t, &g.teeth));
@@ -142,8 +173,13 @@ impl Symmetry {
     /// `x_lines`: the list holds x coordinates (lines along y).
     pub fn fold(&self, x_lines: bool, lines: Vec<f64>) -> Vec<f64> {
         let axis = if x_lines { FeAxis::Y } else { FeAxis::X };
-        let Some(m) = self.mirrors.iter().find(|m| m.along == axis) else { return lines };
-        let mut out: Vec<f64> = lines.into_iter().map(|v| if v > m.at_um { 2.0 * m.at_um - v } else { v }).collect();
+        let Some(m) = self.mirrors.iter().find(|m| m.along == axis) else {
+            return lines;
+        };
+        let mut out: Vec<f64> = lines
+            .into_iter()
+            .map(|v| if v > m.at_um { 2.0 * m.at_um - v } else { v })
+            .collect();
         out.push(m.at_um);
         out
     }
@@ -158,37 +194,100 @@ impl Symmetry {
         let share = |p: &[(f64, f64)], f: f64| {
             let c = clip_polygon(p, x0, y0, x1, y1);
             let a = polygon_area(p).abs();
-            Load::Polygon { total_force_n: f * polygon_area(&c).abs() / a, points_um: c }
+            Load::Polygon {
+                total_force_n: f * polygon_area(&c).abs() / a,
+                points_um: c,
+            }
         };
         loads
             .iter()
             .map(|l| match *l {
-                Load::Point { x_um, y_um, force_n, radius_um } if radius_um == 0.0 => {
+                Load::Point {
+                    x_um,
+                    y_um,
+                    force_n,
+                    radius_um,
+                } if radius_um == 0.0 => {
                     // On every mirror line (it is symmetric): each halving keeps half of it.
-                    Load::Point { x_um, y_um, force_n: force_n / f64::powi(2.0, self.mirrors.len() as i32), radius_um }
+                    Load::Point {
+                        x_um,
+                        y_um,
+                        force_n: force_n / f64::powi(2.0, self.mirrors.len() as i32),
+                        radius_um,
+                    }
                 }
-                Load::Point { x_um, y_um, force_n, radius_um } => {
+                Load::Point {
+                    x_um,
+                    y_um,
+                    force_n,
+                    radius_um,
+                } => {
                     let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
-                    share(&[(x_um - h, y_um - h), (x_um + h, y_um - h), (x_um + h, y_um + h), (x_um - h, y_um + h)], force_n)
+                    share(
+                        &[
+                            (x_um - h, y_um - h),
+                            (x_um + h, y_um - h),
+                            (x_um + h, y_um + h),
+                            (x_um - h, y_um + h),
+                        ],
+                        force_n,
+                    )
                 }
-                Load::Pressure { region, total_force_n } => {
+                Load::Pressure {
+                    region,
+                    total_force_n,
+                } => {
                     let (px0, px1, py0, py1) = self.plate_um;
-                    let r = region.unwrap_or(RectUm { x0_um: px0, y0_um: py0, x1_um: px1, y1_um: py1 }).normalised();
+                    let r = region
+                        .unwrap_or(RectUm {
+                            x0_um: px0,
+                            y0_um: py0,
+                            x1_um: px1,
+                            y1_um: py1,
+                        })
+                        .normalised();
                     share(&rect_points(&r), total_force_n)
                 }
-                Load::Probe { x_um, y_um, width_um, height_um, angle_deg, total_force_n } => {
-                    share(&probe_polygon(x_um, y_um, width_um, height_um, angle_deg), total_force_n)
-                }
-                Load::Polygon { ref points_um, total_force_n } => share(points_um, total_force_n),
-                Load::Line { x0_um: a0, y0_um: b0, x1_um: a1, y1_um: b1, total_force_n } => {
+                Load::Probe {
+                    x_um,
+                    y_um,
+                    width_um,
+                    height_um,
+                    angle_deg,
+                    total_force_n,
+                } => share(
+                    &probe_polygon(x_um, y_um, width_um, height_um, angle_deg),
+                    total_force_n,
+                ),
+                Load::Polygon {
+                    ref points_um,
+                    total_force_n,
+                } => share(points_um, total_force_n),
+                Load::Line {
+                    x0_um: a0,
+                    y0_um: b0,
+                    x1_um: a1,
+                    y1_um: b1,
+                    total_force_n,
+                } => {
                     // Clip the segment (Liang-Barsky on the box); a segment lying on a mirror line
                     // keeps its length but carries half: it is shared by both halves.
                     let (t0, t1) = clip_segment((a0, b0), (a1, b1), (x0, x1, y0, y1));
-                    let on_lines = self.mirrors.iter().filter(|m| m.off((a0, b0)) <= TOL_UM && m.off((a1, b1)) <= TOL_UM).count();
+                    let on_lines = self
+                        .mirrors
+                        .iter()
+                        .filter(|m| m.off((a0, b0)) <= TOL_UM && m.off((a1, b1)) <= TOL_UM)
+                        .count();
                     let f = total_force_n * (t1 - t0) / f64::powi(2.0, on_lines as i32);
                     let at = |t: f64| (a0 + t * (a1 - a0), b0 + t * (b1 - b0));
                     let ((p0x, p0y), (p1x, p1y)) = (at(t0), at(t1));
-                    Load::Line { x0_um: p0x, y0_um: p0y, x1_um: p1x, y1_um: p1y, total_force_n: f }
+                    Load::Line {
+                        x0_um: p0x,
+                        y0_um: p0y,
+                        x1_um: p1x,
+                        y1_um: p1y,
+                        total_force_n: f,
+                    }
                 }
             })
             .collect()
@@ -208,7 +307,11 @@ impl Symmetry {
 }
 
 /// Parameter range [t0, t1] of the segment p + t (q - p) inside the box (Liang & Barsky 1984).
-fn clip_segment(p: (f64, f64), q: (f64, f64), (x0, x1, y0, y1): (f64, f64, f64, f64)) -> (f64, f64) {
+fn clip_segment(
+    p: (f64, f64),
+    q: (f64, f64),
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+) -> (f64, f64) {
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     let (dx, dy) = (q.0 - p.0, q.1 - p.1);
     for (d, lo, hi, s) in [(dx, x0, x1, p.0), (dy, y0, y1, p.1)] {

@@ -1,4 +1,5 @@
-//! Softness of a grasped object from the middle electrode (paper 001, sec. 3.2, 4.3.2, 5.2; Fig. 24).
+//! Softness of a grasped object from the middle electrode (paper 001, sec. 3.2, 4.3.2, 5.2; Fig.
+//! 24).
 //!
 //! A tissue layer (E_t 1e4 - 1e8 Pa, nu 0.49, thickness t_t) lies on the plate span between the two
 //! supports; a distributed load F acts on its top over the span x die length. The middle PVDF
@@ -8,7 +9,8 @@
 //! - [`composite_beam`]: paper 001 Eq. 7-12 (transformed section, constants re-derived: the printed
 //!   Eq. 9 has typesetting errors), closed form.
 //! - [`tissue_fe`]: plane-strain FE of the tissue with locking-free Q2/P1 (B-bar) elements
-//!   ([`continuum`]) tied to an Euler-Bernoulli frame model of the Si plate, clamped at the supports.
+//!   ([`continuum`]) tied to an Euler-Bernoulli frame model of the Si plate, clamped at the
+//!   supports.
 //!
 //! [`inverse`] recovers E_t from a voltage and a force with either model.
 //!
@@ -33,10 +35,24 @@ pub enum SoftnessError {
     Solver { detail: String, hint: &'static str },
     #[error("no middle electrode over the die centre; hint: {hint}")]
     NoMiddleElectrode { hint: &'static str },
-    #[error("voltage per force {v_per_n:.4e} V/N is outside the model's range [{lo:.4e}, {hi:.4e}] for E in [{e_lo_pa:.3e}, {e_hi_pa:.3e}] Pa; hint: {hint}")]
-    OutOfRange { v_per_n: f64, lo: f64, hi: f64, e_lo_pa: f64, e_hi_pa: f64, hint: &'static str },
+    #[error(
+        "voltage per force {v_per_n:.4e} V/N is outside the model's range [{lo:.4e}, {hi:.4e}] \
+         for E in [{e_lo_pa:.3e}, {e_hi_pa:.3e}] Pa; hint: {hint}"
+    )]
+    OutOfRange {
+        v_per_n: f64,
+        lo: f64,
+        hi: f64,
+        e_lo_pa: f64,
+        e_hi_pa: f64,
+        hint: &'static str,
+    },
     #[error("invalid input {field} = {value}; hint: {hint}")]
-    BadInput { field: &'static str, value: f64, hint: &'static str },
+    BadInput {
+        field: &'static str,
+        value: f64,
+        hint: &'static str,
+    },
 }
 
 /// Paper 001 sec. 4.3.2: nu = 0.49 for the nearly incompressible tissue.
@@ -67,29 +83,48 @@ pub struct SoftnessSetup {
 
 impl SoftnessSetup {
     /// From the sensor geometry (the PVDF mask's middle electrode over the die centre).
-    /// Charge Q = int (d31 s1 + d32 s2) dA over the electrode, PVDF plane stress with the film strain
-    /// (eps_span, 0): s_span = E/(1-nu^2) eps, s_other = nu E/(1-nu^2) eps (fe-validation.md); the span
-    /// is the die's y axis, so d31 goes with it when the drawn axis is y. V = Q / C, C = eps0 eps_r A / t.
-    pub fn from_sensor(g: &SensorGeometry, tissue_thickness_um: f64, tissue_nu: f64) -> Result<Self, SoftnessError> {
+    /// Charge Q = int (d31 s1 + d32 s2) dA over the electrode, PVDF plane stress with the film
+    /// strain (eps_span, 0): s_span = E/(1-nu^2) eps, s_other = nu E/(1-nu^2) eps
+    /// (fe-validation.md); the span is the die's y axis, so d31 goes with it when the drawn
+    /// axis is y. V = Q / C, C = eps0 eps_r A / t.
+    pub fn from_sensor(
+        g: &SensorGeometry,
+        tissue_thickness_um: f64,
+        tissue_nu: f64,
+    ) -> Result<Self, SoftnessError> {
         if !(tissue_thickness_um > 0.0 && tissue_thickness_um.is_finite()) {
-            return Err(SoftnessError::BadInput { field: "tissue_thickness_um", value: tissue_thickness_um, hint: "a positive thickness in um, e.g. 5000" });
+            return Err(SoftnessError::BadInput {
+                field: "tissue_thickness_um",
+                value: tissue_thickness_um,
+                hint: "a positive thickness in um, e.g. 5000",
+            });
         }
         if !(tissue_nu > -1.0 && tissue_nu < 0.5) {
-            return Err(SoftnessError::BadInput { field: "tissue_nu", value: tissue_nu, hint: "Poisson's ratio in (-1, 0.5), e.g. 0.49" });
+            return Err(SoftnessError::BadInput {
+                field: "tissue_nu",
+                value: tissue_nu,
+                hint: "Poisson's ratio in (-1, 0.5), e.g. 0.49",
+            });
         }
         let xc = 0.5 * g.length_um;
         let e = g
             .electrodes
             .iter()
             .find(|e| e.side == SupportSide::Middle && e.x0_um <= xc && e.x1_um >= xc)
-            .ok_or(SoftnessError::NoMiddleElectrode { hint: "the PVDF mask needs a middle island over the die centre" })?;
+            .ok_or(SoftnessError::NoMiddleElectrode {
+                hint: "the PVDF mask needs a middle island over the die centre",
+            })?;
         let (d_span, d_other) = match g.drawn_axis {
             crate::process::Axis::Y => (g.d31_pc_per_n, g.d32_pc_per_n),
             crate::process::Axis::X => (g.d32_pc_per_n, g.d31_pc_per_n),
         };
         let ebar = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu);
-        let charge_per_strain_m = ebar * (d_span + g.pvdf_nu * d_other) * 1e-12 * (e.x1_um - e.x0_um) * 1e-6;
-        let (s0, s1) = ((e.y0_um.max(g.plate_y0_um) - g.plate_y0_um) * 1e-6, (e.y1_um.min(g.plate_y1_um) - g.plate_y0_um) * 1e-6);
+        let charge_per_strain_m =
+            ebar * (d_span + g.pvdf_nu * d_other) * 1e-12 * (e.x1_um - e.x0_um) * 1e-6;
+        let (s0, s1) = (
+            (e.y0_um.max(g.plate_y0_um) - g.plate_y0_um) * 1e-6,
+            (e.y1_um.min(g.plate_y1_um) - g.plate_y0_um) * 1e-6,
+        );
         Ok(SoftnessSetup {
             span_m: (g.plate_y1_um - g.plate_y0_um) * 1e-6,
             loaded_length_m: g.length_um * 1e-6,

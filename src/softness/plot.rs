@@ -10,11 +10,21 @@ pub type Curve = (String, Vec<(f64, f64)>, bool);
 pub fn softness_svg(curves: &[Curve]) -> String {
     let series = curves
         .iter()
-        .map(|(name, pts, fe)| Series { name: name.clone(), points: pts.clone(), style: if *fe { Style::LineAndMarkers } else { Style::Line } })
+        .map(|(name, pts, fe)| Series {
+            name: name.clone(),
+            points: pts.clone(),
+            style: if *fe {
+                Style::LineAndMarkers
+            } else {
+                Style::Line
+            },
+        })
         .collect();
     xy_svg(
         &XyPlot {
-            title: "Middle electrode voltage vs tissue modulus (FE: markers; composite beam: lines)".into(),
+            title: "Middle electrode voltage vs tissue modulus (FE: markers; composite beam: \
+                    lines)"
+                .into(),
             x: Axis::log("tissue modulus E_t (Pa)"),
             y: Axis::linear("voltage (mV)"),
             series,

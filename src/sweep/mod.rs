@@ -27,7 +27,10 @@ pub enum SweepError {
     #[error("merge failed: {detail}; hint: {hint}")]
     Merge { detail: String, hint: &'static str },
     #[error("{}: {cause}; hint: check that the directory exists and is readable", path.display())]
-    Io { path: PathBuf, cause: std::io::Error },
+    Io {
+        path: PathBuf,
+        cause: std::io::Error,
+    },
     #[error(transparent)]
     Fe(#[from] crate::fe::FeError),
 }

@@ -31,10 +31,21 @@ pub struct Matching {
 }
 
 impl Matching {
-    /// Solve the prototype with the sweep's own mesh and model, so a design equal to the prototype matches exactly.
-    pub fn new(prototype: Design, model: &DesignModel, tol: f64, allowed_stress_mpa: f64) -> FeResult<Self> {
+    /// Solve the prototype with the sweep's own mesh and model, so a design equal to the prototype
+    /// matches exactly.
+    pub fn new(
+        prototype: Design,
+        model: &DesignModel,
+        tol: f64,
+        allowed_stress_mpa: f64,
+    ) -> FeResult<Self> {
         let prototype_response = DesignSolver::new(*model).solve(&prototype)?;
-        Ok(Matching { prototype, prototype_response, tol, allowed_stress_mpa })
+        Ok(Matching {
+            prototype,
+            prototype_response,
+            tol,
+            allowed_stress_mpa,
+        })
     }
 
     /// Row of a design's response.
@@ -62,13 +73,18 @@ pub enum Mode {
     Direct,
 }
 
-/// Thickness of the reference solve in [`Mode::ScaledThickness`] (fixed, so shards agree bit for bit).
+/// Thickness of the reference solve in [`Mode::ScaledThickness`] (fixed, so shards agree bit for
+/// bit).
 pub const REFERENCE_THICKNESS_UM: f64 = 100.0;
 
 /// A response at thickness t from the one at the reference thickness (uniform Kirchhoff plate).
 pub fn scale_to_thickness(r: &Response, thickness_um: f64) -> Response {
     let s = REFERENCE_THICKNESS_UM / thickness_um;
-    Response { deflection_um: r.deflection_um * s.powi(3), elongation_um: r.elongation_um * s.powi(6), max_stress_mpa: r.max_stress_mpa * s * s }
+    Response {
+        deflection_um: r.deflection_um * s.powi(3),
+        elongation_um: r.elongation_um * s.powi(6),
+        max_stress_mpa: r.max_stress_mpa * s * s,
+    }
 }
 
 /// Rows for the design indices `range` of the grid, in index order. Work runs in parallel (rayon),
@@ -97,14 +113,21 @@ pub fn run_range(
             .collect(),
         Mode::ScaledThickness => {
             let nt = grid.thickness_um.steps;
-            let groups: Vec<usize> = if range.is_empty() { Vec::new() } else { (range.start / nt..=(range.end - 1) / nt).collect() };
+            let groups: Vec<usize> = if range.is_empty() {
+                Vec::new()
+            } else {
+                (range.start / nt..=(range.end - 1) / nt).collect()
+            };
             let per_group: Vec<Vec<Row>> = groups
                 .into_par_iter()
                 .map_init(
                     || DesignSolver::new(*model),
                     |solver, g| {
                         let first = grid.design(g * nt);
-                        let r0 = solver.solve(&Design { thickness_um: REFERENCE_THICKNESS_UM, ..first })?;
+                        let r0 = solver.solve(&Design {
+                            thickness_um: REFERENCE_THICKNESS_UM,
+                            ..first
+                        })?;
                         let rows: Vec<Row> = (g * nt..(g + 1) * nt)
                             .filter(|i| range.contains(i))
                             .map(|i| {
@@ -122,9 +145,10 @@ pub fn run_range(
     }
 }
 
-/// Estimated discretisation error of the sweep mesh for one design: three nested meshes (the sweep's,
-/// 2x and 4x finer), Richardson per quantity (fe::richardson); the relative error of the sweep mesh is
-/// |f_sweep - f_extrapolated| / |f_extrapolated| (or the fine-level difference when not monotone).
+/// Estimated discretisation error of the sweep mesh for one design: three nested meshes (the
+/// sweep's, 2x and 4x finer), Richardson per quantity (fe::richardson); the relative error of the
+/// sweep mesh is |f_sweep - f_extrapolated| / |f_extrapolated| (or the fine-level difference when
+/// not monotone).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DesignError {
     pub design: Design,
@@ -140,7 +164,13 @@ pub fn estimate_error(model: &DesignModel, designs: &[Design]) -> FeResult<Vec<D
         .map(|d| {
             let levels: Vec<Response> = [1.0, 2.0, 4.0]
                 .iter()
-                .map(|&r| DesignSolver::new(DesignModel { mesh: model.mesh.refined(r), ..*model }).solve(d))
+                .map(|&r| {
+                    DesignSolver::new(DesignModel {
+                        mesh: model.mesh.refined(r),
+                        ..*model
+                    })
+                    .solve(d)
+                })
                 .collect::<FeResult<_>>()?;
             let rel = |f: fn(&Response) -> f64| {
                 let (f3, f2, f1) = (f(&levels[0]), f(&levels[1]), f(&levels[2]));
@@ -160,7 +190,11 @@ pub fn estimate_error(model: &DesignModel, designs: &[Design]) -> FeResult<Vec<D
 
 /// The eight corners of the grid (error-estimate sample).
 pub fn corner_designs(grid: &Grid) -> Vec<Design> {
-    let (nl, nw, nt) = (grid.length_um.steps, grid.width_um.steps, grid.thickness_um.steps);
+    let (nl, nw, nt) = (
+        grid.length_um.steps,
+        grid.width_um.steps,
+        grid.thickness_um.steps,
+    );
     let mut v = Vec::new();
     for il in [0, nl - 1] {
         for iw in [0, nw - 1] {

@@ -2,8 +2,8 @@
 //!
 //! Shard i of n (1-based, like `SLURM_ARRAY_TASK_ID` with `--array=1-n`) takes the contiguous index
 //! range [N (i-1) / n, N i / n). Each shard writes `sweep-i-of-n.csv`: the same header and the same
-//! fixed-format rows as the unsharded `sweep.csv`, so the merge is a checked concatenation and gives
-//! the unsharded file byte for byte.
+//! fixed-format rows as the unsharded `sweep.csv`, so the merge is a checked concatenation and
+//! gives the unsharded file byte for byte.
 
 use std::path::{Path, PathBuf};
 
@@ -21,9 +21,15 @@ pub struct Shard {
 impl Shard {
     /// Parse "i/n".
     pub fn parse(text: &str) -> Result<Self, SweepError> {
-        let bad = || SweepError::BadShard { text: text.to_string(), hint: "expected i/n with 1 <= i <= n, e.g. --shard 3/8" };
+        let bad = || SweepError::BadShard {
+            text: text.to_string(),
+            hint: "expected i/n with 1 <= i <= n, e.g. --shard 3/8",
+        };
         let (i, n) = text.split_once('/').ok_or_else(bad)?;
-        let (index, count): (usize, usize) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        let (index, count): (usize, usize) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
         if count == 0 || index == 0 || index > count {
             return Err(bad());
         }
@@ -43,7 +49,8 @@ impl Shard {
 pub const UNSHARDED: &str = "sweep.csv";
 
 /// CSV header (units in the names).
-pub const HEADER: &str = "index,length_um,width_um,thickness_um,deflection_um,elongation_um,max_stress_mpa,elongation_ratio,matches,within_strength";
+pub const HEADER: &str = "index,length_um,width_um,thickness_um,deflection_um,elongation_um,\
+                          max_stress_mpa,elongation_ratio,matches,within_strength";
 
 /// The CSV text of rows (fixed decimals, index order as given).
 pub fn csv(rows: &[Row]) -> String {
@@ -54,8 +61,16 @@ pub fn csv(rows: &[Row]) -> String {
         let (d, p) = (&r.design, &r.response);
         s.push_str(&format!(
             "{},{:.3},{:.3},{:.3},{:.4},{:.4},{:.3},{:.6},{},{}\n",
-            d.index, d.length_um, d.width_um, d.thickness_um, p.deflection_um, p.elongation_um, p.max_stress_mpa,
-            r.elongation_ratio, u8::from(r.matches), u8::from(r.within_strength)
+            d.index,
+            d.length_um,
+            d.width_um,
+            d.thickness_um,
+            p.deflection_um,
+            p.elongation_um,
+            p.max_stress_mpa,
+            r.elongation_ratio,
+            u8::from(r.matches),
+            u8::from(r.within_strength)
         ));
     }
     s
@@ -70,13 +85,23 @@ pub struct Merged {
 }
 
 fn shard_files(dir: &Path) -> Result<Vec<(Shard, PathBuf)>, SweepError> {
-    let io = |cause| SweepError::Io { path: dir.to_path_buf(), cause };
+    let io = |cause| SweepError::Io {
+        path: dir.to_path_buf(),
+        cause,
+    };
     let mut out = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(io)? {
         let entry = entry.map_err(io)?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        let Some(core) = name.strip_prefix("sweep-").and_then(|n| n.strip_suffix(".csv")) else { continue };
-        let Some((i, n)) = core.split_once("-of-") else { continue };
+        let Some(core) = name
+            .strip_prefix("sweep-")
+            .and_then(|n| n.strip_suffix(".csv"))
+        else {
+            continue;
+        };
+        let Some((i, n)) = core.split_once("-of-") else {
+            continue;
+        };
         if let (Ok(index), Ok(count)) = (i.parse(), n.parse()) {
             out.push((Shard { index, count }, entry.path()));
         }
@@ -85,55 +110,92 @@ fn shard_files(dir: &Path) -> Result<Vec<(Shard, PathBuf)>, SweepError> {
     Ok(out)
 }
 
-/// Merge `DIR/sweep-i-of-n.csv` (all i = 1..n, one n) into the unsharded CSV, checking the headers and
-/// that the indices run 0, 1, ... without gaps or repeats.
+/// Merge `DIR/sweep-i-of-n.csv` (all i = 1..n, one n) into the unsharded CSV, checking the headers
+/// and that the indices run 0, 1, ... without gaps or repeats.
 pub fn merge_dir(dir: &Path) -> Result<Merged, SweepError> {
     let files = shard_files(dir)?;
     let Some(&(first, _)) = files.first() else {
-        return Err(SweepError::Merge { detail: format!("no sweep-i-of-n.csv files in {}", dir.display()), hint: "run `tactfab sweep FILE -o DIR --shard i/n` for every i first" });
+        return Err(SweepError::Merge {
+            detail: format!("no sweep-i-of-n.csv files in {}", dir.display()),
+            hint: "run `tactfab sweep FILE -o DIR --shard i/n` for every i first",
+        });
     };
     let n = first.count;
     if files.iter().any(|(s, _)| s.count != n) {
-        return Err(SweepError::Merge { detail: "shard files with different n".into(), hint: "keep one sweep's shards per directory" });
+        return Err(SweepError::Merge {
+            detail: "shard files with different n".into(),
+            hint: "keep one sweep's shards per directory",
+        });
     }
     let have: Vec<usize> = files.iter().map(|(s, _)| s.index).collect();
     if have != (1..=n).collect::<Vec<_>>() {
-        let missing: Vec<String> = (1..=n).filter(|i| !have.contains(i)).map(|i| format!("{i}/{n}")).collect();
-        return Err(SweepError::Merge { detail: format!("missing shards {}", missing.join(", ")), hint: "rerun the missing array tasks" });
+        let missing: Vec<String> = (1..=n)
+            .filter(|i| !have.contains(i))
+            .map(|i| format!("{i}/{n}"))
+            .collect();
+        return Err(SweepError::Merge {
+            detail: format!("missing shards {}", missing.join(", ")),
+            hint: "rerun the missing array tasks",
+        });
     }
     let mut csv = format!("{HEADER}\n");
     let mut next = 0usize;
     let mut family = Vec::new();
     for (s, path) in &files {
-        let text = std::fs::read_to_string(path).map_err(|cause| SweepError::Io { path: path.clone(), cause })?;
+        let text = std::fs::read_to_string(path).map_err(|cause| SweepError::Io {
+            path: path.clone(),
+            cause,
+        })?;
         let mut lines = text.lines();
         if lines.next() != Some(HEADER) {
-            return Err(SweepError::Merge { detail: format!("{}: header differs", path.display()), hint: "all shards must come from the same tactfab version" });
+            return Err(SweepError::Merge {
+                detail: format!("{}: header differs", path.display()),
+                hint: "all shards must come from the same tactfab version",
+            });
         }
         for (k, line) in lines.enumerate() {
             let f: Vec<&str> = line.split(',').collect();
             let index: Option<usize> = f.first().and_then(|v| v.parse().ok());
             if f.len() != HEADER.split(',').count() || index != Some(next) {
                 return Err(SweepError::Merge {
-                    detail: format!("{}:{}: expected design {next} ({} of shard {}/{})", path.display(), k + 2, f.len(), s.index, s.count),
+                    detail: format!(
+                        "{}:{}: expected design {next} ({} of shard {}/{})",
+                        path.display(),
+                        k + 2,
+                        f.len(),
+                        s.index,
+                        s.count
+                    ),
                     hint: "a shard file is truncated or from another sweep: rerun that shard",
                 });
             }
             if f[8] == "1" {
                 let num = |j: usize| f[j].parse::<f64>().unwrap_or(f64::NAN);
-                family.push(Design { index: next, length_um: num(1), width_um: num(2), thickness_um: num(3) });
+                family.push(Design {
+                    index: next,
+                    length_um: num(1),
+                    width_um: num(2),
+                    thickness_um: num(3),
+                });
             }
             csv.push_str(line);
             csv.push('\n');
             next += 1;
         }
     }
-    Ok(Merged { csv, total: next, family })
+    Ok(Merged {
+        csv,
+        total: next,
+        family,
+    })
 }
 
 /// Designs of the family in rows (for the plot of an unsharded run).
 pub fn family(rows: &[Row]) -> Vec<Design> {
-    rows.iter().filter(|r| r.matches).map(|r| r.design).collect()
+    rows.iter()
+        .filter(|r| r.matches)
+        .map(|r| r.design)
+        .collect()
 }
 
 #[cfg(test)]
@@ -162,39 +224,106 @@ mod tests {
         }
     }
 
-    /// A 3 x 3 x 2 grid in 4 shards merges to the unsharded CSV byte for byte; runs are deterministic;
-    /// a missing shard is an error naming it.
+    /// A 3 x 3 x 2 grid in 4 shards merges to the unsharded CSV byte for byte; runs are
+    /// deterministic; a missing shard is an error naming it.
     #[test]
     fn shards_merge_to_the_unsharded_bytes() {
         let grid = Grid {
-            length_um: Range { lo: 20_000.0, hi: 35_000.0, steps: 3 },
-            width_um: Range { lo: 12_000.0, hi: 18_000.0, steps: 3 },
-            thickness_um: Range { lo: 90.0, hi: 110.0, steps: 2 },
+            length_um: Range {
+                lo: 20_000.0,
+                hi: 35_000.0,
+                steps: 3,
+            },
+            width_um: Range {
+                lo: 12_000.0,
+                hi: 18_000.0,
+                steps: 3,
+            },
+            thickness_um: Range {
+                lo: 90.0,
+                hi: 110.0,
+                steps: 2,
+            },
         };
-        let model = DesignModel { material: PlateMaterial::silicon(DieEdge::Along110), force_n: 4.0, contact_radius_um: 250.0, mesh: MeshSpec::standard() };
-        let proto = crate::sweep::Design { index: 0, length_um: 30_000.0, width_um: 15_000.0, thickness_um: 100.0 };
+        let model = DesignModel {
+            material: PlateMaterial::silicon(DieEdge::Along110),
+            force_n: 4.0,
+            contact_radius_um: 250.0,
+            mesh: MeshSpec::standard(),
+        };
+        let proto = crate::sweep::Design {
+            index: 0,
+            length_um: 30_000.0,
+            width_um: 15_000.0,
+            thickness_um: 100.0,
+        };
         let matching = Matching::new(proto, &model, 0.2, 4000.0 / 3.0).unwrap();
-        let all = run_range(&grid, &model, &matching, 0..grid.len(), Mode::ScaledThickness, &|_| {}).unwrap();
+        let all = run_range(
+            &grid,
+            &model,
+            &matching,
+            0..grid.len(),
+            Mode::ScaledThickness,
+            &|_| {},
+        )
+        .unwrap();
         let whole = csv(&all);
-        assert_eq!(whole, csv(&run_range(&grid, &model, &matching, 0..grid.len(), Mode::ScaledThickness, &|_| {}).unwrap()));
-        // The direct per-design path agrees with the thickness scaling (same CSV text at its precision).
-        let direct = run_range(&grid, &model, &matching, 0..grid.len(), Mode::Direct, &|_| {}).unwrap();
+        assert_eq!(
+            whole,
+            csv(&run_range(
+                &grid,
+                &model,
+                &matching,
+                0..grid.len(),
+                Mode::ScaledThickness,
+                &|_| {}
+            )
+            .unwrap())
+        );
+        // The direct per-design path agrees with the thickness scaling (same CSV text at its
+        // precision).
+        let direct = run_range(
+            &grid,
+            &model,
+            &matching,
+            0..grid.len(),
+            Mode::Direct,
+            &|_| {},
+        )
+        .unwrap();
         for (a, b) in all.iter().zip(&direct) {
-            assert!((a.response.elongation_um / b.response.elongation_um - 1.0).abs() < 1e-8, "{a:?} {b:?}");
-            assert!((a.response.max_stress_mpa / b.response.max_stress_mpa - 1.0).abs() < 1e-8, "{a:?} {b:?}");
+            assert!(
+                (a.response.elongation_um / b.response.elongation_um - 1.0).abs() < 1e-8,
+                "{a:?} {b:?}"
+            );
+            assert!(
+                (a.response.max_stress_mpa / b.response.max_stress_mpa - 1.0).abs() < 1e-8,
+                "{a:?} {b:?}"
+            );
         }
         assert!(all.iter().any(|r| r.matches) && all.iter().any(|r| !r.matches));
         let dir = tempfile::tempdir().unwrap();
         let n = 4; // 18 designs in 4 shards: cuts fall inside thickness groups
         for i in (1..=n).rev() {
             let s = Shard { index: i, count: n };
-            let rows = run_range(&grid, &model, &matching, s.range(grid.len()), Mode::ScaledThickness, &|_| {}).unwrap();
+            let rows = run_range(
+                &grid,
+                &model,
+                &matching,
+                s.range(grid.len()),
+                Mode::ScaledThickness,
+                &|_| {},
+            )
+            .unwrap();
             std::fs::write(dir.path().join(s.file_name()), csv(&rows)).unwrap();
         }
         let merged = merge_dir(dir.path()).unwrap();
         assert_eq!(merged.csv, whole);
         assert_eq!(merged.total, grid.len());
-        assert_eq!(merged.family.len(), all.iter().filter(|r| r.matches).count());
+        assert_eq!(
+            merged.family.len(),
+            all.iter().filter(|r| r.matches).count()
+        );
         std::fs::remove_file(dir.path().join("sweep-3-of-4.csv")).unwrap();
         let e = merge_dir(dir.path()).unwrap_err().to_string();
         assert!(e.contains("missing shards 3/4"), "{e}");

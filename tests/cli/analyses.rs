@@ -16,7 +16,9 @@ use super::harness::tactfab;
 const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
 
 fn geometry() -> SensorGeometry {
-    let p = load_str(PROCESS, "mis-grasper.yaml", &[]).expect("valid process").process;
+    let p = load_str(PROCESS, "mis-grasper.yaml", &[])
+        .expect("valid process")
+        .process;
     let plan = etch::plan(&p);
     let masks = tactfab::layout::build(&p, &plan).expect("mask set");
     SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks))
@@ -42,7 +44,10 @@ fn reduced() -> &'static (SensorGeometry, Calibration) {
 }
 
 fn idx(c: &Calibration, name: &str) -> usize {
-    c.electrodes.iter().position(|e| e == name).unwrap_or_else(|| panic!("no {name}"))
+    c.electrodes
+        .iter()
+        .position(|e| e == name)
+        .unwrap_or_else(|| panic!("no {name}"))
 }
 
 #[test]
@@ -57,7 +62,11 @@ fn calibration_is_linear_and_reads_the_supports_as_paper_002_describes() {
     let first = &c.y_sweep[0];
     assert_eq!(first.model, "direct");
     assert!(first.voltage_mv[s22] == 0.0 && first.voltage_mv[s12] < 0.0);
-    let mid = c.y_sweep.iter().find(|s| (s.y_um - 7500.0).abs() < 1e-6).expect("centre in the sweep");
+    let mid = c
+        .y_sweep
+        .iter()
+        .find(|s| (s.y_um - 7500.0).abs() < 1e-6)
+        .expect("centre in the sweep");
     assert!((mid.voltage_mv[s12] - mid.voltage_mv[s22]).abs() < 1e-6 * mid.voltage_mv[s12].abs());
     let gr = SupportGroups::of(g).unwrap();
     let uy: Vec<f64> = c.y_sweep.iter().map(|s| gr.u_y(&s.voltage_mv)).collect();
@@ -79,34 +88,74 @@ fn the_inverse_recovers_grid_loads_exactly_and_held_out_loads_within_the_stated_
     // the curves pass through the nodes, so position and force come back exactly; elsewhere y
     // and F come back closely (x is weakly observable near a support over the middle unit, where
     // u_x is flat, and its error moves y and F a little).
-    for s in c.grid.iter().flatten().filter(|s| s.x_um >= x0 && s.x_um <= x1) {
-        let e = loc.locate(&s.voltage_mv.iter().map(|v| 2.5 * v).collect::<Vec<_>>()).unwrap();
+    for s in c
+        .grid
+        .iter()
+        .flatten()
+        .filter(|s| s.x_um >= x0 && s.x_um <= x1)
+    {
+        let e = loc
+            .locate(&s.voltage_mv.iter().map(|v| 2.5 * v).collect::<Vec<_>>())
+            .unwrap();
         assert!(e.converged, "{e:?}");
         if (s.y_um - 7500.0).abs() < 1e-6 {
-            assert!((e.x_um - s.x_um).abs() < 1.0 && (e.y_um - s.y_um).abs() < 1.0, "{e:?} at {} {}", s.x_um, s.y_um);
+            assert!(
+                (e.x_um - s.x_um).abs() < 1.0 && (e.y_um - s.y_um).abs() < 1.0,
+                "{e:?} at {} {}",
+                s.x_um,
+                s.y_um
+            );
             assert!((e.force_n - 2.5).abs() < 1e-6 * 2.5, "{e:?}");
         } else {
-            assert!((e.y_um - s.y_um).abs() < 50.0, "{e:?} at {} {}", s.x_um, s.y_um);
-            assert!((e.force_n - 2.5).abs() < 0.02 * 2.5, "{e:?} at {} {}", s.x_um, s.y_um);
+            assert!(
+                (e.y_um - s.y_um).abs() < 50.0,
+                "{e:?} at {} {}",
+                s.x_um,
+                s.y_um
+            );
+            assert!(
+                (e.force_n - 2.5).abs() < 0.02 * 2.5,
+                "{e:?} at {} {}",
+                s.x_um,
+                s.y_um
+            );
         }
     }
-    // Held-out loads (cell centres at forces not calibrated, solved by the FE): with this 3 x 2.4 mm
-    // grid on the coarse mesh the inverse is within 3 % in force, 0.5 mm in x and 0.3 mm in y
-    // (measured 2.2 %, 350 um, 63 um; README states the full grid's numbers).
+    // Held-out loads (cell centres at forces not calibrated, solved by the FE): with this 3 x 2.4
+    // mm grid on the coarse mesh the inverse is within 3 % in force, 0.5 mm in x and 0.3 mm in
+    // y (measured 2.2 %, 350 um, 63 um; README states the full grid's numbers).
     let h = held_out_errors(&loc, &c.held_out).unwrap();
     assert_eq!(h.len(), 2);
-    let table: Vec<String> = h.iter().map(|r| format!("({:.0}, {:.0}, {} N): dx {:.0} dy {:.0} dF {:.4}", r.x_um, r.y_um, r.force_n, r.error_x_um, r.error_y_um, r.error_force_rel)).collect();
+    let table: Vec<String> = h
+        .iter()
+        .map(|r| {
+            format!(
+                "({:.0}, {:.0}, {} N): dx {:.0} dy {:.0} dF {:.4}",
+                r.x_um, r.y_um, r.force_n, r.error_x_um, r.error_y_um, r.error_force_rel
+            )
+        })
+        .collect();
     for r in &h {
         assert!(r.error_force_rel.abs() < 0.03, "{table:#?}");
-        assert!(r.error_y_um.abs() < 300.0 && r.error_x_um.abs() < 500.0, "{table:#?}");
+        assert!(
+            r.error_y_um.abs() < 300.0 && r.error_x_um.abs() < 500.0,
+            "{table:#?}"
+        );
     }
     // Noise: deterministic, zero noise = the noiseless table, and the error grows with sigma.
     let sig = [0.0, 0.3, 3.0, 30.0];
     let n1 = noise_study(&loc, &c.held_out, 1.0, &sig, 20, 9).unwrap();
-    assert_eq!(n1, noise_study(&loc, &c.held_out, 1.0, &sig, 20, 9).unwrap());
+    assert_eq!(
+        n1,
+        noise_study(&loc, &c.held_out, 1.0, &sig, 20, 9).unwrap()
+    );
     let max_y0 = h.iter().map(|r| r.error_y_um.abs()).fold(0.0, f64::max);
     assert!((n1[0].max_error_y_um - max_y0).abs() < 1e-6);
-    assert!(n1[1].rms_error_force_rel < n1[2].rms_error_force_rel && n1[2].rms_error_force_rel < n1[3].rms_error_force_rel, "{n1:?}");
+    assert!(
+        n1[1].rms_error_force_rel < n1[2].rms_error_force_rel
+            && n1[2].rms_error_force_rel < n1[3].rms_error_force_rel,
+        "{n1:?}"
+    );
     assert!(n1[1].rms_error_y_um < n1[3].rms_error_y_um);
 }
 
@@ -129,15 +178,31 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
     // charge range (measured up to 8 %: degree 4 on 7 angles, and the 14 mm probe is wider than
     // the 10 mm span, so its corners cross the support edges: kinks in angle no smooth basis
     // follows), the large middle electrode M2 within 6 % (measured 4.6 %).
-    let worst: Vec<(String, f64, f64)> = o.fits.iter().map(|f| (f.electrode.clone(), f.chebyshev.max_abs_residual / f.range_pc, f.fourier.max_abs_residual / f.range_pc)).collect();
+    let worst: Vec<(String, f64, f64)> = o
+        .fits
+        .iter()
+        .map(|f| {
+            (
+                f.electrode.clone(),
+                f.chebyshev.max_abs_residual / f.range_pc,
+                f.fourier.max_abs_residual / f.range_pc,
+            )
+        })
+        .collect();
     for f in &o.fits {
         assert!(f.chebyshev.condition_number < 10.0 && f.fourier.condition_number < 3.0);
         let e = o.electrodes.iter().position(|n| *n == f.electrode).unwrap();
         let share = if f.electrode == "M2" { 0.06 } else { 0.12 };
         for (a, row) in plan.angles_deg.iter().zip(&o.charge_pc[1]) {
             let tol = share * f.range_pc;
-            assert!((f.chebyshev.eval(*a) - row[e]).abs() <= tol + 1e-12, "{worst:?}");
-            assert!((f.fourier.eval(*a) - row[e]).abs() <= tol + 1e-12, "{worst:?}");
+            assert!(
+                (f.chebyshev.eval(*a) - row[e]).abs() <= tol + 1e-12,
+                "{worst:?}"
+            );
+            assert!(
+                (f.fourier.eval(*a) - row[e]).abs() <= tol + 1e-12,
+                "{worst:?}"
+            );
         }
     }
     assert!(o.monomial_condition_number > 1e2);
@@ -148,15 +213,26 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
         assert!(r.estimated_angle_deg >= o.branch_deg.0 && r.estimated_angle_deg <= o.branch_deg.1);
         assert!(r.angle_error_deg.abs() < 10.0, "{:#?}", o.inverse);
     }
-    // The bivariate N(angle) k F reproduces every (angle, force) sample of the well-fitted electrodes.
-    let m2 = o.bivariate.iter().find(|b| b.electrode == "M2").expect("M2");
-    assert!(m2.max_rel_residual < 0.01 && m2.normalised_spread < 1e-12, "{m2:?}");
+    // The bivariate N(angle) k F reproduces every (angle, force) sample of the well-fitted
+    // electrodes.
+    let m2 = o
+        .bivariate
+        .iter()
+        .find(|b| b.electrode == "M2")
+        .expect("M2");
+    assert!(
+        m2.max_rel_residual < 0.01 && m2.normalised_spread < 1e-12,
+        "{m2:?}"
+    );
 }
 
 #[test]
 fn the_four_element_sensor_reads_orientation_as_paper_000_reports() {
-    let text = std::fs::read_to_string(super::harness::root().join("process/four-element.yaml")).unwrap();
-    let p = load_str(&text, "four-element.yaml", &[]).expect("valid process").process;
+    let text =
+        std::fs::read_to_string(super::harness::root().join("process/four-element.yaml")).unwrap();
+    let p = load_str(&text, "four-element.yaml", &[])
+        .expect("valid process")
+        .process;
     let plan = etch::plan(&p);
     let masks = tactfab::layout::build(&p, &plan).expect("mask set");
     let g = SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks));
@@ -168,25 +244,41 @@ fn the_four_element_sensor_reads_orientation_as_paper_000_reports() {
     let o = study(&g, &op).expect("study");
     let c = &o.charge_pc[1];
     let (a, b) = (0, 1);
-    // A: largest at 0 (and 180) deg, smallest at 90; B the opposite; A = C and B = D (point symmetry).
+    // A: largest at 0 (and 180) deg, smallest at 90; B the opposite; A = C and B = D (point
+    // symmetry).
     let col = |e: usize| c.iter().map(|r| r[e]).collect::<Vec<f64>>();
     let argmax = |v: &[f64]| (0..v.len()).max_by(|&i, &j| v[i].total_cmp(&v[j])).unwrap();
     let argmin = |v: &[f64]| (0..v.len()).min_by(|&i, &j| v[i].total_cmp(&v[j])).unwrap();
     let i90 = op.angles_deg.iter().position(|x| *x == 90.0).unwrap();
-    assert!(argmax(&col(a)) == 0 || argmax(&col(a)) == op.angles_deg.len() - 1, "{:?}", col(a));
+    assert!(
+        argmax(&col(a)) == 0 || argmax(&col(a)) == op.angles_deg.len() - 1,
+        "{:?}",
+        col(a)
+    );
     assert_eq!(argmin(&col(a)), i90, "{:?}", col(a));
     assert_eq!(argmax(&col(b)), i90, "{:?}", col(b));
     // (measured 2e-7 pC of 252 pC: round-off of the solve)
     for r in c {
-        assert!((r[0] - r[2]).abs() < 1e-8 * r[0].abs() && (r[1] - r[3]).abs() < 1e-8 * r[0].abs(), "{r:?}");
+        assert!(
+            (r[0] - r[2]).abs() < 1e-8 * r[0].abs() && (r[1] - r[3]).abs() < 1e-8 * r[0].abs(),
+            "{r:?}"
+        );
     }
     // The degree-10 Chebyshev fit of A reproduces the FE at every angle to 0.1 % of A's range, and
     // the inverse angle lands within 0.1 deg when the FE is re-run there (paper 000 Tables 2-3).
     let fa = &o.fits[a];
-    assert!(fa.chebyshev.max_abs_residual < 1e-3 * fa.range_pc, "{}", fa.chebyshev.max_abs_residual);
+    assert!(
+        fa.chebyshev.max_abs_residual < 1e-3 * fa.range_pc,
+        "{}",
+        fa.chebyshev.max_abs_residual
+    );
     assert_eq!(o.inverse.len(), 4);
     for r in &o.inverse {
-        assert!(r.angle_error_deg.abs() < 0.1 && r.charge_error_pct < 0.2, "{:#?}", o.inverse);
+        assert!(
+            r.angle_error_deg.abs() < 0.1 && r.charge_error_pct < 0.2,
+            "{:#?}",
+            o.inverse
+        );
     }
 }
 
@@ -195,11 +287,44 @@ fn calibrate_and_locate_through_the_binary() {
     let dir = std::env::temp_dir().join(format!("tactfab-cal-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let d = dir.to_str().unwrap();
-    let args = ["calibrate", "process/mis-grasper.yaml", "-o", d, "--x-step-mm", "10", "--y-step-mm", "5", "--held-out", "1", "--max-levels", "1", "--trials", "3", "--noise-mv", "0,1"];
+    let args = [
+        "calibrate",
+        "process/mis-grasper.yaml",
+        "-o",
+        d,
+        "--x-step-mm",
+        "10",
+        "--y-step-mm",
+        "5",
+        "--held-out",
+        "1",
+        "--max-levels",
+        "1",
+        "--trials",
+        "3",
+        "--noise-mv",
+        "0,1",
+    ];
     let run = tactfab(&args);
     run.expect_code(0);
-    assert!(run.stdout.contains("held-out loads") && run.stdout.contains("linearity"), "{}", run.stdout);
-    for f in ["force.csv", "y-sweep.csv", "x-sweep.csv", "grid.csv", "held-out.csv", "noise.csv", "force.svg", "y-sweep.svg", "x-sweep.svg", "pair-y.svg", "noise.svg"] {
+    assert!(
+        run.stdout.contains("held-out loads") && run.stdout.contains("linearity"),
+        "{}",
+        run.stdout
+    );
+    for f in [
+        "force.csv",
+        "y-sweep.csv",
+        "x-sweep.csv",
+        "grid.csv",
+        "held-out.csv",
+        "noise.csv",
+        "force.svg",
+        "y-sweep.svg",
+        "x-sweep.svg",
+        "pair-y.svg",
+        "noise.svg",
+    ] {
         assert!(dir.join(f).exists(), "{f}");
     }
     let grid = std::fs::read_to_string(dir.join("grid.csv")).unwrap();
@@ -208,14 +333,29 @@ fn calibrate_and_locate_through_the_binary() {
     let row = grid.lines().nth(5).unwrap();
     let v: Vec<f64> = row.split(',').map(|s| s.parse().unwrap()).collect();
     let volts: Vec<String> = v[3..].iter().map(|x| format!("{}", 3.0 * x)).collect();
-    let run = tactfab(&["locate", "process/mis-grasper.yaml", "--calibration", d, "--json", "--voltages", &volts.join(",")]);
+    let run = tactfab(&[
+        "locate",
+        "process/mis-grasper.yaml",
+        "--calibration",
+        d,
+        "--json",
+        "--voltages",
+        &volts.join(","),
+    ]);
     run.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     let e = &j["estimate"];
     assert!((e["force_n"].as_f64().unwrap() - 3.0).abs() < 1e-4, "{e}");
     assert!((e["y_um"].as_f64().unwrap() - v[1]).abs() < 1.0, "{e}");
     // Bad input: wrong voltage count, exit 2 and nothing half-done.
-    let bad = tactfab(&["locate", "process/mis-grasper.yaml", "--calibration", d, "--voltages", "1,2,3"]);
+    let bad = tactfab(&[
+        "locate",
+        "process/mis-grasper.yaml",
+        "--calibration",
+        d,
+        "--voltages",
+        "1,2,3",
+    ]);
     bad.expect_code(2);
     assert!(bad.stderr.contains("expected 9 values"), "{}", bad.stderr);
     let bad = tactfab(&["orient", "process/mis-grasper.yaml", "--step-deg", "7"]);

@@ -13,14 +13,20 @@ fn read_all(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut m = BTreeMap::new();
     for e in std::fs::read_dir(dir).unwrap() {
         let e = e.unwrap();
-        m.insert(e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap());
+        m.insert(
+            e.file_name().to_string_lossy().into_owned(),
+            std::fs::read(e.path()).unwrap(),
+        );
     }
     m
 }
 
 /// Entry names of a directory, sorted.
 fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
@@ -33,7 +39,13 @@ fn json(bytes: &[u8]) -> serde_json::Value {
 fn traveler_markdown_matches_golden() {
     let t = tempfile::tempdir().unwrap();
     let base = t.path().join("trav");
-    let (code, stdout, stderr) = run(&["traveler", REFERENCE, "-o", base.to_str().unwrap(), "--no-fe"]);
+    let (code, stdout, stderr) = run(&[
+        "traveler",
+        REFERENCE,
+        "-o",
+        base.to_str().unwrap(),
+        "--no-fe",
+    ]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let md = std::fs::read_to_string(t.path().join("trav.md")).unwrap();
     assert!(t.path().join("trav.html").is_file());
@@ -43,9 +55,15 @@ fn traveler_markdown_matches_golden() {
     }
     let want = std::fs::read_to_string(&golden).unwrap_or_default();
     if md != want {
-        let first = md.lines().zip(want.lines()).position(|(a, b)| a != b).unwrap_or(md.lines().count().min(want.lines().count()));
+        let first = md
+            .lines()
+            .zip(want.lines())
+            .position(|(a, b)| a != b)
+            .unwrap_or(md.lines().count().min(want.lines().count()));
         panic!(
-            "the traveler differs from {GOLDEN} at line {}:\n  got:  {}\n  want: {}\n(regenerate with UPDATE_GOLDEN=1 cargo test traveler_markdown_matches_golden after checking the change)",
+            "the traveler differs from {GOLDEN} at line {}:\n  got:  {}\n  want: {}\n(regenerate \
+             with UPDATE_GOLDEN=1 cargo test traveler_markdown_matches_golden after checking the \
+             change)",
             first + 1,
             md.lines().nth(first).unwrap_or("<end>"),
             want.lines().nth(first).unwrap_or("<end>")
@@ -56,7 +74,13 @@ fn traveler_markdown_matches_golden() {
 #[test]
 fn traveler_path_extension_is_replaced_and_fe_can_be_skipped() {
     let t = tempfile::tempdir().unwrap();
-    let (code, stdout, stderr) = run(&["traveler", REFERENCE, "-o", t.path().join("sub/run.html").to_str().unwrap(), "--no-fe"]);
+    let (code, stdout, stderr) = run(&[
+        "traveler",
+        REFERENCE,
+        "-o",
+        t.path().join("sub/run.html").to_str().unwrap(),
+        "--no-fe",
+    ]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     assert_eq!(names(&t.path().join("sub")), ["run.html", "run.md"]);
     let md = std::fs::read_to_string(t.path().join("sub/run.md")).unwrap();
@@ -70,7 +94,10 @@ fn build_writes_everything_and_the_html_renders() {
     let out = t.path().join("out");
     let (code, stdout, stderr) = run(&["build", REFERENCE, "-o", out.to_str().unwrap()]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
-    assert!(stderr.is_empty(), "no progress when stderr is not a terminal: {stderr}");
+    assert!(
+        stderr.is_empty(),
+        "no progress when stderr is not a terminal: {stderr}"
+    );
     assert!(stdout.contains("build passed"), "{stdout}");
     let files = read_all(&out);
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
@@ -90,13 +117,23 @@ fn build_writes_everything_and_the_html_renders() {
         ]
     );
     // The masks are the committed set, byte for byte.
-    for m in ["mis-grasper.gds", "mis-grasper-front-si.svg", "mis-grasper-back-si.svg", "mis-grasper-pvdf.svg", "mis-grasper.lyp"] {
-        assert!(files[m] == std::fs::read(root().join("masks").join(m)).unwrap(), "{m} differs from masks/");
+    for m in [
+        "mis-grasper.gds",
+        "mis-grasper-front-si.svg",
+        "mis-grasper-back-si.svg",
+        "mis-grasper-pvdf.svg",
+        "mis-grasper.lyp",
+    ] {
+        assert!(
+            files[m] == std::fs::read(root().join("masks").join(m)).unwrap(),
+            "{m} differs from masks/"
+        );
     }
     let s = json(&files["build.json"]);
     assert_eq!(s["passed"], true);
     assert_eq!(s["failures"].as_array().unwrap().len(), 0);
-    // Every listed file's hash is the file's (an independent SHA-256: the sha256sum tool when present).
+    // Every listed file's hash is the file's (an independent SHA-256: the sha256sum tool when
+    // present).
     let listed = s["files"].as_array().unwrap();
     assert_eq!(listed.len(), files.len() - 1);
     for f in listed {
@@ -104,31 +141,64 @@ fn build_writes_everything_and_the_html_renders() {
         assert_eq!(f["bytes"].as_u64().unwrap() as usize, files[name].len());
         if let Ok(o) = Command::new("sha256sum").arg(out.join(name)).output() {
             let sum = String::from_utf8_lossy(&o.stdout);
-            assert_eq!(sum.split_whitespace().next().unwrap(), f["sha256"].as_str().unwrap(), "{name}");
+            assert_eq!(
+                sum.split_whitespace().next().unwrap(),
+                f["sha256"].as_str().unwrap(),
+                "{name}"
+            );
         }
     }
-    assert_eq!(s["masks"]["gds_sha256"], listed.iter().find(|f| f["name"] == "mis-grasper.gds").unwrap()["sha256"]);
-    // FE: the four declared scenes, the limit of centre-1n checked and passed, timings only under timings_ms.
+    assert_eq!(
+        s["masks"]["gds_sha256"],
+        listed
+            .iter()
+            .find(|f| f["name"] == "mis-grasper.gds")
+            .unwrap()["sha256"]
+    );
+    // FE: the four declared scenes, the limit of centre-1n checked and passed, timings only under
+    // timings_ms.
     let scenes = s["fe"]["scenes"].as_array().unwrap();
     let names: Vec<&str> = scenes.iter().map(|x| x["name"].as_str().unwrap()).collect();
-    assert_eq!(names, ["centre-1n", "max-grasp-4n", "line-y5mm", "pressure-2n"]);
+    assert_eq!(
+        names,
+        ["centre-1n", "max-grasp-4n", "line-y5mm", "pressure-2n"]
+    );
     assert_eq!(scenes[0]["limits"][0]["limit"], "min_safety_factor");
     assert_eq!(scenes[0]["limits"][0]["passed"], true);
     assert_eq!(s["timings_ms"].as_object().unwrap().len(), 4);
     let md = String::from_utf8(files["mis-grasper-traveler.md"].clone()).unwrap();
-    assert!(md.contains("PASS safety factor") && md.contains("| centre-1n |"), "FE table in the traveler");
-    assert!(!md.contains("solve_ms") && !md.contains(" ms"), "no timings in the traveler");
+    assert!(
+        md.contains("PASS safety factor") && md.contains("| centre-1n |"),
+        "FE table in the traveler"
+    );
+    assert!(
+        !md.contains("solve_ms") && !md.contains(" ms"),
+        "no timings in the traveler"
+    );
     // The plate sensitivity ordering of paper 002: a middle electrode reads most at the centre.
-    assert!(scenes[0]["most_sensitive"].as_str().unwrap().starts_with('M'), "{}", scenes[0]["most_sensitive"]);
+    assert!(
+        scenes[0]["most_sensitive"]
+            .as_str()
+            .unwrap()
+            .starts_with('M'),
+        "{}",
+        scenes[0]["most_sensitive"]
+    );
 
     render_in_chromium(&out.join("mis-grasper-traveler.html"), t.path());
 }
 
 fn chromium() -> Option<PathBuf> {
-    ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
-        let ok = Command::new(name).arg("--version").output().map(|o| o.status.success()).unwrap_or(false);
-        ok.then(|| PathBuf::from(name))
-    })
+    ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find_map(|name| {
+            let ok = Command::new(name)
+                .arg("--version")
+                .output()
+                .map(|o| o.status.success())
+                .unwrap_or(false);
+            ok.then(|| PathBuf::from(name))
+        })
 }
 
 /// Renders `html` to PNG on an A4-proportioned window, fails on console errors, and checks the
@@ -138,7 +208,10 @@ fn render_in_chromium(html: &Path, work: &Path) {
         if std::env::var("CI").is_ok_and(|v| v == "true") {
             panic!("chromium is not installed: `.ci/run` installs the Debian package `chromium`");
         }
-        eprintln!("SKIPPED the Chromium render: chromium is not on PATH (install the Debian package `chromium`)");
+        eprintln!(
+            "SKIPPED the Chromium render: chromium is not on PATH (install the Debian package \
+             `chromium`)"
+        );
         return;
     };
     let url = format!("file://{}", html.canonicalize().unwrap().display());
@@ -161,7 +234,11 @@ fn render_in_chromium(html: &Path, work: &Path) {
         c.arg(format!("--user-data-dir={}", work.join(profile).display()));
         c
     };
-    let shot = base("profile-shot").arg(format!("--screenshot={}", png.display())).arg(&url).output().unwrap();
+    let shot = base("profile-shot")
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(&url)
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&shot.stderr);
     assert!(shot.status.success(), "chromium failed:\n{err}");
     let bytes = std::fs::read(&png).unwrap_or_else(|e| panic!("no screenshot ({e}):\n{err}"));
@@ -170,19 +247,46 @@ fn render_in_chromium(html: &Path, work: &Path) {
     let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
     let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
     assert_eq!((w, h), (1240, 1754));
-    assert!(bytes.len() > 20_000, "an empty page compresses to a few kB: {} bytes", bytes.len());
-    let dom = base("profile-dom").arg("--dump-dom").arg(&url).output().unwrap();
+    assert!(
+        bytes.len() > 20_000,
+        "an empty page compresses to a few kB: {} bytes",
+        bytes.len()
+    );
+    let dom = base("profile-dom")
+        .arg("--dump-dom")
+        .arg(&url)
+        .output()
+        .unwrap();
     let dom_err = String::from_utf8_lossy(&dom.stderr);
     for log in [&err, &dom_err] {
         for line in log.lines() {
-            assert!(!(line.contains("CONSOLE") || line.contains("Uncaught")), "console message while rendering: {line}");
+            assert!(
+                !(line.contains("CONSOLE") || line.contains("Uncaught")),
+                "console message while rendering: {line}"
+            );
         }
     }
     let dom = String::from_utf8_lossy(&dom.stdout);
-    for h in ["Header", "Starting material", "Masks", "Steps", "Hold points", "Cross-sections", "Checks and warnings", "FE sensitivity", "Corner compensation"] {
-        assert!(dom.contains(&format!("<h2>{h}</h2>")), "rendered page lacks the `{h}` section");
+    for h in [
+        "Header",
+        "Starting material",
+        "Masks",
+        "Steps",
+        "Hold points",
+        "Cross-sections",
+        "Checks and warnings",
+        "FE sensitivity",
+        "Corner compensation",
+    ] {
+        assert!(
+            dom.contains(&format!("<h2>{h}</h2>")),
+            "rendered page lacks the `{h}` section"
+        );
     }
-    assert!(dom.matches("<svg").count() >= 23 + 3 + 2, "cross-sections, masks and plots are inline SVG");
+    assert!(
+        dom.matches("<svg").count() >= 23 + 3 + 2,
+        "cross-sections, masks and plots are inline SVG"
+    );
 }
 
 #[test]
@@ -205,7 +309,11 @@ fn build_is_deterministic_and_replaces_only_its_own_output() {
                 j.as_object_mut().unwrap().remove("timings_ms");
                 j
             };
-            assert_eq!(strip(bytes), strip(&fb[name]), "build.json differs beyond timings_ms");
+            assert_eq!(
+                strip(bytes),
+                strip(&fb[name]),
+                "build.json differs beyond timings_ms"
+            );
         } else {
             assert!(*bytes == fb[name], "{name} differs between two builds");
         }
@@ -222,10 +330,20 @@ fn build_is_deterministic_and_replaces_only_its_own_output() {
     let foreign = t.path().join("mine");
     std::fs::create_dir(&foreign).unwrap();
     std::fs::write(foreign.join("notes.txt"), "keep").unwrap();
-    let (code, _, stderr) = run(&["build", REFERENCE, "-o", foreign.to_str().unwrap(), "--max-levels", "1"]);
+    let (code, _, stderr) = run(&[
+        "build",
+        REFERENCE,
+        "-o",
+        foreign.to_str().unwrap(),
+        "--max-levels",
+        "1",
+    ]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("not an output of this command"), "{stderr}");
-    assert_eq!(read_all(&foreign).into_keys().collect::<Vec<_>>(), ["notes.txt"]);
+    assert_eq!(
+        read_all(&foreign).into_keys().collect::<Vec<_>>(),
+        ["notes.txt"]
+    );
 }
 
 #[test]
@@ -244,26 +362,60 @@ fn failed_limit_exits_1_and_lists_it() {
     ]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
     assert!(stdout.contains("build FAILED: "), "{stdout}");
-    let fail = stdout.lines().find(|l| l.contains("FAIL: scene `max-grasp-4n`")).unwrap_or_else(|| panic!("{stdout}"));
-    assert!(fail.contains("stress") && fail.ends_with("> 1 MPa"), "{fail}");
+    let fail = stdout
+        .lines()
+        .find(|l| l.contains("FAIL: scene `max-grasp-4n`"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(
+        fail.contains("stress") && fail.ends_with("> 1 MPa"),
+        "{fail}"
+    );
     // Written for inspection, with the failure in the summary and the traveler.
     let s = json(&std::fs::read(out.join("build.json")).unwrap());
     assert_eq!(s["passed"], false);
-    let listed: Vec<&str> = s["failures"].as_array().unwrap().iter().map(|f| f.as_str().unwrap()).collect();
-    assert!(listed.contains(&fail.trim().trim_start_matches("FAIL: ")), "{listed:?}");
+    let listed: Vec<&str> = s["failures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert!(
+        listed.contains(&fail.trim().trim_start_matches("FAIL: ")),
+        "{listed:?}"
+    );
     let md = std::fs::read_to_string(out.join("mis-grasper-traveler.md")).unwrap();
-    assert!(md.contains("FAIL stress"), "the traveler shows the failed limit");
+    assert!(
+        md.contains("FAIL stress"),
+        "the traveler shows the failed limit"
+    );
 }
 
 #[test]
 fn bad_input_exits_2_without_output() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("out");
-    let (code, _, stderr) = run(&["build", REFERENCE, "-o", out.to_str().unwrap(), "--set", "wafer.thickness_um=-1"]);
+    let (code, _, stderr) = run(&[
+        "build",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "wafer.thickness_um=-1",
+    ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("wafer.thickness_um"), "{stderr}");
-    let (code2, _, stderr2) = run(&["build", REFERENCE, "-o", out.to_str().unwrap(), "--tol", "0"]);
+    let (code2, _, stderr2) = run(&[
+        "build",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--tol",
+        "0",
+    ]);
     assert_eq!(code2, 2);
     assert!(stderr2.contains("--tol"), "{stderr2}");
-    assert!(names(t.path()).is_empty(), "nothing written, no temporary directory left");
+    assert!(
+        names(t.path()).is_empty(),
+        "nothing written, no temporary directory left"
+    );
 }

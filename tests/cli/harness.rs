@@ -12,7 +12,11 @@ pub struct Run {
 impl Run {
     #[track_caller]
     pub fn expect_code(&self, code: i32) -> &Self {
-        assert_eq!(self.code, code, "exit code\n--- stdout\n{}\n--- stderr\n{}", self.stdout, self.stderr);
+        assert_eq!(
+            self.code, code,
+            "exit code\n--- stdout\n{}\n--- stderr\n{}",
+            self.stdout, self.stderr
+        );
         self
     }
 }
@@ -45,12 +49,18 @@ pub const REFERENCE: &str = "process/mis-grasper.yaml";
 /// `tactfab ARGS` in the crate root with extra environment variables, as (code, stdout, stderr).
 pub fn run_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     let mut c = Command::new(env!("CARGO_BIN_EXE_tactfab"));
-    c.args(args).current_dir(root()).env_remove("SOURCE_DATE_EPOCH");
+    c.args(args)
+        .current_dir(root())
+        .env_remove("SOURCE_DATE_EPOCH");
     for (k, v) in env {
         c.env(k, v);
     }
     let out = c.output().expect("the tactfab binary runs");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 /// `tactfab ARGS` in the crate root, as (code, stdout, stderr).

@@ -7,7 +7,13 @@ use std::path::Path;
 use super::harness::{root, run, run_env};
 
 const PROCESS: &str = "process/mis-grasper.yaml";
-const FILES: [&str; 5] = ["mis-grasper.gds", "mis-grasper.lyp", "mis-grasper-front-si.svg", "mis-grasper-back-si.svg", "mis-grasper-pvdf.svg"];
+const FILES: [&str; 5] = [
+    "mis-grasper.gds",
+    "mis-grasper.lyp",
+    "mis-grasper-front-si.svg",
+    "mis-grasper-back-si.svg",
+    "mis-grasper-pvdf.svg",
+];
 
 fn generate(dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     let d = dir.to_str().unwrap();
@@ -20,7 +26,10 @@ fn read_all(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut m = BTreeMap::new();
     for e in std::fs::read_dir(dir).unwrap() {
         let e = e.unwrap();
-        m.insert(e.file_name().to_string_lossy().into_owned(), std::fs::read(e.path()).unwrap());
+        m.insert(
+            e.file_name().to_string_lossy().into_owned(),
+            std::fs::read(e.path()).unwrap(),
+        );
     }
     m
 }
@@ -37,12 +46,30 @@ fn bundled_process_writes_the_set_and_passes_drc() {
         v.sort();
         v
     });
-    for needle in ["1/0", "2/0", "3/0", "10/0", "63/0", "64/0", "light field", "MIRRORED", "DRC passed", "MIS_GRASPER_WAFER"] {
+    for needle in [
+        "1/0",
+        "2/0",
+        "3/0",
+        "10/0",
+        "63/0",
+        "64/0",
+        "light field",
+        "MIRRORED",
+        "DRC passed",
+        "MIS_GRASPER_WAFER",
+    ] {
         assert!(stdout.contains(needle), "missing `{needle}` in\n{stdout}");
     }
     // The back mask is the mirrored one and says which file carries the mirror.
-    let back = stdout.lines().skip_while(|l| !l.contains("back-si")).nth(1).unwrap_or_default();
-    assert!(back.contains("mis-grasper-back-si.svg` is mirrored"), "{stdout}");
+    let back = stdout
+        .lines()
+        .skip_while(|l| !l.contains("back-si"))
+        .nth(1)
+        .unwrap_or_default();
+    assert!(
+        back.contains("mis-grasper-back-si.svg` is mirrored"),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -53,9 +80,17 @@ fn committed_masks_regenerate_byte_identical() {
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let fresh = read_all(&out);
     let committed = read_all(&root().join("masks"));
-    assert_eq!(committed.keys().collect::<Vec<_>>(), fresh.keys().collect::<Vec<_>>(), "masks/ holds other files than the generator writes");
+    assert_eq!(
+        committed.keys().collect::<Vec<_>>(),
+        fresh.keys().collect::<Vec<_>>(),
+        "masks/ holds other files than the generator writes"
+    );
     for (name, bytes) in &fresh {
-        assert!(committed[name] == *bytes, "masks/{name} differs from a fresh run: regenerate with `cargo run -- masks {PROCESS} -o masks`");
+        assert!(
+            committed[name] == *bytes,
+            "masks/{name} differs from a fresh run: regenerate with `cargo run -- masks {PROCESS} \
+             -o masks`"
+        );
     }
 }
 
@@ -78,7 +113,10 @@ fn same_input_same_bytes_and_source_date_epoch_changes_only_dates() {
     let (a, b, c) = (t.path().join("a"), t.path().join("b"), t.path().join("c"));
     assert_eq!(generate(&a, &[], &[]).0, 0);
     assert_eq!(generate(&b, &[], &[]).0, 0);
-    assert_eq!(generate(&c, &[], &[("SOURCE_DATE_EPOCH", "1700000000")]).0, 0);
+    assert_eq!(
+        generate(&c, &[], &[("SOURCE_DATE_EPOCH", "1700000000")]).0,
+        0
+    );
     let (fa, fb, fc) = (read_all(&a), read_all(&b), read_all(&c));
     assert_eq!(fa, fb);
     for name in FILES {
@@ -96,16 +134,29 @@ fn same_input_same_bytes_and_source_date_epoch_changes_only_dates() {
             diffs += 1;
             let (rt, _) = recs.iter().find(|(_, r)| r.contains(&i)).unwrap();
             // 0x01 BGNLIB, 0x05 BGNSTR: the only records that carry dates.
-            assert!(*rt == 0x01 || *rt == 0x05, "byte {i} differs in record type {rt:#04x}");
+            assert!(
+                *rt == 0x01 || *rt == 0x05,
+                "byte {i} differs in record type {rt:#04x}"
+            );
         }
     }
     assert!(diffs > 0);
     // Zero dates by default.
     let lib = gds21::GdsLibrary::from_bytes(ga).unwrap();
     assert_eq!(lib.dates.modified.year, 0);
-    assert!(lib.structs.iter().all(|s| s.dates.modified.year == 0 && s.dates.accessed.month == 0));
+    assert!(lib
+        .structs
+        .iter()
+        .all(|s| s.dates.modified.year == 0 && s.dates.accessed.month == 0));
     let libc = gds21::GdsLibrary::from_bytes(gc).unwrap();
-    assert_eq!((libc.dates.modified.year, libc.dates.modified.month, libc.dates.modified.day), (123, 11, 14));
+    assert_eq!(
+        (
+            libc.dates.modified.year,
+            libc.dates.modified.month,
+            libc.dates.modified.day
+        ),
+        (123, 11, 14)
+    );
 }
 
 #[test]
@@ -113,14 +164,21 @@ fn gds_reads_back_with_gds21() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("m");
     assert_eq!(generate(&out, &["--format", "gds"], &[]).0, 0);
-    assert!(!out.join("mis-grasper-pvdf.svg").exists(), "--format gds wrote SVG");
-    let lib = gds21::GdsLibrary::from_bytes(&std::fs::read(out.join("mis-grasper.gds")).unwrap()).unwrap();
+    assert!(
+        !out.join("mis-grasper-pvdf.svg").exists(),
+        "--format gds wrote SVG"
+    );
+    let lib = gds21::GdsLibrary::from_bytes(&std::fs::read(out.join("mis-grasper.gds")).unwrap())
+        .unwrap();
     assert!((lib.units.0 - 1e-3).abs() < 1e-12 && (lib.units.1 - 1e-9).abs() < 1e-18);
     let names: Vec<&str> = lib.structs.iter().map(|s| s.name.as_str()).collect();
     let mut sorted = names.clone();
     sorted.sort();
     assert_eq!(names, sorted, "cells not sorted by name");
-    assert_eq!(names, ["MIS_GRASPER_DIE", "MIS_GRASPER_TOOTH", "MIS_GRASPER_WAFER"]);
+    assert_eq!(
+        names,
+        ["MIS_GRASPER_DIE", "MIS_GRASPER_TOOTH", "MIS_GRASPER_WAFER"]
+    );
     let mut arefs = 0;
     let mut boundaries = 0;
     for s in &lib.structs {
@@ -130,15 +188,29 @@ fn gds_reads_back_with_gds21() {
                     boundaries += 1;
                     assert_eq!(b.xy.first(), b.xy.last(), "unclosed boundary in {}", s.name);
                     assert!(b.xy.len() >= 4 && b.xy.len() <= 4001);
-                    let a2: i128 = b.xy.windows(2).map(|w| i128::from(w[0].x) * i128::from(w[1].y) - i128::from(w[1].x) * i128::from(w[0].y)).sum();
-                    assert!(a2 > 0, "clockwise boundary in {} on layer {}", s.name, b.layer);
+                    let a2: i128 =
+                        b.xy.windows(2)
+                            .map(|w| {
+                                i128::from(w[0].x) * i128::from(w[1].y)
+                                    - i128::from(w[1].x) * i128::from(w[0].y)
+                            })
+                            .sum();
+                    assert!(
+                        a2 > 0,
+                        "clockwise boundary in {} on layer {}",
+                        s.name,
+                        b.layer
+                    );
                 }
                 gds21::GdsElement::GdsArrayRef(a) => {
                     arefs += 1;
                     assert_eq!(a.name, "MIS_GRASPER_DIE");
                     // xy = [origin, origin + cols * col pitch, origin + rows * row pitch]
                     assert_eq!(a.rows, 1);
-                    assert_eq!(i64::from(a.xy[1].x - a.xy[0].x), i64::from(a.cols) * 30_300_000);
+                    assert_eq!(
+                        i64::from(a.xy[1].x - a.xy[0].x),
+                        i64::from(a.cols) * 30_300_000
+                    );
                     assert_eq!(a.xy[2].y - a.xy[0].y, 15_300_000);
                 }
                 _ => {}
@@ -159,7 +231,11 @@ fn klayout_verifies_the_mask_set() {
     let loaded = tactfab::process::load(&root().join(PROCESS), &[]).unwrap();
     let p = &loaded.process;
     let plan = tactfab::etch::plan(p);
-    let comp = plan.steps.iter().find_map(|s| s.compensation).expect("compensation");
+    let comp = plan
+        .steps
+        .iter()
+        .find_map(|s| s.compensation)
+        .expect("compensation");
     let g = &p.geometry;
     let e = &g.electrodes;
     let n = f64::from(e.units);
@@ -195,9 +271,15 @@ fn klayout_verifies_the_mask_set() {
         .arg(&exp_path)
         .output()
         .expect("python3 runs");
-    let (so, se) = (String::from_utf8_lossy(&py.stdout), String::from_utf8_lossy(&py.stderr));
+    let (so, se) = (
+        String::from_utf8_lossy(&py.stdout),
+        String::from_utf8_lossy(&py.stderr),
+    );
     if se.contains("No module named 'klayout'") {
-        panic!("KLayout's Python module is missing: run `pip install klayout` (this check does not skip)\n{se}");
+        panic!(
+            "KLayout's Python module is missing: run `pip install klayout` (this check does not \
+             skip)\n{se}"
+        );
     }
     assert!(py.status.success(), "klayout_check.py failed:\n{so}\n{se}");
     assert!(so.contains("ALL CHECKS PASSED"), "{so}");
@@ -208,15 +290,27 @@ fn drc_violation_exits_1_and_waivers_release_it() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("m");
     // A 2.5 mm pitch leaves 500 um between diagonal teeth: the 368 um compensators overlap.
-    let tight = ["--set", "geometry.teeth.pitch_x_um=2500", "--set", "geometry.teeth.pitch_y_um=2500"];
+    let tight = [
+        "--set",
+        "geometry.teeth.pitch_x_um=2500",
+        "--set",
+        "geometry.teeth.pitch_y_um=2500",
+    ];
     let (code, stdout, stderr) = generate(&out, &tight, &[]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
     assert!(stdout.contains("COMPENSATORS_COLLIDE"), "{stdout}");
     assert!(stdout.contains("DRC FAILED"), "{stdout}");
     let codes: Vec<String> = stdout
         .lines()
-        .filter_map(|l| l.strip_prefix("  ").and_then(|r| r.split_once(": ")).map(|(c, _)| c.to_string()))
-        .filter(|c| c.chars().all(|ch| ch.is_ascii_uppercase() || ch == '_') && tactfab::drc::CODES.iter().any(|(k, _)| k == c))
+        .filter_map(|l| {
+            l.strip_prefix("  ")
+                .and_then(|r| r.split_once(": "))
+                .map(|(c, _)| c.to_string())
+        })
+        .filter(|c| {
+            c.chars().all(|ch| ch.is_ascii_uppercase() || ch == '_')
+                && tactfab::drc::CODES.iter().any(|(k, _)| k == c)
+        })
         .collect();
     assert!(!codes.is_empty());
     let waive = format!("drc.waive=[{}]", codes.join(", "));
@@ -231,9 +325,16 @@ fn drc_violation_exits_1_and_waivers_release_it() {
 fn streets_between_dies_are_checked() {
     let t = tempfile::tempdir().unwrap();
     // 200 um between the back supports of neighbouring dies self-stops at 141 um.
-    let (code, stdout, _) = generate(&t.path().join("m"), &["--set", "geometry.dicing_street_um=200"], &[]);
+    let (code, stdout, _) = generate(
+        &t.path().join("m"),
+        &["--set", "geometry.dicing_street_um=200"],
+        &[],
+    );
     assert_eq!(code, 1, "{stdout}");
-    assert!(stdout.contains("STREET_TOO_NARROW") && stdout.contains("across the dicing street"), "{stdout}");
+    assert!(
+        stdout.contains("STREET_TOO_NARROW") && stdout.contains("across the dicing street"),
+        "{stdout}"
+    );
 }
 
 #[test]
@@ -241,7 +342,11 @@ fn errors_leave_no_partial_output() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("m");
     // Passes validation (pad < support width) but a 2.2 mm pad cannot fit a 2 mm island.
-    let (code, _, stderr) = generate(&out, &["--set", "geometry.electrodes.wire_pad_um=2200"], &[]);
+    let (code, _, stderr) = generate(
+        &out,
+        &["--set", "geometry.electrodes.wire_pad_um=2200"],
+        &[],
+    );
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("the electrodes do not fit"), "{stderr}");
     assert!(!out.exists(), "output written on error");
@@ -249,8 +354,17 @@ fn errors_leave_no_partial_output() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("MIN_WDITH"), "{stderr}");
     assert!(!out.exists(), "output written on error");
-    assert_eq!(std::fs::read_dir(t.path()).unwrap().count(), 0, "temporary files left behind");
-    let (code, _, _) = run(&["masks", "process/does-not-exist.yaml", "-o", out.to_str().unwrap()]);
+    assert_eq!(
+        std::fs::read_dir(t.path()).unwrap().count(),
+        0,
+        "temporary files left behind"
+    );
+    let (code, _, _) = run(&[
+        "masks",
+        "process/does-not-exist.yaml",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code, 2);
     assert!(!out.exists());
     // DIR is a file: an I/O error, nothing left behind.
@@ -264,7 +378,11 @@ fn errors_leave_no_partial_output() {
 fn vertex_only_compensators_fail_drc() {
     let t = tempfile::tempdir().unwrap();
     // Without overlap a corner-attached square touches its tooth at one point: a zero-width neck.
-    let (code, stdout, _) = generate(&t.path().join("m"), &["--set", "layout.compensation_overlap_um=0"], &[]);
+    let (code, stdout, _) = generate(
+        &t.path().join("m"),
+        &["--set", "layout.compensation_overlap_um=0"],
+        &[],
+    );
     assert_eq!(code, 1, "{stdout}");
     assert!(stdout.contains("single point"), "{stdout}");
 }
@@ -275,11 +393,31 @@ fn each_rule_fires_on_a_broken_design() {
     let t = tempfile::tempdir().unwrap();
     let cases: [(&[&str], &str); 4] = [
         // 2.2 mm matrix pitch: 2 mm tops grow 2.28 mm bases after 204 um of etching.
-        (&["geometry.teeth.pattern=matrix", "geometry.teeth.pitch_x_um=2200", "geometry.teeth.pitch_y_um=2200"], "TEETH_BASES_MERGE"),
-        // 2.05 mm cells leave 25 um from the outer tooth to the die edge; compensators reach 358 um.
-        (&["geometry.teeth.pitch_x_um=2050", "geometry.teeth.pitch_y_um=2050"], "COMPENSATOR_OUTSIDE_DIE"),
+        (
+            &[
+                "geometry.teeth.pattern=matrix",
+                "geometry.teeth.pitch_x_um=2200",
+                "geometry.teeth.pitch_y_um=2200",
+            ],
+            "TEETH_BASES_MERGE",
+        ),
+        // 2.05 mm cells leave 25 um from the outer tooth to the die edge; compensators reach 358
+        // um.
+        (
+            &[
+                "geometry.teeth.pitch_x_um=2050",
+                "geometry.teeth.pitch_y_um=2050",
+            ],
+            "COMPENSATOR_OUTSIDE_DIE",
+        ),
         // Islands 300 um apart with a 400 um minimum.
-        (&["geometry.electrodes.gap_um=300", "drc.min_electrode_gap_um=400"], "ELECTRODE_GAP"),
+        (
+            &[
+                "geometry.electrodes.gap_um=300",
+                "drc.min_electrode_gap_um=400",
+            ],
+            "ELECTRODE_GAP",
+        ),
         // 8 um label pixels are below the 10 um minimum width.
         (&["layout.label_pixel_um=8"], "MIN_WIDTH"),
     ];
@@ -290,6 +428,9 @@ fn each_rule_fires_on_a_broken_design() {
         }
         let (exit, stdout, stderr) = generate(&t.path().join(format!("c{k}")), &args, &[]);
         assert_eq!(exit, 1, "{sets:?}\n{stdout}\n{stderr}");
-        assert!(stdout.contains(&format!("  {code}: ")), "{code} not reported for {sets:?}:\n{stdout}");
+        assert!(
+            stdout.contains(&format!("  {code}: ")),
+            "{code} not reported for {sets:?}:\n{stdout}"
+        );
     }
 }

@@ -8,17 +8,32 @@ fn etch_json(extra: &[&str]) -> (i32, Value) {
     let mut args = vec!["etch", REFERENCE, "--json"];
     args.extend_from_slice(extra);
     let run = tactfab(&args);
-    assert!(run.code == 0 || run.code == 1, "exit {}: {}", run.code, run.stderr);
-    (run.code, serde_json::from_str(&run.stdout).expect("etch --json prints JSON"))
+    assert!(
+        run.code == 0 || run.code == 1,
+        "exit {}: {}",
+        run.code,
+        run.stderr
+    );
+    (
+        run.code,
+        serde_json::from_str(&run.stdout).expect("etch --json prints JSON"),
+    )
 }
 
 fn codes(v: &Value) -> Vec<String> {
-    v["warnings"].as_array().unwrap().iter().map(|w| w["code"].as_str().unwrap().to_string()).collect()
+    v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["code"].as_str().unwrap().to_string())
+        .collect()
 }
 
 #[track_caller]
 fn close(got: &Value, want: f64, tol: f64) {
-    let g = got.as_f64().unwrap_or_else(|| panic!("not a number: {got}"));
+    let g = got
+        .as_f64()
+        .unwrap_or_else(|| panic!("not a number: {got}"));
     assert!((g - want).abs() <= tol, "got {g}, want {want} +/- {tol}");
 }
 
@@ -26,11 +41,25 @@ fn close(got: &Value, want: f64, tol: f64) {
 fn check_passes_with_the_papers_discrepancies_as_warnings() {
     let run = tactfab(&["check", REFERENCE]);
     run.expect_code(0);
-    for code in ["OXIDE_CLAIM", "ETCH_TIME_DEPTH_MISMATCH", "PLATE_THICKNESS_MISMATCH", "COMP_RATIO_FROM_KOH", "PLATE_TOLERANCE", "PIEZO_CONSTANTS_INCONSISTENT"] {
-        assert!(run.stdout.contains(&format!("warning[{code}]")), "missing {code}:\n{}", run.stdout);
+    for code in [
+        "OXIDE_CLAIM",
+        "ETCH_TIME_DEPTH_MISMATCH",
+        "PLATE_THICKNESS_MISMATCH",
+        "COMP_RATIO_FROM_KOH",
+        "PLATE_TOLERANCE",
+        "PIEZO_CONSTANTS_INCONSISTENT",
+    ] {
+        assert!(
+            run.stdout.contains(&format!("warning[{code}]")),
+            "missing {code}:\n{}",
+            run.stdout
+        );
     }
     assert!(run.stdout.contains("defaults used"), "{}", run.stdout);
-    assert!(run.stdout.contains("[lit] Tabata 1992"), "provenance of defaults is stated");
+    assert!(
+        run.stdout.contains("[lit] Tabata 1992"),
+        "provenance of defaults is stated"
+    );
 }
 
 #[test]
@@ -40,7 +69,11 @@ fn json_contract_and_hand_computed_values() {
     // Top level.
     close(&v["plate_thickness_um"], 92.0, 1e-9); // 8.5 h x 24 um/h = 204 um per face
     close(&v["oxide_thickness_um"], 0.942, 0.005); // Deal-Grove wet, 1100 C, 2 h, (100)
-    assert!(v["warnings"].as_array().unwrap().iter().all(|w| w["code"].is_string() && w["message"].is_string()));
+    assert!(v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|w| w["code"].is_string() && w["message"].is_string()));
     // The TMAH step.
     let steps = v["steps"].as_array().unwrap();
     assert_eq!(steps.len(), 1);
@@ -74,19 +107,37 @@ fn computed_time_reaches_the_target_plate() {
     let (_, v) = etch_json(&["--set", "steps.tmah-etch.time_h=null"]);
     close(&v["plate_thickness_um"], 100.0, 1e-9);
     let c = codes(&v);
-    assert!(!c.contains(&"ETCH_TIME_DEPTH_MISMATCH".into()) && !c.contains(&"PLATE_THICKNESS_MISMATCH".into()), "{c:?}");
+    assert!(
+        !c.contains(&"ETCH_TIME_DEPTH_MISMATCH".into())
+            && !c.contains(&"PLATE_THICKNESS_MISMATCH".into()),
+        "{c:?}"
+    );
 }
 
 #[test]
 fn tight_pitch_makes_compensators_collide() {
-    let (code, v) = etch_json(&["--set", "geometry.teeth.pitch_x_um=2600", "--set", "geometry.teeth.pitch_y_um=2600"]);
+    let (code, v) = etch_json(&[
+        "--set",
+        "geometry.teeth.pitch_x_um=2600",
+        "--set",
+        "geometry.teeth.pitch_y_um=2600",
+    ]);
     assert_eq!(code, 1);
-    assert!(codes(&v).contains(&"COMPENSATORS_COLLIDE".into()), "{:?}", codes(&v));
+    assert!(
+        codes(&v).contains(&"COMPENSATORS_COLLIDE".into()),
+        "{:?}",
+        codes(&v)
+    );
     // Checkered teeth only meet at diagonal corners: one roomy axis is enough.
     let (_, v) = etch_json(&["--set", "geometry.teeth.pitch_x_um=2600"]);
     assert!(!codes(&v).contains(&"COMPENSATORS_COLLIDE".into()));
     // A matrix faces corners along each axis: one tight axis collides.
-    let (code, v) = etch_json(&["--set", "geometry.teeth.pitch_x_um=2600", "--set", "geometry.teeth.pattern=matrix"]);
+    let (code, v) = etch_json(&[
+        "--set",
+        "geometry.teeth.pitch_x_um=2600",
+        "--set",
+        "geometry.teeth.pattern=matrix",
+    ]);
     assert_eq!(code, 1);
     assert!(codes(&v).contains(&"COMPENSATORS_COLLIDE".into()));
 }
@@ -95,51 +146,96 @@ fn tight_pitch_makes_compensators_collide() {
 fn resist_is_not_a_tmah_mask() {
     let run = tactfab(&["check", REFERENCE, "--set", "steps.tmah-etch.mask=resist"]);
     run.expect_code(1);
-    assert!(run.stdout.contains("error[RESIST_NOT_A_MASK]"), "{}", run.stdout);
+    assert!(
+        run.stdout.contains("error[RESIST_NOT_A_MASK]"),
+        "{}",
+        run.stdout
+    );
 }
 
 #[test]
 fn depths_through_the_wafer_fail() {
-    let (code, v) = etch_json(&["--set", "steps.tmah-etch.depth_um=250", "--set", "steps.tmah-etch.time_h=null"]);
+    let (code, v) = etch_json(&[
+        "--set",
+        "steps.tmah-etch.depth_um=250",
+        "--set",
+        "steps.tmah-etch.time_h=null",
+    ]);
     assert_eq!(code, 1);
-    assert!(codes(&v).contains(&"DEPTH_EXCEEDS_WAFER".into()), "{:?}", codes(&v));
+    assert!(
+        codes(&v).contains(&"DEPTH_EXCEEDS_WAFER".into()),
+        "{:?}",
+        codes(&v)
+    );
 }
 
 #[test]
 fn thin_oxide_is_consumed() {
-    let (code, v) = etch_json(&["--set", "steps.wet-oxidation.time_h=0.2", "--set", "steps.wet-oxidation.expected_thickness_um=null"]);
+    let (code, v) = etch_json(&[
+        "--set",
+        "steps.wet-oxidation.time_h=0.2",
+        "--set",
+        "steps.wet-oxidation.expected_thickness_um=null",
+    ]);
     assert_eq!(code, 1);
-    assert!(codes(&v).contains(&"MASK_CONSUMED".into()), "{:?}", codes(&v));
+    assert!(
+        codes(&v).contains(&"MASK_CONSUMED".into()),
+        "{:?}",
+        codes(&v)
+    );
 }
 
 #[test]
 fn koh_uses_the_seidel_model_unless_measured() {
     let (_, v) = etch_json(&[
-        "--set", "steps.tmah-etch.etchant=koh",
-        "--set", "steps.tmah-etch.concentration_wt_pct=30",
-        "--set", "steps.tmah-etch.measured_rate_um_per_h=null",
-        "--set", "steps.tmah-etch.time_h=null",
+        "--set",
+        "steps.tmah-etch.etchant=koh",
+        "--set",
+        "steps.tmah-etch.concentration_wt_pct=30",
+        "--set",
+        "steps.tmah-etch.measured_rate_um_per_h=null",
+        "--set",
+        "steps.tmah-etch.time_h=null",
     ]);
     let s = &v["steps"][0];
     close(&s["rate_um_per_h"], 81.0, 1.5); // reference: ~81 um/h at 30 %, 80 C
     assert!(s["rate_source"].as_str().unwrap().contains("Seidel"));
     // KOH erodes oxide ~7x faster than TMAH: 0.94 um lasts ~2.2 h, the etch takes ~2.5 h.
-    assert!(codes(&v).contains(&"MASK_CONSUMED".into()), "{:?}", codes(&v));
+    assert!(
+        codes(&v).contains(&"MASK_CONSUMED".into()),
+        "{:?}",
+        codes(&v)
+    );
     assert!(!codes(&v).contains(&"COMP_RATIO_FROM_KOH".into()));
 }
 
 #[test]
 fn low_concentration_tmah_warns_of_hillocks_and_extrapolation() {
-    let (_, v) = etch_json(&["--set", "steps.tmah-etch.concentration_wt_pct=10", "--set", "steps.tmah-etch.measured_rate_um_per_h=null"]);
+    let (_, v) = etch_json(&[
+        "--set",
+        "steps.tmah-etch.concentration_wt_pct=10",
+        "--set",
+        "steps.tmah-etch.measured_rate_um_per_h=null",
+    ]);
     let c = codes(&v);
-    assert!(c.contains(&"HILLOCK_RISK".into()) && c.contains(&"RATE_EXTRAPOLATED".into()), "{c:?}");
+    assert!(
+        c.contains(&"HILLOCK_RISK".into()) && c.contains(&"RATE_EXTRAPOLATED".into()),
+        "{c:?}"
+    );
 }
 
 #[test]
 fn text_output_names_the_numbers() {
     let run = tactfab(&["etch", REFERENCE]);
     run.expect_code(0);
-    for s in ["8.333 h", "204.0 um per face", "367.6 um", "0.942 um", "1.60 um", "tooth base 2288.5 um"] {
+    for s in [
+        "8.333 h",
+        "204.0 um per face",
+        "367.6 um",
+        "0.942 um",
+        "1.60 um",
+        "tooth base 2288.5 um",
+    ] {
         assert!(run.stdout.contains(s), "missing `{s}` in\n{}", run.stdout);
     }
 }

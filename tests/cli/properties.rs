@@ -80,13 +80,29 @@ fn one_double_sided_etch_equals_two_single_sided_ones() {
     let start = REFERENCE.find("  - name: tmah-etch").unwrap();
     let end = REFERENCE.find("  - name: strip-resist").unwrap();
     let step = &REFERENCE[start..end].replace("    time_h: 8.5 ", "    # no time ");
-    let front = step.replace("side: both", "side: front").replace("name: tmah-etch", "name: tmah-front");
-    let back = step.replace("side: both", "side: back").replace("name: tmah-etch", "name: tmah-back");
-    let text = format!("{}{}{}{}", &REFERENCE[..start], front, back, &REFERENCE[end..]);
-    let split = etch::plan(&load_str(&text, "split.yaml", &[]).expect("split process loads").process);
+    let front = step
+        .replace("side: both", "side: front")
+        .replace("name: tmah-etch", "name: tmah-front");
+    let back = step
+        .replace("side: both", "side: back")
+        .replace("name: tmah-etch", "name: tmah-back");
+    let text = format!(
+        "{}{}{}{}",
+        &REFERENCE[..start],
+        front,
+        back,
+        &REFERENCE[end..]
+    );
+    let split = etch::plan(
+        &load_str(&text, "split.yaml", &[])
+            .expect("split process loads")
+            .process,
+    );
     assert_eq!(split.steps.len(), 2);
     assert!((split.plate_thickness_um - both.plate_thickness_um).abs() < 1e-9);
-    assert!((split.front_depth_um - 200.0).abs() < 1e-9 && (split.back_depth_um - 200.0).abs() < 1e-9);
+    assert!(
+        (split.front_depth_um - 200.0).abs() < 1e-9 && (split.back_depth_um - 200.0).abs() < 1e-9
+    );
     // Only the front step carries the teeth compensation.
     assert!(split.steps[0].compensation.is_some() && split.steps[1].compensation.is_none());
 }

@@ -2,9 +2,12 @@
 //! the binary. Meshes are kept to two or three levels so the suite stays fast.
 
 use tactfab::etch;
-use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::fe::richardson_ratios;
-use tactfab::sensor::{evaluate, evaluate_many_with, level_ratios, MeshOptions, SceneReport, SensorGeometry, SUBDIVISIONS};
+use tactfab::process::{load_str, Limits, Scene, SceneLoad};
+use tactfab::sensor::{
+    evaluate, evaluate_many_with, level_ratios, MeshOptions, SceneReport, SensorGeometry,
+    SUBDIVISIONS,
+};
 
 use super::harness::{tactfab, REFERENCE};
 
@@ -12,7 +15,9 @@ const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
 
 fn geometry(sets: &[&str]) -> SensorGeometry {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let p = load_str(PROCESS, "mis-grasper.yaml", &sets).expect("valid process").process;
+    let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
+        .expect("valid process")
+        .process;
     let plan = etch::plan(&p);
     let masks = tactfab::layout::build(&p, &plan).expect("mask set");
     SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks))
@@ -21,7 +26,12 @@ fn geometry(sets: &[&str]) -> SensorGeometry {
 fn point(x_mm: f64, y_mm: f64, force_n: f64) -> Scene {
     Scene {
         name: "p".into(),
-        load: SceneLoad::Point { x_um: x_mm * 1e3, y_um: y_mm * 1e3, force_n, radius_um: 500.0 },
+        load: SceneLoad::Point {
+            x_um: x_mm * 1e3,
+            y_um: y_mm * 1e3,
+            force_n,
+            radius_um: 500.0,
+        },
         limits: Limits::default(),
     }
 }
@@ -31,12 +41,19 @@ fn solve(g: &SensorGeometry, s: &Scene, levels: usize) -> SceneReport {
 }
 
 fn v(r: &SceneReport, name: &str) -> f64 {
-    r.electrodes.iter().find(|e| e.name == name).unwrap_or_else(|| panic!("no {name}")).voltage_mv
+    r.electrodes
+        .iter()
+        .find(|e| e.name == name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .voltage_mv
 }
 
 #[track_caller]
 fn rel_eq(a: f64, b: f64, tol: f64) {
-    assert!((a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-30), "{a} vs {b} (tol {tol})");
+    assert!(
+        (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-30),
+        "{a} vs {b} (tol {tol})"
+    );
 }
 
 #[test]
@@ -67,9 +84,19 @@ fn readings_are_linear_from_1_mn_to_5_n() {
 #[test]
 fn teeth_stiffen_the_plate_none_checkered_matrix() {
     // Paper 002 Figs. 3-5: under the same load, deflection none > checkered > matrix.
-    let d = |pattern: &str| solve(&geometry(&[&format!("geometry.teeth.pattern={pattern}")]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
+    let d = |pattern: &str| {
+        solve(
+            &geometry(&[&format!("geometry.teeth.pattern={pattern}")]),
+            &point(15.0, 7.5, 1.0),
+            2,
+        )
+        .max_deflection_um
+    };
     let (none, checkered, matrix) = (d("none"), d("checkered"), d("matrix"));
-    assert!(none > checkered && checkered > matrix, "none {none}, checkered {checkered}, matrix {matrix}");
+    assert!(
+        none > checkered && checkered > matrix,
+        "none {none}, checkered {checkered}, matrix {matrix}"
+    );
 }
 
 #[test]
@@ -89,8 +116,14 @@ fn support_pair_follows_the_load_across_y() {
     // equal at the centre line, including loads right on top of the supports.
     let g = geometry(&[]);
     let ys = [1.0, 2.0, 4.0, 6.0, 7.5, 9.0, 11.0, 13.0, 14.0];
-    let f12: Vec<f64> = ys.iter().map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S12")).collect();
-    let f22: Vec<f64> = ys.iter().map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S22")).collect();
+    let f12: Vec<f64> = ys
+        .iter()
+        .map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S12"))
+        .collect();
+    let f22: Vec<f64> = ys
+        .iter()
+        .map(|&y| -v(&solve(&g, &point(15.0, y, 1.0), 2), "S22"))
+        .collect();
     for w in f12.windows(2) {
         assert!(w[1] < w[0] + 1e-9, "V12 must fall with y: {f12:?}");
     }
@@ -106,17 +139,23 @@ fn support_pair_follows_the_load_across_y() {
 
 #[test]
 fn support_units_follow_the_load_along_x() {
-    // Paper 002 Figs. 13, 25: VS1 = V11 + V21 is largest with the load near x = 4 mm, VS2 = V13 + V23
-    // near x = 26 mm, and they cross at the centre.
+    // Paper 002 Figs. 13, 25: VS1 = V11 + V21 is largest with the load near x = 4 mm, VS2 = V13 +
+    // V23 near x = 26 mm, and they cross at the centre.
     let g = geometry(&["geometry.teeth.pattern=matrix"]);
     let vs = |x: f64| {
         let r = solve(&g, &point(x, 7.5, 1.0), 2);
-        (-(v(&r, "S11") + v(&r, "S21")), -(v(&r, "S13") + v(&r, "S23")))
+        (
+            -(v(&r, "S11") + v(&r, "S21")),
+            -(v(&r, "S13") + v(&r, "S23")),
+        )
     };
     let (a1, a2) = vs(4.0);
     let (c1, c2) = vs(15.0);
     let (b1, b2) = vs(26.0);
-    assert!(a1 > a2 && b2 > b1, "VS1/VS2 at 4 mm: {a1}/{a2}; at 26 mm: {b1}/{b2}");
+    assert!(
+        a1 > a2 && b2 > b1,
+        "VS1/VS2 at 4 mm: {a1}/{a2}; at 26 mm: {b1}/{b2}"
+    );
     rel_eq(c1, c2, 1e-6);
     rel_eq(a1, b2, 1e-6);
 }
@@ -126,7 +165,14 @@ fn a_line_load_on_a_plain_plate_reproduces_the_beam_of_paper_001() {
     // Paper 001 Eq. 3-6 with span lambda = 10 mm and y measured from support 1's inner edge.
     let g = geometry(&["geometry.teeth.pattern=none"]);
     for y_mm in [3.5, 5.0, 7.5, 10.0] {
-        let s = Scene { name: "line".into(), load: SceneLoad::Line { y_um: y_mm * 1e3, force_n: 1.0 }, limits: Limits::default() };
+        let s = Scene {
+            name: "line".into(),
+            load: SceneLoad::Line {
+                y_um: y_mm * 1e3,
+                force_n: 1.0,
+            },
+            limits: Limits::default(),
+        };
         let r = solve(&g, &s, 3);
         let beam = tactfab::fe::fixed_fixed_reactions(1.0, (y_mm - 2.5) * 1e-3, 10e-3);
         // Free ends with Poisson coupling (Si nu ~ 0.06) perturb the split slightly.
@@ -137,10 +183,27 @@ fn a_line_load_on_a_plain_plate_reproduces_the_beam_of_paper_001() {
 
 #[test]
 fn isotropic_silicon_is_stiffer_than_anisotropic() {
-    // fe-validation.md: an isotropic (169 GPa, 0.064) plate is too stiff; G = E/2(1+nu) overstates Q66.
-    let aniso = solve(&geometry(&["geometry.teeth.pattern=none"]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
-    let iso = solve(&geometry(&["geometry.teeth.pattern=none", "materials.silicon.model=isotropic"]), &point(15.0, 7.5, 1.0), 2).max_deflection_um;
-    assert!(iso < aniso && iso > 0.8 * aniso, "isotropic {iso} vs anisotropic {aniso}");
+    // fe-validation.md: an isotropic (169 GPa, 0.064) plate is too stiff; G = E/2(1+nu) overstates
+    // Q66.
+    let aniso = solve(
+        &geometry(&["geometry.teeth.pattern=none"]),
+        &point(15.0, 7.5, 1.0),
+        2,
+    )
+    .max_deflection_um;
+    let iso = solve(
+        &geometry(&[
+            "geometry.teeth.pattern=none",
+            "materials.silicon.model=isotropic",
+        ]),
+        &point(15.0, 7.5, 1.0),
+        2,
+    )
+    .max_deflection_um;
+    assert!(
+        iso < aniso && iso > 0.8 * aniso,
+        "isotropic {iso} vs anisotropic {aniso}"
+    );
 }
 
 #[test]
@@ -154,38 +217,83 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
     for (k, w) in c.windows(2).enumerate() {
         // Level k splits every coarse interval SUBDIVISIONS[k] times in x and in y.
         let (n0, n1) = (SUBDIVISIONS[k], SUBDIVISIONS[k + 1]);
-        assert_eq!(w[1].elements * n0 * n0, w[0].elements * n1 * n1, "levels {k}, {}", k + 1);
+        assert_eq!(
+            w[1].elements * n0 * n0,
+            w[0].elements * n1 * n1,
+            "levels {k}, {}",
+            k + 1
+        );
     }
     // The truth, Richardson on subdivisions 4, 6 and 8 (observed order ~1.2, steady from 3 to 16):
     // the estimate is above the true error of the deflection, and not wildly so.
     let fine = evaluate(&g, &point(15.0, 7.5, 1.0), 1e-9, 6).unwrap();
-    let w: Vec<f64> = fine.convergence.iter().map(|l| l.deflection_at_load_um).collect();
+    let w: Vec<f64> = fine
+        .convergence
+        .iter()
+        .map(|l| l.deflection_at_load_um)
+        .collect();
     let (r32, r21) = level_ratios(5);
     let rich = richardson_ratios(w[3], w[4], w[5], r32, r21);
     let p = rich.observed_order.expect("monotone");
     assert!((1.0..1.5).contains(&p), "observed order {p}");
     let truth = (rich.extrapolated - r.deflection_at_load_um).abs() / rich.extrapolated;
-    assert!(truth <= est && est < 3.0 * truth, "true error {truth} vs estimate {est}");
+    assert!(
+        truth <= est && est < 3.0 * truth,
+        "true error {truth} vs estimate {est}"
+    );
 }
 
 #[test]
 fn fe_json_contract() {
-    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3", "--json"]);
+    let run = tactfab(&[
+        "fe",
+        REFERENCE,
+        "--point",
+        "15,7.5,1,0.5",
+        "--max-levels",
+        "3",
+        "--json",
+    ]);
     run.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     let s = &j["scenes"][0];
-    for key in ["scene", "model", "solve_ms", "error_estimate", "deflection_at_load_um", "max_deflection_um", "max_stress_mpa", "reactions_n", "electrodes", "warnings"] {
+    for key in [
+        "scene",
+        "model",
+        "solve_ms",
+        "error_estimate",
+        "deflection_at_load_um",
+        "max_deflection_um",
+        "max_stress_mpa",
+        "reactions_n",
+        "electrodes",
+        "warnings",
+    ] {
         assert!(!s[key].is_null(), "missing {key}");
     }
     for key in ["kind", "elements", "dofs"] {
         assert!(!s["model"][key].is_null(), "missing model.{key}");
     }
     assert!(s["reactions_n"]["support1"].is_number() && s["reactions_n"]["support2"].is_number());
-    let names: Vec<&str> = s["electrodes"].as_array().unwrap().iter().map(|e| e["name"].as_str().unwrap()).collect();
-    assert_eq!(names, ["S11", "S12", "S13", "M1", "M2", "M3", "S21", "S22", "S23"]);
-    assert!(s["electrodes"][4]["charge_pc"].is_number() && s["electrodes"][4]["voltage_mv"].is_number());
+    let names: Vec<&str> = s["electrodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        ["S11", "S12", "S13", "M1", "M2", "M3", "S21", "S22", "S23"]
+    );
+    assert!(
+        s["electrodes"][4]["charge_pc"].is_number() && s["electrodes"][4]["voltage_mv"].is_number()
+    );
     // 36 um on a 92 um plate: linear theory is leaving its range, and the report says so.
-    assert!(s["warnings"].as_array().unwrap().iter().any(|w| w.as_str().unwrap().starts_with("LINEAR_RANGE")));
+    assert!(s["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w.as_str().unwrap().starts_with("LINEAR_RANGE")));
 }
 
 #[test]
@@ -196,7 +304,16 @@ fn fe_rejects_a_bad_point_and_an_unknown_scene() {
 
 #[test]
 fn failed_limit_exits_1() {
-    let run = tactfab(&["fe", REFERENCE, "--scene", "centre-1n", "--max-levels", "3", "--set", "checks.scenes[0].limits.min_safety_factor=100"]);
+    let run = tactfab(&[
+        "fe",
+        REFERENCE,
+        "--scene",
+        "centre-1n",
+        "--max-levels",
+        "3",
+        "--set",
+        "checks.scenes[0].limits.min_safety_factor=100",
+    ]);
     run.expect_code(1);
     assert!(run.stdout.contains("FAIL: safety factor"), "{}", run.stdout);
 }
@@ -209,19 +326,30 @@ fn the_strip_model_answers_line_loads_within_its_own_bound() {
     for sets in [
         vec!["geometry.teeth.pattern=none"],
         vec!["geometry.teeth.pattern=none", "geometry.die_width_um=20000"],
-        vec!["geometry.teeth.pattern=none", "geometry.die_length_um=20000", "geometry.plate_thickness_um=60"],
+        vec![
+            "geometry.teeth.pattern=none",
+            "geometry.die_length_um=20000",
+            "geometry.plate_thickness_um=60",
+        ],
     ] {
         let g = geometry(&sets);
         let bound = tactfab::sensor::beam_error_estimate(&g);
         let span_mm = (g.plate_y1_um - g.plate_y0_um) / 1e3;
         for frac in [0.25, 0.5] {
             let y_um = g.plate_y0_um + frac * span_mm * 1e3;
-            let s = Scene { name: "line".into(), load: SceneLoad::Line { y_um, force_n: 1.0 }, limits: Limits::default() };
+            let s = Scene {
+                name: "line".into(),
+                load: SceneLoad::Line { y_um, force_n: 1.0 },
+                limits: Limits::default(),
+            };
             let beam = evaluate(&g, &s, 2.0 * bound, 1).unwrap();
             assert_eq!(beam.model.kind, "beam", "{sets:?}");
             assert_eq!(beam.error_estimate, Some(bound));
             let plate = evaluate(&g, &s, 0.99 * bound, 3).unwrap();
-            assert_eq!(plate.model.kind, "plate", "a tolerance under the bound needs the plate");
+            assert_eq!(
+                plate.model.kind, "plate",
+                "a tolerance under the bound needs the plate"
+            );
             let allowed = bound + plate.error_estimate.unwrap();
             for (b, p) in beam.electrodes.iter().zip(&plate.electrodes) {
                 let kind_scale = plate
@@ -231,16 +359,37 @@ fn the_strip_model_answers_line_loads_within_its_own_bound() {
                     .map(|e| e.charge_pc.abs())
                     .fold(0.0, f64::max);
                 let err = (b.charge_pc - p.charge_pc).abs() / kind_scale;
-                assert!(err <= allowed, "{sets:?} y {frac}: {} beam {} plate {} ({err:.4} > {allowed:.4})", p.name, b.charge_pc, p.charge_pc);
+                assert!(
+                    err <= allowed,
+                    "{sets:?} y {frac}: {} beam {} plate {} ({err:.4} > {allowed:.4})",
+                    p.name,
+                    b.charge_pc,
+                    p.charge_pc
+                );
             }
             for (what, b, p) in [
-                ("support 1", beam.reactions_n.support1, plate.reactions_n.support1),
-                ("deflection at load", beam.deflection_at_load_um, plate.deflection_at_load_um),
-                ("max deflection", beam.max_deflection_um, plate.max_deflection_um),
+                (
+                    "support 1",
+                    beam.reactions_n.support1,
+                    plate.reactions_n.support1,
+                ),
+                (
+                    "deflection at load",
+                    beam.deflection_at_load_um,
+                    plate.deflection_at_load_um,
+                ),
+                (
+                    "max deflection",
+                    beam.max_deflection_um,
+                    plate.max_deflection_um,
+                ),
                 ("stress", beam.max_stress_mpa, plate.max_stress_mpa),
             ] {
                 let err = (b - p).abs() / p.abs();
-                assert!(err <= allowed, "{sets:?} y {frac}: {what} beam {b} plate {p} ({err:.4} > {allowed:.4})");
+                assert!(
+                    err <= allowed,
+                    "{sets:?} y {frac}: {what} beam {b} plate {p} ({err:.4} > {allowed:.4})"
+                );
             }
         }
     }
@@ -259,11 +408,19 @@ fn hard_cases_solve_with_a_stated_error() {
     assert!((thin.plate_thickness_um - 50.0).abs() < 1e-9);
     let r = evaluate(&thin, &point(20.0, 7.5, 1.0), 0.02, 4).unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
-    assert!(r.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
+        "{:?}",
+        r.warnings
+    );
     let p = r.model.observed_order.expect("monotone convergence");
     assert!(p > 0.5 && p < 3.0, "observed order {p}");
     let small = evaluate(&thin, &point(20.0, 7.5, 0.01), 0.02, 4).unwrap();
-    assert!(!small.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")), "{:?}", small.warnings);
+    assert!(
+        !small.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
+        "{:?}",
+        small.warnings
+    );
 
     let g = geometry(&[]);
     // At a free corner of the plate, next to support 1 and the x = 0 end: the near end unit of
@@ -271,12 +428,23 @@ fn hard_cases_solve_with_a_stated_error() {
     let r = evaluate(&g, &point(0.6, 3.1, 1.0), 0.02, 4).unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
-    let support_max = r.electrodes.iter().filter(|e| e.name.starts_with('S')).max_by(|a, b| a.charge_pc.abs().total_cmp(&b.charge_pc.abs())).unwrap();
+    let support_max = r
+        .electrodes
+        .iter()
+        .filter(|e| e.name.starts_with('S'))
+        .max_by(|a, b| a.charge_pc.abs().total_cmp(&b.charge_pc.abs()))
+        .unwrap();
     assert_eq!(support_max.name, "S11", "{:?}", r.electrodes);
 
     // Straddling a tooth edge (the load patch's centre on the footprint edge).
     let t = &g.teeth[g.teeth.len() / 2];
-    let r = evaluate(&g, &point(t.x0_um / 1e3, (t.y0_um + t.y1_um) / 2e3, 1.0), 0.02, 4).unwrap();
+    let r = evaluate(
+        &g,
+        &point(t.x0_um / 1e3, (t.y0_um + t.y1_um) / 2e3, 1.0),
+        0.02,
+        4,
+    )
+    .unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
 
@@ -291,31 +459,83 @@ fn hard_cases_solve_with_a_stated_error() {
 /// field reads S1j = S2j to round-off.
 #[test]
 fn symmetric_scenes_solve_part_of_the_plate() {
-    for (sets, part) in [(vec![], "half, mirror y = 7.500 mm"), (vec!["geometry.teeth.pattern=matrix"], "quarter, mirrors y = 7.500 mm and x = 15.000 mm")] {
+    for (sets, part) in [
+        (vec![], "half, mirror y = 7.500 mm"),
+        (
+            vec!["geometry.teeth.pattern=matrix"],
+            "quarter, mirrors y = 7.500 mm and x = 15.000 mm",
+        ),
+    ] {
         let g = geometry(&sets);
         let s = point(15.0, 7.5, 1.0);
-        let sym = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, MeshOptions::default()).unwrap().remove(0);
-        let whole = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 6, MeshOptions { symmetry: false, graded: false }).unwrap().remove(0);
+        let sym = evaluate_many_with(
+            &g,
+            std::slice::from_ref(&s),
+            0.01,
+            6,
+            MeshOptions::default(),
+        )
+        .unwrap()
+        .remove(0);
+        let whole = evaluate_many_with(
+            &g,
+            std::slice::from_ref(&s),
+            0.01,
+            6,
+            MeshOptions {
+                symmetry: false,
+                graded: false,
+            },
+        )
+        .unwrap()
+        .remove(0);
         assert_eq!(sym.model.symmetry.as_deref(), Some(part));
         assert_eq!(whole.model.symmetry, None);
         assert!(sym.model.dofs < whole.model.dofs);
         let tol = sym.error_estimate.unwrap() + whole.error_estimate.unwrap();
-        let largest = whole.electrodes.iter().map(|e| e.charge_pc.abs()).fold(0.0, f64::max);
+        let largest = whole
+            .electrodes
+            .iter()
+            .map(|e| e.charge_pc.abs())
+            .fold(0.0, f64::max);
         for (a, b) in sym.electrodes.iter().zip(&whole.electrodes) {
-            assert!((a.charge_pc - b.charge_pc).abs() <= tol * largest, "{part}: {} {} vs {}", a.name, a.charge_pc, b.charge_pc);
+            assert!(
+                (a.charge_pc - b.charge_pc).abs() <= tol * largest,
+                "{part}: {} {} vs {}",
+                a.name,
+                a.charge_pc,
+                b.charge_pc
+            );
         }
         rel_eq(sym.deflection_at_load_um, whole.deflection_at_load_um, tol);
         for k in 0..3 {
             let (s1, s2) = (&sym.electrodes[k], &sym.electrodes[6 + k]);
-            assert!((s1.charge_pc - s2.charge_pc).abs() <= 1e-9 * largest, "{} {} vs {} {}", s1.name, s1.charge_pc, s2.name, s2.charge_pc);
+            assert!(
+                (s1.charge_pc - s2.charge_pc).abs() <= 1e-9 * largest,
+                "{} {} vs {} {}",
+                s1.name,
+                s1.charge_pc,
+                s2.name,
+                s2.charge_pc
+            );
         }
-        assert!((sym.reactions_n.support1 - 0.5).abs() < 1e-9 && (sym.reactions_n.support2 - 0.5).abs() < 1e-9);
+        assert!(
+            (sym.reactions_n.support1 - 0.5).abs() < 1e-9
+                && (sym.reactions_n.support2 - 0.5).abs() < 1e-9
+        );
     }
     // Off the mirror line, or several scenes of which one is off it: the whole plate.
     let g = geometry(&[]);
     let off = evaluate(&g, &point(15.0, 5.0, 1.0), 0.05, 3).unwrap();
     assert_eq!(off.model.symmetry, None);
-    let both = evaluate_many_with(&g, &[point(15.0, 7.5, 1.0), point(15.0, 5.0, 1.0)], 0.05, 3, MeshOptions::default()).unwrap();
+    let both = evaluate_many_with(
+        &g,
+        &[point(15.0, 7.5, 1.0), point(15.0, 5.0, 1.0)],
+        0.05,
+        3,
+        MeshOptions::default(),
+    )
+    .unwrap();
     assert!(both.iter().all(|r| r.model.symmetry.is_none()));
 }
 
@@ -326,33 +546,113 @@ fn symmetric_scenes_solve_part_of_the_plate() {
 fn graded_and_ungraded_meshes_agree_within_their_estimates() {
     let g = geometry(&[]);
     for s in [point(15.0, 7.5, 1.0), point(10.0, 5.0, 1.0)] {
-        let plain = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 4, MeshOptions::default()).unwrap().remove(0);
-        let graded = evaluate_many_with(&g, std::slice::from_ref(&s), 0.01, 4, MeshOptions { symmetry: true, graded: true }).unwrap().remove(0);
-        assert!(plain.converged && graded.converged, "{:?} {:?}", plain.error_estimate, graded.error_estimate);
+        let plain = evaluate_many_with(
+            &g,
+            std::slice::from_ref(&s),
+            0.01,
+            4,
+            MeshOptions::default(),
+        )
+        .unwrap()
+        .remove(0);
+        let graded = evaluate_many_with(
+            &g,
+            std::slice::from_ref(&s),
+            0.01,
+            4,
+            MeshOptions {
+                symmetry: true,
+                graded: true,
+            },
+        )
+        .unwrap()
+        .remove(0);
+        assert!(
+            plain.converged && graded.converged,
+            "{:?} {:?}",
+            plain.error_estimate,
+            graded.error_estimate
+        );
         assert_eq!(plain.model.grading, None);
-        assert!(graded.model.grading.as_deref().is_some_and(|d| d.contains("tooth edges")), "{:?}", graded.model.grading);
+        assert!(
+            graded
+                .model
+                .grading
+                .as_deref()
+                .is_some_and(|d| d.contains("tooth edges")),
+            "{:?}",
+            graded.model.grading
+        );
         assert_eq!(plain.model.levels, graded.model.levels);
         assert!(graded.model.elements > plain.model.elements);
         let tol = plain.error_estimate.unwrap() + graded.error_estimate.unwrap();
-        let largest = plain.electrodes.iter().map(|e| e.charge_pc.abs()).fold(0.0, f64::max);
+        let largest = plain
+            .electrodes
+            .iter()
+            .map(|e| e.charge_pc.abs())
+            .fold(0.0, f64::max);
         for (a, b) in plain.electrodes.iter().zip(&graded.electrodes) {
-            assert!((a.charge_pc - b.charge_pc).abs() <= tol * largest, "{}: {} vs {}", a.name, a.charge_pc, b.charge_pc);
+            assert!(
+                (a.charge_pc - b.charge_pc).abs() <= tol * largest,
+                "{}: {} vs {}",
+                a.name,
+                a.charge_pc,
+                b.charge_pc
+            );
         }
-        rel_eq(plain.deflection_at_load_um, graded.deflection_at_load_um, tol);
+        rel_eq(
+            plain.deflection_at_load_um,
+            graded.deflection_at_load_um,
+            tol,
+        );
     }
 }
 
 #[test]
 fn fe_cli_states_the_symmetry_used() {
-    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3"]);
+    let run = tactfab(&[
+        "fe",
+        REFERENCE,
+        "--point",
+        "15,7.5,1,0.5",
+        "--max-levels",
+        "3",
+    ]);
     run.expect_code(0);
-    assert!(run.stdout.contains("symmetric: solved the half, mirror y = 7.500 mm"), "{}", run.stdout);
-    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3", "--json", "--no-symmetry"]);
+    assert!(
+        run.stdout
+            .contains("symmetric: solved the half, mirror y = 7.500 mm"),
+        "{}",
+        run.stdout
+    );
+    let run = tactfab(&[
+        "fe",
+        REFERENCE,
+        "--point",
+        "15,7.5,1,0.5",
+        "--max-levels",
+        "3",
+        "--json",
+        "--no-symmetry",
+    ]);
     run.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     assert!(j["scenes"][0]["model"]["symmetry"].is_null());
     assert!(j["scenes"][0]["model"]["grading"].is_null());
-    let run = tactfab(&["fe", REFERENCE, "--point", "15,7.5,1,0.5", "--max-levels", "3", "--graded"]);
+    let run = tactfab(&[
+        "fe",
+        REFERENCE,
+        "--point",
+        "15,7.5,1,0.5",
+        "--max-levels",
+        "3",
+        "--graded",
+    ]);
     run.expect_code(0);
-    assert!(run.stdout.contains("graded mesh: geometric (growth 2) towards 1 load patch(es)"), "{}", run.stdout);
+    assert!(
+        run.stdout
+            .contains("graded mesh: geometric (growth 2) towards 1 load patch(es)"),
+        "{}",
+        run.stdout
+    );
 }

@@ -3,7 +3,16 @@
 
 use super::harness::{tactfab, REFERENCE};
 
-const GRID: [&str; 8] = ["--length-um", "20000,35000,3", "--width-um", "12000,18000,3", "--thickness-um", "90,110,2", "--tol", "0.2"];
+const GRID: [&str; 8] = [
+    "--length-um",
+    "20000,35000,3",
+    "--width-um",
+    "12000,18000,3",
+    "--thickness-um",
+    "90,110,2",
+    "--tol",
+    "0.2",
+];
 
 fn sweep(out: &str, extra: &[&str]) -> super::harness::Run {
     let mut args = vec!["sweep", REFERENCE, "-o", out, "--no-error-estimate"];
@@ -18,7 +27,11 @@ fn sharded_sweep_merges_to_the_unsharded_bytes() {
     let (whole, parts) = (dir.path().join("whole"), dir.path().join("parts"));
     let r = sweep(whole.to_str().unwrap(), &[]);
     r.expect_code(0);
-    assert!(r.stdout.contains("prototype 30 x 15 mm") && r.stdout.contains("in the family"), "{}", r.stdout);
+    assert!(
+        r.stdout.contains("prototype 30 x 15 mm") && r.stdout.contains("in the family"),
+        "{}",
+        r.stdout
+    );
     for i in 1..=3 {
         sweep(parts.to_str().unwrap(), &["--shard", &format!("{i}/3")]).expect_code(0);
     }
@@ -31,7 +44,10 @@ fn sharded_sweep_merges_to_the_unsharded_bytes() {
     assert!(svg.starts_with("<svg") && svg.contains("length (mm)"));
     // Determinism: a second run gives the same bytes.
     sweep(whole.to_str().unwrap(), &[]).expect_code(0);
-    assert_eq!(std::fs::read(whole.join("sweep.csv")).unwrap(), std::fs::read(parts.join("sweep.csv")).unwrap());
+    assert_eq!(
+        std::fs::read(whole.join("sweep.csv")).unwrap(),
+        std::fs::read(parts.join("sweep.csv")).unwrap()
+    );
 }
 
 #[test]
@@ -41,7 +57,14 @@ fn sweep_bad_input_is_exit_2() {
     let r = sweep(out.to_str().unwrap(), &["--shard", "4/3"]);
     r.expect_code(2);
     assert!(r.stderr.contains("bad shard '4/3'"), "{}", r.stderr);
-    let r = tactfab(&["sweep", REFERENCE, "-o", out.to_str().unwrap(), "--width-um", "5,1,3"]);
+    let r = tactfab(&[
+        "sweep",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--width-um",
+        "5,1,3",
+    ]);
     r.expect_code(2);
     assert!(r.stderr.contains("--width-um"), "{}", r.stderr);
     assert!(!out.join("sweep.csv").exists());
@@ -53,17 +76,44 @@ fn sweep_bad_input_is_exit_2() {
 #[test]
 fn softness_table_plot_and_inverse() {
     let dir = tempfile::tempdir().unwrap();
-    let r = tactfab(&["softness", REFERENCE, "--e-range-pa", "1e4,1e8,5", "--forces-n", "1,5", "-o", dir.path().to_str().unwrap()]);
+    let r = tactfab(&[
+        "softness",
+        REFERENCE,
+        "--e-range-pa",
+        "1e4,1e8,5",
+        "--forces-n",
+        "1,5",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
     r.expect_code(0);
-    for s in ["disagreement composite beam vs FE", "FE error at E_t", "inverse round trip (FE)", "M2"] {
+    for s in [
+        "disagreement composite beam vs FE",
+        "FE error at E_t",
+        "inverse round trip (FE)",
+        "M2",
+    ] {
         assert!(r.stdout.contains(s), "{s}\n{}", r.stdout);
     }
     let csv = std::fs::read_to_string(dir.path().join("softness.csv")).unwrap();
     assert!(csv.starts_with("tissue_e_pa,force_n,fe_voltage_mv,composite_voltage_mv"));
     assert_eq!(csv.lines().count(), 11);
-    assert!(std::fs::read_to_string(dir.path().join("softness.svg")).unwrap().contains("tissue modulus"));
+    assert!(std::fs::read_to_string(dir.path().join("softness.svg"))
+        .unwrap()
+        .contains("tissue modulus"));
     // A voltage no tissue can give is a clear error.
-    let r = tactfab(&["softness", REFERENCE, "--e-range-pa", "1e4,1e8,3", "--invert", "-5,3"]);
+    let r = tactfab(&[
+        "softness",
+        REFERENCE,
+        "--e-range-pa",
+        "1e4,1e8,3",
+        "--invert",
+        "-5,3",
+    ]);
     r.expect_code(2);
-    assert!(r.stderr.contains("outside the model's range"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("outside the model's range"),
+        "{}",
+        r.stderr
+    );
 }
