@@ -15,9 +15,10 @@
 use std::process::Command;
 use std::time::Instant;
 
+use tactfab::design::Design;
 use tactfab::fe::*;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
-use tactfab::sensor::{evaluate_many_with, MeshOptions, SensorGeometry};
+use tactfab::sensor::{evaluate_many_with, Accuracy, MeshOptions, SensorGeometry};
 
 const ALPHA_P: f64 = 0.0056120;
 const SIDE_UM: f64 = 10_000.0;
@@ -145,9 +146,7 @@ fn bench_sensor(runs: usize) {
     let p = load_str(PROCESS, "mis-grasper.yaml", &[])
         .expect("valid process")
         .process;
-    let plan = tactfab::etch::plan(&p);
-    let masks = tactfab::layout::build(&p, &plan).expect("mask set");
-    let g = SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks));
+    let g = SensorGeometry::new(&Design::new(p).expect("design"));
     let (xc, yc) = (g.length_um / 2.0, (g.plate_y0_um + g.plate_y1_um) / 2.0);
     println!();
     println!(
@@ -203,8 +202,7 @@ fn bench_sensor(runs: usize) {
                 let r = evaluate_many_with(
                     &g,
                     std::slice::from_ref(&scene),
-                    tol,
-                    SENSOR_MAX_LEVELS,
+                    Accuracy::new(tol, SENSOR_MAX_LEVELS),
                     mesh,
                 )
                 .expect("sensor solves")

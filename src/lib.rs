@@ -59,6 +59,7 @@
 //! outcomes to exit codes: 0 ok, 1 a check failed, 2 bad input or I/O error.
 
 pub mod analysis;
+pub mod design;
 pub mod drc;
 pub mod etch;
 pub mod export;

@@ -8,7 +8,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, SceneReport, SensorGeometry, SupportSide};
+use crate::sensor::{evaluate_many, Accuracy, ElectrodeSide, SceneReport, SensorGeometry};
 
 use super::AnalysisError;
 
@@ -32,8 +32,7 @@ pub struct CalibrationPlan {
     pub grid_y_um: Vec<f64>,
     /// Held-out loads (x, y, force): between grid nodes, at forces not calibrated.
     pub held_out: Vec<(f64, f64, f64)>,
-    pub tol: f64,
-    pub max_levels: usize,
+    pub accuracy: Accuracy,
 }
 
 impl CalibrationPlan {
@@ -46,8 +45,7 @@ impl CalibrationPlan {
         y_step_um: f64,
         n_held_out: usize,
         radius_um: f64,
-        tol: f64,
-        max_levels: usize,
+        accuracy: Accuracy,
     ) -> Self {
         let h = contact_half_side_um(radius_um);
         // Contact wholly on the die (a patch over the die edge would lose the part outside).
@@ -100,8 +98,7 @@ impl CalibrationPlan {
             grid_x_um,
             grid_y_um,
             held_out,
-            tol,
-            max_levels,
+            accuracy,
         }
     }
 }
@@ -119,8 +116,8 @@ pub struct Sample {
     pub force_n: f64,
     /// One per electrode, in [`Calibration::electrodes`] order.
     pub voltage_mv: Vec<f64>,
-    /// `plate` or `direct` (wholly over a support).
-    pub model: String,
+    /// `plate` or `direct` (wholly over a support); None when read back from a calibration file.
+    pub model: Option<crate::sensor::ModelKind>,
     pub error_estimate: Option<f64>,
 }
 
@@ -171,7 +168,7 @@ fn sample(r: &SceneReport, x_um: f64, y_um: f64) -> Sample {
         y_um,
         force_n: r.force_n,
         voltage_mv: r.electrodes.iter().map(|e| e.voltage_mv).collect(),
-        model: r.model.kind.clone(),
+        model: Some(r.model.kind),
         error_estimate: r.error_estimate,
     }
 }
@@ -205,7 +202,7 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         at.push((x, y));
     }
     let t0 = Instant::now();
-    let reports = evaluate_many(g, &scenes, plan.tol, plan.max_levels)?;
+    let reports = evaluate_many(g, &scenes, plan.accuracy)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let mut samples = reports
         .iter()
@@ -221,7 +218,10 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         .map(|_| take(plan.grid_x_um.len()))
         .collect();
     let held_out = take(plan.held_out.len());
-    let plate: Vec<&SceneReport> = reports.iter().filter(|r| r.model.kind == "plate").collect();
+    let plate: Vec<&SceneReport> = reports
+        .iter()
+        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
+        .collect();
     let cost = Cost {
         scenes: scenes.len(),
         wall_ms,
@@ -276,7 +276,7 @@ pub struct SupportGroups {
 
 impl SupportGroups {
     pub fn of(g: &SensorGeometry) -> Result<Self, AnalysisError> {
-        let idx = |side: SupportSide| -> Vec<usize> {
+        let idx = |side: ElectrodeSide| -> Vec<usize> {
             g.electrodes
                 .iter()
                 .enumerate()
@@ -284,7 +284,7 @@ impl SupportGroups {
                 .map(|(i, _)| i)
                 .collect()
         };
-        let (support1, support2) = (idx(SupportSide::Support1), idx(SupportSide::Support2));
+        let (support1, support2) = (idx(ElectrodeSide::Support1), idx(ElectrodeSide::Support2));
         if support1.len() < 2 || support2.len() < 2 {
             return Err(AnalysisError::Calibration {
                 reason: "the load inverse needs at least two electrodes on each support".into(),

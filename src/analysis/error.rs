@@ -8,18 +8,18 @@ use crate::fe::FeError;
 pub enum AnalysisError {
     #[error("finite-element solve failed: {0}")]
     Fe(#[from] FeError),
-    #[error("fit: {reason} (hint: use at least degree + 1 distinct samples and a degree >= 0)")]
+    #[error("fit: {reason}\n  hint: use at least degree + 1 distinct samples and a degree >= 0")]
     Fit { reason: String },
     #[error(
-        "voltages: expected {expected} values in the electrode order {names}, got {got} (hint: \
-         --voltages takes one value per electrode, comma-separated)"
+        "voltages: expected {expected} values in the electrode order {names}, got {got}\n  \
+         hint: --voltages takes one value per electrode, comma-separated"
     )]
     VoltageCount {
         expected: usize,
         got: usize,
         names: String,
     },
-    #[error("calibration: {reason} (hint: regenerate it with `tactfab calibrate FILE -o DIR`)")]
+    #[error("calibration: {reason}\n  hint: regenerate it with `tactfab calibrate FILE -o DIR`")]
     Calibration { reason: String },
     #[error("the sensor has no electrode `{name}` (known: {known})")]
     UnknownElectrode { name: String, known: String },

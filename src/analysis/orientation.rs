@@ -12,7 +12,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, SceneReport, SensorGeometry};
+use crate::sensor::{evaluate_many, Accuracy, SceneReport, SensorGeometry};
 
 use super::calibration::Cost;
 use super::fit::{fit, monomial_condition_number, Basis, BasisKind, Fit};
@@ -38,13 +38,12 @@ pub struct OrientationPlan {
     pub electrode: Option<String>,
     /// Fractions of the branch's charge range the inverse is tried at (4 tries as in Tables 2-3).
     pub inverse_fractions: Vec<f64>,
-    pub tol: f64,
-    pub max_levels: usize,
+    pub accuracy: Accuracy,
 }
 
 impl OrientationPlan {
     /// Paper 000: 14 x 7 mm probe at the die centre, 0-180 deg by `step_deg`, 0.5/1/2 N.
-    pub fn paper(g: &SensorGeometry, step_deg: f64, tol: f64, max_levels: usize) -> Self {
+    pub fn paper(g: &SensorGeometry, step_deg: f64, accuracy: Accuracy) -> Self {
         let n = (180.0 / step_deg).round() as usize;
         OrientationPlan {
             x_um: g.length_um / 2.0,
@@ -59,8 +58,7 @@ impl OrientationPlan {
             fourier_degree: 4,
             electrode: None,
             inverse_fractions: vec![0.2, 0.4, 0.6, 0.8],
-            tol,
-            max_levels,
+            accuracy,
         }
     }
 }
@@ -142,7 +140,10 @@ fn probe(plan: &OrientationPlan, name: String, angle_deg: f64, force_n: f64) -> 
 }
 
 fn cost_of(reports: &[SceneReport], wall_ms: f64) -> Cost {
-    let plate: Vec<&SceneReport> = reports.iter().filter(|r| r.model.kind == "plate").collect();
+    let plate: Vec<&SceneReport> = reports
+        .iter()
+        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
+        .collect();
     Cost {
         scenes: reports.len(),
         wall_ms,
@@ -219,7 +220,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         }
     }
     let t0 = Instant::now();
-    let reports = evaluate_many(g, &scenes, plan.tol, plan.max_levels)?;
+    let reports = evaluate_many(g, &scenes, plan.accuracy)?;
     let cost = cost_of(&reports, t0.elapsed().as_secs_f64() * 1e3);
     let charges =
         |r: &SceneReport| -> Vec<f64> { r.electrodes.iter().map(|e| e.charge_pc).collect() };
@@ -334,7 +335,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         .map(|(k, &(f, _, a))| probe(plan, format!("inverse-{k}"), a, f))
         .collect();
     let t1 = Instant::now();
-    let rerun = evaluate_many(g, &rescenes, plan.tol, plan.max_levels)?;
+    let rerun = evaluate_many(g, &rescenes, plan.accuracy)?;
     let inverse_cost = cost_of(&rerun, t1.elapsed().as_secs_f64() * 1e3);
     let inverse = tries
         .iter()

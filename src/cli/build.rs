@@ -5,21 +5,22 @@ use anyhow::Context;
 use tactfab::export::dir::write_dir_atomic;
 use tactfab::report::{build, summary, Options};
 
-use super::{fe_options, load, source_date_epoch, BuildArgs, Outcome, Progress};
+use super::args::BuildArgs;
+use super::{design, Outcome, Progress};
 
 /// The summary's name; also the marker that lets a later build replace DIR.
 pub const SUMMARY: &str = "build.json";
 
 pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
+    let (loaded, design) = design(&args.process)?;
     let opts = Options {
         process_file: args.process.file.display().to_string(),
-        fe: Some(fe_options(&args.fe)?),
-        gds_epoch_s: source_date_epoch()?,
+        fe: Some(args.accuracy.into()),
+        gds_epoch_s: args.date.epoch_s,
     };
     let built = {
         let progress = Progress::new();
-        build(&loaded, &opts, &mut |s| progress.stage(s))?
+        build(&loaded, &design, &opts, &mut |s| progress.stage(s))?
     };
     let mut files = built.files();
     let s = summary(&built, &opts.process_file, &files);

@@ -9,36 +9,24 @@ use tactfab::analysis::calibration::{
     calibrate, Calibration, CalibrationPlan, Sample, SupportGroups,
 };
 use tactfab::analysis::inverse::{held_out_errors, noise_study, HeldOutError, Locator, NoiseRow};
+use tactfab::export::dir::write_dir_atomic;
 use tactfab::plot::{xy_svg, Axis, Series, Style, XyPlot};
 use tactfab::sensor::SensorGeometry;
 
+use super::args::CalibrateArgs;
 use super::output::f;
-use super::{load, CalibrateArgs, Outcome};
+use super::{design, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
-    let p = &loaded.process;
-    let plan = tactfab::etch::plan(p);
-    let g = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
-    if args.x_step_mm <= 0.0
-        || args.y_step_mm <= 0.0
-        || args.radius_mm <= 0.0
-        || args.fe.tol <= 0.0
-        || args.fe.max_levels == 0
-    {
-        anyhow::bail!(
-            "--x-step-mm, --y-step-mm, --radius-mm and --tol must be positive and --max-levels at \
-             least 1"
-        );
-    }
+    let (_, design) = design(&args.process)?;
+    let g = SensorGeometry::new(&design);
     let cp = CalibrationPlan::new(
         &g,
-        args.x_step_mm * 1e3,
-        args.y_step_mm * 1e3,
-        args.held_out,
-        args.radius_mm * 1e3,
-        args.fe.tol,
-        args.fe.max_levels,
+        args.grid.x_step_mm * 1e3,
+        args.grid.y_step_mm * 1e3,
+        usize::from(args.held_out),
+        args.grid.contact_radius_mm * 1e3,
+        args.accuracy.into(),
     );
     let cal = calibrate(&g, &cp).context("calibration")?;
     let loc = Locator::new(&cal, SupportGroups::of(&g)?)?;
@@ -48,12 +36,12 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
         &cal.held_out,
         1.0,
         &args.noise_mv,
-        args.trials,
+        usize::from(args.trials),
         args.seed,
     )?;
     let groups = SupportGroups::of(&g)?;
     let files = files(&cal, &groups, &held, &noise);
-    super::masks::write_all(&args.out, &files)?;
+    write_dir_atomic(&args.out, &files, "grid.csv")?;
     print!("{}", summary(&cal, &loc, &held, &noise, &args.out));
     Ok(Outcome::Ok)
 }
@@ -72,6 +60,10 @@ fn volts(s: &Sample) -> String {
         .iter()
         .map(|v| format!(",{}", f(*v, 6)))
         .collect()
+}
+
+fn model(s: &Sample) -> String {
+    s.model.map(|m| m.to_string()).unwrap_or_default()
 }
 
 fn est(e: Option<f64>) -> String {
@@ -94,7 +86,7 @@ fn files(
             f(s.x_um, 1),
             f(s.y_um, 1),
             volts(s),
-            s.model,
+            model(s),
             est(s.error_estimate)
         );
     }
@@ -109,7 +101,7 @@ fn files(
             s.force_n,
             volts(s),
             f(gr.u_y(&s.voltage_mv), 6),
-            s.model,
+            model(s),
             est(s.error_estimate)
         );
     }
@@ -127,7 +119,7 @@ fn files(
             f(gr.vs1(v), 6),
             f(gr.vs2(v), 6),
             f(gr.u_x(v), 6),
-            s.model,
+            model(s),
             est(s.error_estimate)
         );
     }

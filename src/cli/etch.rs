@@ -1,7 +1,8 @@
 //! `tactfab etch FILE [--json]`: the etch plan.
 
+use super::args::EtchArgs;
 use super::output::{checks, f};
-use super::{load, EtchArgs, Outcome};
+use super::{load, Outcome};
 
 pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     let loaded = load(&args.process)?;

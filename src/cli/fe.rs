@@ -8,20 +8,17 @@ use tactfab::sensor::{
     convergence_svg, evaluate_many_with, MeshOptions, SceneReport, SensorGeometry,
 };
 
+use super::args::FeArgs;
 use super::output::f;
-use super::{load, FeArgs, Outcome};
+use super::{design, Outcome};
 
 pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
-    let p = &loaded.process;
-    let plan = tactfab::etch::plan(p);
-    let scenes = scenes(args, &p.checks.scenes)?;
-    let geometry = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
+    let (_, design) = design(&args.process)?;
+    let scenes = scenes(args, &design.process.checks.scenes)?;
     let reports = evaluate_many_with(
-        &geometry,
+        &SensorGeometry::new(&design),
         &scenes,
-        args.tol,
-        args.max_levels,
+        args.accuracy.into(),
         MeshOptions {
             symmetry: !args.no_symmetry,
             graded: args.graded,
@@ -63,31 +60,14 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
 /// The scenes to run: `--point`/`--pressure` if given, else the file's (optionally one `--scene`).
 fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
     let mut out = Vec::new();
-    for spec in &args.point {
-        let v: Vec<f64> = spec
-            .split(',')
-            .map(|s| s.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .with_context(|| {
-                format!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM] as numbers")
-            })?;
-        if !(3..=4).contains(&v.len()) {
-            bail!("--point {spec}: expected X_MM,Y_MM,FORCE_N[,RADIUS_MM]");
-        }
-        let radius_mm = v.get(3).copied().unwrap_or(0.25);
-        if radius_mm <= 0.0 {
-            bail!(
-                "--point {spec}: the contact radius must be positive (a point load's stress is \
-                 singular)"
-            );
-        }
+    for pt in &args.point {
         out.push(Scene {
-            name: format!("point-{}-{}-{}N", v[0], v[1], v[2]),
+            name: format!("point-{}-{}-{}N", pt.x_mm, pt.y_mm, pt.force_n),
             load: SceneLoad::Point {
-                x_um: v[0] * 1000.0,
-                y_um: v[1] * 1000.0,
-                force_n: v[2],
-                radius_um: radius_mm * 1000.0,
+                x_um: pt.x_mm * 1000.0,
+                y_um: pt.y_mm * 1000.0,
+                force_n: pt.force_n,
+                radius_um: pt.radius_mm * 1000.0,
             },
             limits: Limits::default(),
         });

@@ -9,14 +9,13 @@ use tactfab::analysis::calibration::{
 use tactfab::analysis::inverse::Locator;
 use tactfab::sensor::SensorGeometry;
 
+use super::args::LocateArgs;
 use super::output::f;
-use super::{load, LocateArgs, Outcome};
+use super::{design, Outcome};
 
 pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
-    let p = &loaded.process;
-    let plan = tactfab::etch::plan(p);
-    let g = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
+    let (_, design) = design(&args.process)?;
+    let g = SensorGeometry::new(&design);
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     if args.voltages.len() != names.len() {
         bail!(
@@ -31,12 +30,11 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
         None => {
             let cp = CalibrationPlan::new(
                 &g,
-                args.x_step_mm * 1e3,
-                args.y_step_mm * 1e3,
+                args.grid.x_step_mm * 1e3,
+                args.grid.y_step_mm * 1e3,
                 0,
-                args.radius_mm * 1e3,
-                args.fe.tol,
-                args.fe.max_levels,
+                args.grid.contact_radius_mm * 1e3,
+                args.accuracy.into(),
             );
             let mut cp = cp;
             cp.force_table_n = vec![1.0];
@@ -124,7 +122,7 @@ fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibra
             y_um: v[1],
             force_n: v[2],
             voltage_mv: v[3..].to_vec(),
-            model: String::new(),
+            model: None,
             error_estimate: None,
         });
     }

@@ -1,44 +1,25 @@
 //! `tactfab masks FILE -o DIR [--format gds,svg]`: mask set, inventory and DRC.
 //!
-//! Everything is rendered in memory, written to a temporary directory beside DIR, then renamed
-//! into place: an error leaves no partial output. A DRC failure still writes the set (to be
-//! inspected) but exits 1 and says so.
+//! Everything is rendered in memory and written as one directory ([`write_dir_atomic`]): an error
+//! leaves no partial output, and DIR holds the files of one run, never a mix. `masks.txt` (the
+//! report printed) marks the directory as this command's. A DRC failure still writes the set (to
+//! be inspected) but exits 1 and says so.
 
-use std::path::{Path, PathBuf};
-
-use anyhow::Context;
-use clap::ValueEnum;
+use tactfab::export::dir::write_dir_atomic;
 use tactfab::export::gds::GdsOptions;
 
-use super::{load, MasksArgs, Outcome};
+use super::args::{Format, MasksArgs};
+use super::{design, Outcome};
 
-/// Output formats; the .lyp goes with the GDS.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    Gds,
-    Svg,
-}
+/// The file every `masks` output directory holds: it lets a later run replace the directory.
+pub const MARKER: &str = "masks.txt";
 
 pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
-    let p = &loaded.process;
-    let unknown = tactfab::drc::unknown_waivers(p);
-    if !unknown.is_empty() {
-        anyhow::bail!(
-            "drc.waive: unknown rule code(s) {}\n  hint: codes are {}",
-            unknown.join(", "),
-            tactfab::drc::CODES
-                .iter()
-                .map(|(c, _)| *c)
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    let plan = tactfab::etch::plan(p);
-    let set = tactfab::layout::build(p, &plan)?;
-    let drc = tactfab::drc::check(&set, p, &plan);
+    let (_, design) = design(&args.process)?;
+    let (p, plan, set) = (&design.process, &design.plan, &design.masks);
+    let drc = tactfab::drc::check(set, p, plan);
 
-    let epoch = super::source_date_epoch()?;
+    let epoch = args.date.epoch_s;
     let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     let formats = if args.format.is_empty() {
         vec![Format::Gds, Format::Svg]
@@ -62,8 +43,6 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
             ));
         }
     }
-    write_all(&args.out, &files)?;
-
     let mut out = set.inventory();
     if !set.warnings.is_empty() {
         out.push_str("layout warnings:\n");
@@ -78,6 +57,17 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
         ));
     }
     out.push_str(&drc.summary(10));
+    let verdict = if drc.passed() {
+        "DRC passed\n".to_string()
+    } else {
+        format!(
+            "DRC FAILED: {} violations; the files are written for inspection, do not release them \
+             (waive a rule in `drc.waive` only on purpose)\n",
+            drc.failing()
+        )
+    };
+    files.push((MARKER.to_string(), format!("{out}{verdict}").into_bytes()));
+    write_dir_atomic(&args.out, &files, MARKER)?;
     for (name, bytes) in &files {
         out.push_str(&format!(
             "wrote {} ({} bytes)\n",
@@ -85,57 +75,10 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
             bytes.len()
         ));
     }
-    if drc.passed() {
-        out.push_str("DRC passed\n");
-    } else {
-        out.push_str(&format!(
-            "DRC FAILED: {} violations; the files are written for inspection, do not release them \
-             (waive a rule in `drc.waive` only on purpose)\n",
-            drc.failing()
-        ));
-    }
-    print!("{out}");
+    print!("{out}{verdict}");
     Ok(if drc.passed() {
         Outcome::Ok
     } else {
         Outcome::CheckFailed
     })
-}
-
-/// Writes every file into a temporary directory beside `dir`, then renames into place.
-pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> anyhow::Result<()> {
-    let parent: PathBuf = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent)
-        .with_context(|| format!("cannot create {}", parent.display()))?;
-    let stem = dir
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "masks".into());
-    let tmp = parent.join(format!(".{stem}.tactfab-tmp-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    let result = (|| -> anyhow::Result<()> {
-        std::fs::create_dir(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-        for (name, bytes) in files {
-            std::fs::write(tmp.join(name), bytes)
-                .with_context(|| format!("cannot write {}", tmp.join(name).display()))?;
-        }
-        if !dir.exists() {
-            std::fs::rename(&tmp, dir)
-                .with_context(|| format!("cannot move the output to {}", dir.display()))?;
-            return Ok(());
-        }
-        if !dir.is_dir() {
-            anyhow::bail!("{} exists and is not a directory", dir.display());
-        }
-        for (name, _) in files {
-            std::fs::rename(tmp.join(name), dir.join(name))
-                .with_context(|| format!("cannot move {name} into {}", dir.display()))?;
-        }
-        Ok(())
-    })();
-    let _ = std::fs::remove_dir_all(&tmp);
-    result
 }

@@ -4,38 +4,27 @@
 
 use std::fmt::Write as _;
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 
 use tactfab::analysis::orientation::{study, Orientation, OrientationPlan};
+use tactfab::export::dir::write_dir_atomic;
 use tactfab::plot::{xy_svg, Axis, Series, Style, XyPlot};
 use tactfab::sensor::SensorGeometry;
 
+use super::args::OrientArgs;
 use super::output::f;
-use super::{load, OrientArgs, Outcome};
+use super::{design, Outcome};
 
 pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
-    let p = &loaded.process;
-    let plan = tactfab::etch::plan(p);
-    let g = SensorGeometry::new(p, &plan, super::electrodes(p, &plan)?);
-    if !(args.step_deg > 0.0 && args.step_deg <= 90.0)
-        || (180.0 / args.step_deg - (180.0 / args.step_deg).round()).abs() > 1e-9
-    {
-        bail!(
-            "--step-deg must divide 180 (e.g. 10, 15, 30), got {}",
-            args.step_deg
-        );
-    }
-    if args.fe.tol <= 0.0 || args.fe.max_levels == 0 {
-        bail!("--tol must be positive and --max-levels at least 1");
-    }
-    let mut op = OrientationPlan::paper(&g, args.step_deg, args.fe.tol, args.fe.max_levels);
-    op.degree = args.degree;
-    op.fourier_degree = args.fourier_degree;
+    let (_, design) = design(&args.process)?;
+    let g = SensorGeometry::new(&design);
+    let mut op = OrientationPlan::paper(&g, args.step_deg, args.accuracy.into());
+    op.degree = usize::from(args.degree);
+    op.fourier_degree = usize::from(args.fourier_degree);
     op.electrode = args.electrode.clone();
     let o = study(&g, &op).context("orientation study")?;
     if let Some(dir) = &args.out {
-        super::masks::write_all(dir, &files(&o))?;
+        write_dir_atomic(dir, &files(&o), "orientation.csv")?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&o)?);

@@ -15,28 +15,16 @@ use tactfab::sweep::{
     Shard,
 };
 
-use super::{load, Outcome, ProcessArgs, SweepArgs};
+use super::args::SweepArgs;
+use super::{load, Outcome};
 
-fn range(text: &str, what: &str) -> anyhow::Result<Range> {
-    let v: Vec<&str> = text.split(',').collect();
-    let bad = || {
-        anyhow::anyhow!(
-            "--{what} '{text}': expected LO,HI,STEPS with 0 < LO <= HI and STEPS >= 1 (e.g. \
-             10000,40000,30)"
-        )
-    };
-    if v.len() != 3 {
-        return Err(bad());
+/// A flag's range as the sweep's axis.
+fn axis(r: &super::parse::Range) -> Range {
+    Range {
+        lo: r.lo,
+        hi: r.hi,
+        steps: r.n,
     }
-    let (lo, hi): (f64, f64) = (
-        v[0].trim().parse().map_err(|_| bad())?,
-        v[1].trim().parse().map_err(|_| bad())?,
-    );
-    let steps: usize = v[2].trim().parse().map_err(|_| bad())?;
-    if !(lo > 0.0 && hi >= lo && hi.is_finite() && steps >= 1) {
-        return Err(bad());
-    }
-    Ok(Range { lo, hi, steps })
 }
 
 fn ensure_dir(dir: &Path) -> anyhow::Result<()> {
@@ -61,31 +49,19 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         );
         return Ok(Outcome::Ok);
     }
-    let (Some(file), Some(out)) = (&a.file, &a.out) else {
+    let (Some(process), Some(out)) = (&a.process, &a.out) else {
         bail!("sweep needs FILE and -o DIR (or --merge DIR)")
     };
-    if !(a.tol > 0.0 && a.tol < 1.0) {
-        bail!(
-            "--tol {}: expected a relative tolerance in (0, 1), e.g. 0.01",
-            a.tol
-        );
-    }
-    let positive = |v: f64| v > 0.0 && v.is_finite();
-    if !positive(a.force_n) || !positive(a.contact_radius_um) {
-        bail!("--force-n and --contact-radius-um must be positive");
-    }
     let grid = Grid {
-        length_um: range(&a.length_um, "length-um")?,
-        width_um: range(&a.width_um, "width-um")?,
-        thickness_um: range(&a.thickness_um, "thickness-um")?,
+        length_um: axis(&a.length_um),
+        width_um: axis(&a.width_um),
+        thickness_um: axis(&a.thickness_um),
     };
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
-    let loaded = load(&ProcessArgs {
-        file: file.clone(),
-        set: a.set.clone(),
-    })?;
+    let loaded = load(process)?;
     let p = &loaded.process;
-    let model = DesignModel::from_process(p, a.force_n, a.contact_radius_um);
+    let contact_radius_um = a.contact_radius_mm * 1e3;
+    let model = DesignModel::from_process(p, a.force_n, contact_radius_um);
     let g = &p.geometry;
     // The prototype: the process file's die (paper 001: 30 x 15 mm, 100 um).
     let proto = Design {
@@ -142,7 +118,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         proto.width_um / 1000.0,
         proto.thickness_um,
         a.force_n,
-        a.contact_radius_um,
+        contact_radius_um,
         pr.deflection_um,
         pr.elongation_um,
         pr.max_stress_mpa,

@@ -7,22 +7,19 @@ use anyhow::Context;
 use tactfab::export::write_atomic;
 use tactfab::report::{build, Options};
 
-use super::{fe_options, load, source_date_epoch, Outcome, Progress, TravelerArgs};
+use super::args::TravelerArgs;
+use super::{design, Outcome, Progress};
 
 pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
-    let loaded = load(&args.process)?;
+    let (loaded, design) = design(&args.process)?;
     let opts = Options {
         process_file: args.process.file.display().to_string(),
-        fe: if args.no_fe {
-            None
-        } else {
-            Some(fe_options(&args.fe)?)
-        },
-        gds_epoch_s: source_date_epoch()?,
+        fe: (!args.no_fe).then(|| args.accuracy.into()),
+        gds_epoch_s: args.date.epoch_s,
     };
     let built = {
         let progress = Progress::new();
-        build(&loaded, &opts, &mut |s| progress.stage(s))?
+        build(&loaded, &design, &opts, &mut |s| progress.stage(s))?
     };
     let (md, html) = paths(&args.out);
     if let Some(dir) = md.parent().filter(|d| !d.as_os_str().is_empty()) {

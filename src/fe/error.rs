@@ -5,7 +5,7 @@ use thiserror::Error;
 /// Plate solver error.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum FeError {
-    #[error("stiffness matrix is not positive definite ({detail}); hint: {hint}")]
+    #[error("stiffness matrix is not positive definite ({detail})\n  hint: {hint}")]
     NotPositiveDefinite { detail: String, hint: &'static str },
     #[error(
         "the plate can still move as a rigid body ({free_modes} of 3 rigid modes unconstrained); \
@@ -15,16 +15,16 @@ pub enum FeError {
         free_modes: usize,
         hint: &'static str,
     },
-    #[error("support '{group}' at {at_um} um is not on a mesh line; hint: {hint}")]
+    #[error("support '{group}' at {at_um} um is not on a mesh line\n  hint: {hint}")]
     SupportNotOnMeshLine {
         group: String,
         at_um: f64,
         hint: &'static str,
     },
-    #[error("support '{group}' covers no mesh node; hint: {hint}")]
+    #[error("support '{group}' covers no mesh node\n  hint: {hint}")]
     EmptySupport { group: String, hint: &'static str },
     #[error(
-        "prescribed dof of group '{group}' at ({x_um}, {y_um}) um is not at a mesh node; hint: \
+        "prescribed dof of group '{group}' at ({x_um}, {y_um}) um is not at a mesh node\n  hint: \
          {hint}"
     )]
     PrescribedNotAtNode {
@@ -34,7 +34,7 @@ pub enum FeError {
         hint: &'static str,
     },
     #[error(
-        "load {index} of case {case} lies (partly) outside the plate or is degenerate; hint: \
+        "load {index} of case {case} lies (partly) outside the plate or is degenerate\n  hint: \
          {hint}"
     )]
     LoadOutsidePlate {
@@ -42,15 +42,15 @@ pub enum FeError {
         index: usize,
         hint: &'static str,
     },
-    #[error("element {element} has a non-positive or non-finite stiffness; hint: {hint}")]
+    #[error("element {element} has a non-positive or non-finite stiffness\n  hint: {hint}")]
     InvalidStiffness { element: usize, hint: &'static str },
-    #[error("refactorisation needs the same mesh, supports and prescribed dofs; hint: {hint}")]
+    #[error("refactorisation needs the same mesh, supports and prescribed dofs\n  hint: {hint}")]
     PatternMismatch { hint: &'static str },
-    #[error("sparse matrix construction failed ({detail}); hint: {hint}")]
+    #[error("sparse matrix construction failed ({detail})\n  hint: {hint}")]
     Sparse { detail: String, hint: &'static str },
-    #[error("the solution is not finite; hint: {hint}")]
+    #[error("the solution is not finite\n  hint: {hint}")]
     NonFinite { hint: &'static str },
-    #[error("mesh convergence study failed: {detail}; hint: {hint}")]
+    #[error("mesh convergence study failed: {detail}\n  hint: {hint}")]
     Convergence { detail: String, hint: &'static str },
 }
 

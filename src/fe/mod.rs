@@ -41,10 +41,7 @@ pub mod solve;
 mod tests;
 
 pub use beam::{fixed_fixed_reactions, BeamReactions};
-pub use convergence::{
-    richardson, richardson_ratios, run_levels, solve_to_tolerance, ConvergenceKind,
-    ConvergenceReport, LevelReport, Richardson,
-};
+pub use convergence::{richardson, richardson_ratios, ConvergenceKind, Richardson, ThreeMesh};
 pub use error::{FeError, FeResult};
 pub use material::{BendingStiffness, DieEdge, PlateMaterial};
 pub use mesh::{RectMesh, RefinePoint};

@@ -7,7 +7,7 @@
 use crate::process::{ElectrodePattern, Electrodes};
 
 use super::boolean::{rect, union};
-use super::maskset::Electrode;
+use super::maskset::{Electrode, ElectrodeSide};
 
 /// The islands in die (= film) coordinates, named S11.., M1.., S21.. .
 pub fn islands(
@@ -24,43 +24,45 @@ pub fn islands(
     let g = e.gap_um;
     let unit_w = (die_length_um - 2.0 * m - f64::from(n - 1) * g) / f64::from(n);
     let rows = [
-        ("S1", m, support_width_um - g / 2.0),
+        (ElectrodeSide::Support1, m, support_width_um - g / 2.0),
         (
-            "M",
+            ElectrodeSide::Middle,
             support_width_um + g / 2.0,
             die_width_um - support_width_um - g / 2.0,
         ),
         (
-            "S2",
+            ElectrodeSide::Support2,
             die_width_um - support_width_um + g / 2.0,
             die_width_um - m,
         ),
     ];
     let p = e.wire_pad_um;
     let mut out = Vec::new();
-    for (row, (prefix, y0, y1)) in rows.iter().enumerate() {
+    for &(side, y0, y1) in &rows {
         for k in 0..n {
             let x0 = m + f64::from(k) * (unit_w + g);
             let x1 = x0 + unit_w;
             let xc = (x0 + x1) / 2.0;
             // Outer edge: the film edge for the support rows; for the middle row the x end of the
             // first and last unit, else the edge towards support 1.
-            let (px, py) = match row {
-                0 => (xc - p / 2.0, *y0),
-                2 => (xc - p / 2.0, y1 - p),
+            let (px, py) = match side {
+                ElectrodeSide::Support1 => (xc - p / 2.0, y0),
+                ElectrodeSide::Support2 => (xc - p / 2.0, y1 - p),
                 _ if k == 0 && n > 1 => (x0, (y0 + y1) / 2.0 - p / 2.0),
                 _ if k == n - 1 && n > 1 => (x1 - p, (y0 + y1) / 2.0 - p / 2.0),
-                _ => (xc - p / 2.0, *y0),
+                ElectrodeSide::Middle => (xc - p / 2.0, y0),
             };
-            let shapes = union(&[rect(x0, *y0, x1, *y1), rect(px, py, px + p, py + p)]);
-            let name = if *prefix == "M" {
-                format!("M{}", k + 1)
-            } else {
-                format!("{prefix}{}", k + 1)
+            let shapes = union(&[rect(x0, y0, x1, y1), rect(px, py, px + p, py + p)]);
+            let prefix = match side {
+                ElectrodeSide::Support1 => "S1",
+                ElectrodeSide::Middle => "M",
+                ElectrodeSide::Support2 => "S2",
             };
+            let name = format!("{prefix}{}", k + 1);
             for polygon in shapes {
                 out.push(Electrode {
                     name: name.clone(),
+                    side,
                     polygon,
                     pad: [px, py, p],
                 });
@@ -112,6 +114,7 @@ pub fn four_cross(
         for polygon in union(&[rect(x0, y0, x1, y1), rect(px, py, px + p, py + p)]) {
             out.push(Electrode {
                 name: name.to_string(),
+                side: ElectrodeSide::Middle,
                 polygon,
                 pad: [px, py, p],
             });

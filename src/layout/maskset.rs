@@ -195,11 +195,25 @@ pub struct LayoutWarning {
     pub message: String,
 }
 
+/// Where an electrode island sits across the die: what it reads depends on it (thickness mode
+/// under a support, extension mode over the plate).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElectrodeSide {
+    /// Over support 1 (y = 0 .. support width).
+    Support1,
+    /// Over the plate spanning the U-channel.
+    Middle,
+    /// Over support 2 (y = width - support width .. width).
+    Support2,
+}
+
 /// One electrode island of the PVDF mask.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Electrode {
     /// S11..S13, M1..M3, S21..S23.
     pub name: String,
+    pub side: ElectrodeSide,
     pub polygon: Polygon,
     /// The wire pad square (part of the island), lower-left and side.
     pub pad: [f64; 3],

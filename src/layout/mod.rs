@@ -25,7 +25,8 @@ use std::f64::consts::PI;
 use geo::{Coord, LineString, Polygon};
 
 pub use maskset::{
-    Cell, Electrode, LayerKind, LayoutWarning, MaskEntry, MaskSet, Note, Placement, Tooth,
+    Cell, Electrode, ElectrodeSide, LayerKind, LayoutWarning, MaskEntry, MaskSet, Note, Placement,
+    Tooth,
 };
 
 use crate::etch::{CompensationDesign, EtchPlan};

@@ -4,6 +4,7 @@
 
 use geo::BoundingRect;
 
+use crate::design::Design;
 use crate::drc::DrcReport;
 use crate::etch::EtchPlan;
 use crate::export::gds::GdsOptions;
@@ -11,7 +12,7 @@ use crate::export::svg::path_data;
 use crate::export::{nm, um_text, ExportError};
 use crate::layout::{LayerKind, LayoutError, MaskSet};
 use crate::process::Loaded;
-use crate::sensor::{evaluate_many, SceneReport, SensorGeometry};
+use crate::sensor::{evaluate_many, Accuracy, SceneReport, SensorGeometry};
 
 use super::fe::{summarise, FeSummary};
 use super::html::{html, Figures};
@@ -22,8 +23,6 @@ use super::traveler::{traveler, Traveler, TravelerInput};
 /// Why nothing could be built.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
-    #[error("drc.waive: unknown rule code(s) {codes}\n  hint: codes are {known}")]
-    UnknownWaivers { codes: String, known: String },
     #[error("layout: {0}")]
     Layout(#[from] LayoutError),
     #[error(
@@ -37,21 +36,13 @@ pub enum ReportError {
     Json(#[from] serde_json::Error),
 }
 
-/// FE settings for the declared scenes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FeOptions {
-    /// Relative error each scene is refined to (three-mesh estimate).
-    pub tol_rel: f64,
-    pub max_levels: usize,
-}
-
 /// What to build.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
     /// The process file as the user named it (printed in the traveler).
     pub process_file: String,
-    /// None: skip FE (the traveler says so).
-    pub fe: Option<FeOptions>,
+    /// How accurately the declared scenes are solved; None: skip FE (the traveler says so).
+    pub fe: Option<Accuracy>,
     /// GDS modification/access dates; None writes zeros (reproducible).
     pub gds_epoch_s: Option<i64>,
 }
@@ -143,27 +134,17 @@ impl Built {
     }
 }
 
-/// Builds everything for `loaded`; `progress` hears each stage as it starts.
+/// Builds everything for `design` (`loaded` gives the defaults used and the overrides the
+/// traveler lists); `progress` hears each stage as it starts.
 pub fn build(
     loaded: &Loaded,
+    design: &Design,
     opts: &Options,
     progress: &mut dyn FnMut(Stage),
 ) -> Result<Built, ReportError> {
-    let p = &loaded.process;
-    let unknown = crate::drc::unknown_waivers(p);
-    if !unknown.is_empty() {
-        return Err(ReportError::UnknownWaivers {
-            codes: unknown.join(", "),
-            known: crate::drc::CODES
-                .iter()
-                .map(|(c, _)| *c)
-                .collect::<Vec<_>>()
-                .join(", "),
-        });
-    }
+    let p = &design.process;
+    let (plan, set) = (design.plan.clone(), design.masks.clone());
     progress(Stage::Masks);
-    let plan = crate::etch::plan(p);
-    let set = crate::layout::build(p, &plan)?;
     let gds = set.to_gds(&GdsOptions {
         date_epoch_s: opts.gds_epoch_s,
     })?;
@@ -187,9 +168,7 @@ pub fn build(
     let (fe_reports, fe) = match opts.fe {
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
-            let geometry =
-                SensorGeometry::new(p, &plan, SensorGeometry::electrodes_from_masks(&set));
-            let reports = evaluate_many(&geometry, scenes, o.tol_rel, o.max_levels)?;
+            let reports = evaluate_many(&SensorGeometry::new(design), scenes, o)?;
             let summary = summarise(scenes, &reports, o.tol_rel, o.max_levels);
             (reports, Some(summary))
         }

@@ -27,7 +27,7 @@ pub struct FeScene {
     pub load: String,
     pub force_n: f64,
     /// `plate` or `direct`.
-    pub model: String,
+    pub model: crate::sensor::ModelKind,
     pub elements: usize,
     pub dofs: usize,
     pub levels: usize,
@@ -143,7 +143,7 @@ pub fn summarise(
             name: r.scene.clone(),
             load: describe_load(&s.load),
             force_n: r.force_n,
-            model: r.model.kind.clone(),
+            model: r.model.kind,
             elements: r.model.elements,
             dofs: r.model.dofs,
             levels: r.model.levels,

@@ -350,7 +350,7 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
                         esc(&sc.load),
                         format!(
                             "{}, {} elements, {} dofs, {} levels",
-                            esc(&sc.model),
+                            esc(&sc.model.to_string()),
                             sc.elements,
                             sc.dofs,
                             sc.levels

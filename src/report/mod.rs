@@ -18,7 +18,7 @@ pub mod section;
 pub mod summary;
 pub mod traveler;
 
-pub use build::{build, Built, FeOptions, Options, ReportError, Stage};
+pub use build::{build, Built, Options, ReportError, Stage};
 pub use limits::{check_limits, limit_failures, LimitCheck};
 pub use summary::{summary, BuildSummary};
 pub use traveler::Traveler;

@@ -11,7 +11,7 @@
 use crate::fe::fixed_fixed_reactions;
 use crate::process::Axis;
 
-use super::geometry::{SensorGeometry, SupportSide};
+use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::readout::{ElectrodeReading, Readout};
 
 /// What the strip model answers for one line load.
@@ -101,7 +101,7 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
         let c_f = g.capacitance_f(e.area_um2);
         let along = ((e.x1_um.min(g.length_um) - e.x0_um.max(0.0)) / g.length_um).max(0.0);
         let (charge_pc, force) = match e.side {
-            SupportSide::Middle => {
+            ElectrodeSide::Middle => {
                 // int eps_y dA = l_e (t/2) int M / D22 ds; eps_x = 0 (cylindrical bending).
                 let s0 = ((e.y0_um - g.plate_y0_um) * um).clamp(0.0, span);
                 let s1 = ((e.y1_um - g.plate_y0_um) * um).clamp(0.0, span);
@@ -114,8 +114,8 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
                 };
                 (g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_, None)
             }
-            SupportSide::Support1 => (g.d33_pc_per_n * r.r1 * along, Some(r.r1 * along)),
-            SupportSide::Support2 => (g.d33_pc_per_n * r.r2 * along, Some(r.r2 * along)),
+            ElectrodeSide::Support1 => (g.d33_pc_per_n * r.r1 * along, Some(r.r1 * along)),
+            ElectrodeSide::Support2 => (g.d33_pc_per_n * r.r2 * along, Some(r.r2 * along)),
         };
         electrodes.push(ElectrodeReading {
             name: e.name.clone(),

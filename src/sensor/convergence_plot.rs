@@ -12,7 +12,10 @@ use super::evaluate::SceneReport;
 pub fn convergence_svg(reports: &[SceneReport]) -> String {
     let mut by_dofs = Vec::new();
     let mut by_time = Vec::new();
-    for r in reports.iter().filter(|r| r.model.kind == "plate") {
+    for r in reports
+        .iter()
+        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
+    {
         let levels = &r.convergence;
         let mut t_ms = 0.0;
         let cumulative: Vec<f64> = levels

@@ -8,14 +8,14 @@ use serde::Serialize;
 use crate::fe::problem::Axis as FeAxis;
 use crate::fe::solution::LINEAR_RANGE_LIMIT;
 use crate::fe::{
-    richardson_ratios, Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind,
-    ThicknessRegion,
+    Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion,
+    ThreeMesh,
 };
 use crate::process::{Scene, SceneLoad};
 
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 
-use super::geometry::{SensorGeometry, SupportSide};
+use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::mesh_lines::{
     base_lines, grading_description, level_ratios, subdivide, MeshOptions, COARSE_ELEMENT_UM,
     SUBDIVISIONS,
@@ -24,12 +24,51 @@ use super::readout::{group_for, read, ElectrodeReading, Readout};
 use super::scene::{split, SceneLoads};
 use super::symmetry::Symmetry;
 
+/// How accurate an answer must be: the estimated relative error to reach, and the most mesh
+/// levels to spend on it (level k splits the coarse mesh [`SUBDIVISIONS`]`[k]` times).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Accuracy {
+    pub tol_rel: f64,
+    pub max_levels: usize,
+}
+
+impl Accuracy {
+    /// `tol_rel` in (0, 1) is the caller's to check (the CLI's value parsers do); levels beyond
+    /// [`SUBDIVISIONS`] are capped.
+    pub const fn new(tol_rel: f64, max_levels: usize) -> Self {
+        Accuracy {
+            tol_rel,
+            max_levels,
+        }
+    }
+}
+
+/// Which rung of the model ladder answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    /// The fixed-fixed strip (paper 001 Eq. 3-6).
+    Beam,
+    /// The Kirchhoff BFS plate.
+    Plate,
+    /// The load lies wholly over a support: no plate solve.
+    Direct,
+}
+
+impl std::fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ModelKind::Beam => "beam",
+            ModelKind::Plate => "plate",
+            ModelKind::Direct => "direct",
+        })
+    }
+}
+
 /// Which model answered and what it cost.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModelInfo {
-    /// `beam` (fixed-fixed strip, paper 001 Eq. 3-6), `plate` (Kirchhoff BFS plate) or `direct`
-    /// (load wholly over a support).
-    pub kind: String,
+    pub kind: ModelKind,
     pub elements: usize,
     pub dofs: usize,
     /// Mesh levels solved (the last one answered).
@@ -48,7 +87,7 @@ impl ModelInfo {
     /// The load lies wholly over the supports: no plate solve.
     fn direct() -> Self {
         ModelInfo {
-            kind: "direct".into(),
+            kind: ModelKind::Direct,
             elements: 0,
             dofs: 0,
             levels: 1,
@@ -110,13 +149,8 @@ pub struct SceneReport {
 }
 
 /// Solves one scene; see [`evaluate_many`].
-pub fn evaluate(
-    g: &SensorGeometry,
-    scene: &Scene,
-    tol: f64,
-    max_levels: usize,
-) -> Result<SceneReport, FeError> {
-    Ok(evaluate_many(g, std::slice::from_ref(scene), tol, max_levels)?.remove(0))
+pub fn evaluate(g: &SensorGeometry, scene: &Scene, acc: Accuracy) -> Result<SceneReport, FeError> {
+    Ok(evaluate_many(g, std::slice::from_ref(scene), acc)?.remove(0))
 }
 
 /// Answers every scene with the cheapest model whose estimated error is under `tol`: the
@@ -127,24 +161,23 @@ pub fn evaluate(
 pub fn evaluate_many(
     g: &SensorGeometry,
     scenes: &[Scene],
-    tol: f64,
-    max_levels: usize,
+    acc: Accuracy,
 ) -> Result<Vec<SceneReport>, FeError> {
-    evaluate_many_with(g, scenes, tol, max_levels, MeshOptions::default())
+    evaluate_many_with(g, scenes, acc, MeshOptions::default())
 }
 
 /// [`evaluate_many`] with a choice of mesh sequence: symmetry off solves the whole plate (the
 /// cross-check of the half model, `tactfab fe --no-symmetry`); graded meshes refine towards the
 /// loads and tooth corners (`tactfab fe --graded`).
+#[track_caller]
 pub fn evaluate_many_with(
     g: &SensorGeometry,
     scenes: &[Scene],
-    tol: f64,
-    max_levels: usize,
+    acc: Accuracy,
     mesh: MeshOptions,
 ) -> Result<Vec<SceneReport>, FeError> {
-    assert!(max_levels >= 1, "at least one mesh level");
-    let max_levels = max_levels.min(SUBDIVISIONS.len());
+    assert!(acc.max_levels >= 1, "at least one mesh level");
+    let (tol, max_levels) = (acc.tol_rel, acc.max_levels.min(SUBDIVISIONS.len()));
     let beam_error = beam_error_estimate(g);
     let by_beam = |s: &Scene| match s.load {
         SceneLoad::Line { y_um, .. } => beam_applies(g, y_um) && beam_error < tol,
@@ -187,7 +220,7 @@ fn beam_report(
         scene: scene.name.clone(),
         force_n,
         model: ModelInfo {
-            kind: "beam".into(),
+            kind: ModelKind::Beam,
             elements: 0,
             dofs: 0,
             levels: 1,
@@ -285,7 +318,7 @@ fn evaluate_plate(
                 .map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s)))
                 .collect();
             let info = ModelInfo {
-                kind: "plate".into(),
+                kind: ModelKind::Plate,
                 elements: problem.mesh.n_elements(),
                 dofs: 4 * problem.mesh.n_nodes(),
                 levels: level + 1,
@@ -437,28 +470,18 @@ fn evaluate_plate(
     Ok(out)
 }
 
-/// Relative error of the finest level: the worst quantity, each normalised by the largest
-/// magnitude of its kind (deflection; middle charges; support charges), from the last three levels.
-///
-/// Per quantity the estimate is max(Richardson |f_ext - f1|, |f1 - f2| / (r21 - 1)), i.e. the
-/// observed order is not trusted above 1 (Roache's advice to use min(observed, formal) with the
-/// formal order of a corner-singular plate taken as 1). Tooth corners keep the sensor
-/// pre-asymptotic on cheap meshes: on the bundled design the observed order of the deflection is
-/// 1.8 on subdivisions 1-2-3 but 1.2 on 4-8-16, so Richardson with the early order under-estimates
-/// the error of subdivision 3 about 2x (0.34 % against a true 0.60 %); the first-order estimate
-/// does not (0.73 %).
+/// Relative error of the finest level: the worst quantity, each by the one three-mesh estimate
+/// ([`ThreeMesh::fine_error`]) normalised by the largest magnitude of its kind (deflection; middle
+/// charges; support charges), from the last three levels. The order is the deflection's.
 fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
     let n = history.len();
     let (f3, f2, f1) = (&history[n - 3], &history[n - 2], &history[n - 1]);
     let (r32, r21) = level_ratios(n - 1);
     let kind = |i: usize| -> usize {
-        if i == 0 {
-            0
-        } else {
-            match g.electrodes[i - 1].side {
-                SupportSide::Middle => 1,
-                _ => 2,
-            }
+        match i.checked_sub(1).map(|e| g.electrodes[e].side) {
+            None => 0,
+            Some(ElectrodeSide::Middle) => 1,
+            Some(_) => 2,
         }
     };
     let mut scale = [0f64; 3];
@@ -466,15 +489,13 @@ fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
         scale[kind(i)] = scale[kind(i)].max(v.abs());
     }
     let mut worst: f64 = 0.0;
-    for i in 0..f1.len() {
-        let s = scale[kind(i)];
-        if s == 0.0 {
-            continue;
-        }
-        let r = richardson_ratios(f3[i], f2[i], f1[i], r32, r21);
-        worst = worst.max(r.error_estimate.max((f1[i] - f2[i]).abs() / (r21 - 1.0)) / s);
+    for i in (0..f1.len()).filter(|&i| scale[kind(i)] > 0.0) {
+        let e = ThreeMesh::new(f3[i], f2[i], f1[i], r32, r21).fine_error();
+        worst = worst.max(e / scale[kind(i)]);
     }
-    let order = richardson_ratios(f3[0], f2[0], f1[0], r32, r21).observed_order;
+    let order = ThreeMesh::new(f3[0], f2[0], f1[0], r32, r21)
+        .richardson
+        .observed_order;
     (worst, order)
 }
 
@@ -512,8 +533,8 @@ fn build_problem(
         .collect();
     let (x0, x1, y0, y1) = sym.domain_um;
     for (side, y) in [
-        (SupportSide::Support1, g.plate_y0_um),
-        (SupportSide::Support2, g.plate_y1_um),
+        (ElectrodeSide::Support1, g.plate_y0_um),
+        (ElectrodeSide::Support2, g.plate_y1_um),
     ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();

@@ -2,27 +2,17 @@
 
 use serde::Serialize;
 
-use crate::etch::EtchPlan;
+use crate::design::Design;
 use crate::fe::{DieEdge, PlateMaterial, ThicknessRegion};
-use crate::process::{Axis, Direction, Process, SiliconModel, TeethPattern};
-
-/// Which support an electrode or reaction belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SupportSide {
-    /// y = 0 .. support_width.
-    Support1,
-    /// The plate over the U-channel.
-    Middle,
-    /// y = width - support_width .. width.
-    Support2,
-}
+pub use crate::layout::ElectrodeSide;
+use crate::layout::MaskSet;
+use crate::process::{Axis, Direction, Process, SiliconModel};
 
 /// One electrode island as the FE model sees it: its bounding rectangle and metallised area.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ElectrodeArea {
     pub name: String,
-    pub side: SupportSide,
+    pub side: ElectrodeSide,
     pub x0_um: f64,
     pub y0_um: f64,
     pub x1_um: f64,
@@ -59,9 +49,12 @@ pub struct SensorGeometry {
 }
 
 impl SensorGeometry {
-    /// Builds the model geometry. A tooth is modelled as a square of side top + run-out (the
-    /// mid-height width of the {111} frustum) with the full tooth height on top of the plate.
-    pub fn new(p: &Process, plan: &EtchPlan, electrodes: Vec<ElectrodeArea>) -> Self {
+    /// The sensor of a design: the teeth and electrodes the mask set draws, the plate the recipe
+    /// leaves. A tooth is a square of side top + run-out (the mid-height width of the {111}
+    /// frustum, from the etch plan) with the full tooth height on top of the plate, clipped to the
+    /// plate between the supports.
+    pub fn new(design: &Design) -> Self {
+        let (p, plan) = (&design.process, &design.plan);
         let g = &p.geometry;
         let (py0, py1) = (g.support_width_um, g.die_width_um - g.support_width_um);
         let plate = plan.plate_thickness_um;
@@ -71,33 +64,8 @@ impl SensorGeometry {
             Some(s) => (s.achieved_depth_um, s.sidewall_run_out_um),
             None => (t.height_um, t.height_um / 2f64.sqrt()),
         };
-        let side = t.top_um + run_out;
-        let mut teeth = Vec::new();
-        if t.pattern != TeethPattern::None {
-            for j in 0..t.count_y {
-                for i in 0..t.count_x {
-                    if t.pattern == TeethPattern::Checkered && (i + j) % 2 == 1 {
-                        continue;
-                    }
-                    let cx = t.origin_x_um + (f64::from(i) + 0.5) * t.pitch_x_um;
-                    let cy = t.origin_y_um + (f64::from(j) + 0.5) * t.pitch_y_um;
-                    let (x0, x1) = (
-                        (cx - side / 2.0).max(0.0),
-                        (cx + side / 2.0).min(g.die_length_um),
-                    );
-                    let (y0, y1) = ((cy - side / 2.0).max(py0), (cy + side / 2.0).min(py1));
-                    if x1 > x0 && y1 > y0 {
-                        teeth.push(ThicknessRegion {
-                            x0_um: x0,
-                            y0_um: y0,
-                            x1_um: x1,
-                            y1_um: y1,
-                            thickness_um: plate + height,
-                        });
-                    }
-                }
-            }
-        }
+        let teeth = tooth_footprints(&design.masks, run_out, plate + height, (py0, py1));
+        let electrodes = Self::electrodes_from_masks(&design.masks);
         let si = &p.materials.silicon;
         let material = silicon_material(p);
         let f = &p.materials.pvdf;
@@ -125,7 +93,7 @@ impl SensorGeometry {
 
     /// Electrode rectangles of the PVDF mask: what is drawn is what the model reads. Each island's
     /// bounding box and its metallised area (pad included).
-    pub fn electrodes_from_masks(masks: &crate::layout::MaskSet) -> Vec<ElectrodeArea> {
+    pub fn electrodes_from_masks(masks: &MaskSet) -> Vec<ElectrodeArea> {
         use geo::{Area, BoundingRect};
         let mut by_name: std::collections::BTreeMap<String, ElectrodeArea> =
             std::collections::BTreeMap::new();
@@ -133,11 +101,7 @@ impl SensorGeometry {
             let Some(b) = e.polygon.bounding_rect() else {
                 continue;
             };
-            let side = match e.name.chars().nth(1) {
-                _ if e.name.starts_with("S1") => SupportSide::Support1,
-                _ if e.name.starts_with("S2") => SupportSide::Support2,
-                _ => SupportSide::Middle,
-            };
+            let side = e.side;
             let a = e.polygon.unsigned_area();
             let entry = by_name.entry(e.name.clone()).or_insert(ElectrodeArea {
                 name: e.name.clone(),
@@ -156,12 +120,7 @@ impl SensorGeometry {
         }
         // Mask order: S1k, Mk, S2k.
         let mut out: Vec<ElectrodeArea> = by_name.into_values().collect();
-        let rank = |e: &ElectrodeArea| match e.side {
-            SupportSide::Support1 => 0,
-            SupportSide::Middle => 1,
-            SupportSide::Support2 => 2,
-        };
-        out.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.name.cmp(&b.name)));
+        out.sort_by(|a, b| a.side.cmp(&b.side).then(a.name.cmp(&b.name)));
         out
     }
 
@@ -171,7 +130,7 @@ impl SensorGeometry {
         let mut ys = vec![self.plate_y0_um, self.plate_y1_um];
         for e in &self.electrodes {
             xs.extend([e.x0_um, e.x1_um]);
-            if e.side == SupportSide::Middle {
+            if e.side == ElectrodeSide::Middle {
                 ys.extend([e.y0_um, e.y1_um]);
             }
         }
@@ -189,6 +148,40 @@ impl SensorGeometry {
     pub fn capacitance_f(&self, area_um2: f64) -> f64 {
         crate::units::EPS0_F_PER_M * self.eps_r * area_um2 * 1e-12 / (self.film_thickness_um * 1e-6)
     }
+}
+
+/// Footprints of the drawn teeth over the plate: the mask's tooth tops grown by the {111}
+/// run-out, `thickness_um` thick, clipped to the die in x and to the plate `(y0, y1)` in y.
+fn tooth_footprints(
+    masks: &MaskSet,
+    run_out_um: f64,
+    thickness_um: f64,
+    (py0, py1): (f64, f64),
+) -> Vec<ThicknessRegion> {
+    if masks.tooth_cell.is_none() {
+        return Vec::new();
+    }
+    let top = masks.tooth_top_um;
+    let side = top + run_out_um;
+    masks
+        .teeth
+        .iter()
+        .filter_map(|t| {
+            let (cx, cy) = (t.x_um + top / 2.0, t.y_um + top / 2.0);
+            let (x0, x1) = (
+                (cx - side / 2.0).max(0.0),
+                (cx + side / 2.0).min(masks.die_length_um),
+            );
+            let (y0, y1) = ((cy - side / 2.0).max(py0), (cy + side / 2.0).min(py1));
+            (x1 > x0 && y1 > y0).then_some(ThicknessRegion {
+                x0_um: x0,
+                y0_um: y0,
+                x1_um: x1,
+                y1_um: y1,
+                thickness_um,
+            })
+        })
+        .collect()
 }
 
 /// The silicon plate material the process asks for: orthotropic in die axes from C11, C12, C44

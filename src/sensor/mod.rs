@@ -20,9 +20,10 @@ mod symmetry;
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{
-    evaluate, evaluate_many, evaluate_many_with, LevelRecord, ModelInfo, SceneReport,
+    evaluate, evaluate_many, evaluate_many_with, Accuracy, LevelRecord, ModelInfo, ModelKind,
+    SceneReport,
 };
-pub use geometry::{silicon_material, ElectrodeArea, SensorGeometry, SupportSide};
+pub use geometry::{silicon_material, ElectrodeArea, ElectrodeSide, SensorGeometry};
 pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
 pub use readout::{ElectrodeReading, Readout};
 pub use scene::{DirectLoad, SceneLoads};

@@ -5,7 +5,7 @@ use serde::Serialize;
 use crate::fe::{PlateSolution, RectUm};
 use crate::process::Axis;
 
-use super::geometry::{SensorGeometry, SupportSide};
+use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::scene::DirectLoad;
 
 /// One electrode's reading.
@@ -27,18 +27,18 @@ pub struct Readout {
 }
 
 /// Reaction group of a support's clamped inner edge.
-pub fn group_for(side: SupportSide) -> &'static str {
+pub fn group_for(side: ElectrodeSide) -> &'static str {
     match side {
-        SupportSide::Support1 => "support1",
-        SupportSide::Support2 => "support2",
-        SupportSide::Middle => unreachable!("the middle carries no reaction"),
+        ElectrodeSide::Support1 => "support1",
+        ElectrodeSide::Support2 => "support2",
+        ElectrodeSide::Middle => unreachable!("the middle carries no reaction"),
     }
 }
 
 /// Force through an electrode's x-extent: each nodal reaction spread over its tributary length
 /// (half-way to its neighbours) and counted by the overlap with [x0, x1], so a node on an
 /// electrode edge is shared, not given to one side.
-fn edge_force(sol: &PlateSolution, side: SupportSide, x0: f64, x1: f64) -> f64 {
+fn edge_force(sol: &PlateSolution, side: ElectrodeSide, x0: f64, x1: f64) -> f64 {
     let mut nodes: Vec<(f64, f64)> = sol
         .nodal_reactions(group_for(side))
         .iter()
@@ -90,16 +90,16 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
     }
     for d in direct {
         match d.side {
-            SupportSide::Support1 => s1 += d.force_n,
-            SupportSide::Support2 => s2 += d.force_n,
-            SupportSide::Middle => {}
+            ElectrodeSide::Support1 => s1 += d.force_n,
+            ElectrodeSide::Support2 => s2 += d.force_n,
+            ElectrodeSide::Middle => {}
         }
     }
     let ep = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu);
     for e in &g.electrodes {
         let c_f = g.capacitance_f(e.area_um2);
         let (charge_pc, force_n) = match e.side {
-            SupportSide::Middle => {
+            ElectrodeSide::Middle => {
                 let (ix, iy) = sol
                     .map(|s| {
                         s.integrate_bottom_strain(RectUm {

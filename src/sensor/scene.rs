@@ -10,12 +10,12 @@ use crate::fe::loads::probe_polygon;
 use crate::fe::{Load, RectUm};
 use crate::process::SceneLoad;
 
-use super::geometry::{SensorGeometry, SupportSide};
+use super::geometry::{ElectrodeSide, SensorGeometry};
 
 /// Force delivered straight to a support over an x-range (uniformly along it).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DirectLoad {
-    pub side: SupportSide,
+    pub side: ElectrodeSide,
     pub x0_um: f64,
     pub x1_um: f64,
     pub force_n: f64,
@@ -137,9 +137,9 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
                 )
             } else {
                 let side = if y_um <= py0 {
-                    SupportSide::Support1
+                    ElectrodeSide::Support1
                 } else {
-                    SupportSide::Support2
+                    ElectrodeSide::Support2
                 };
                 (
                     vec![],
@@ -174,9 +174,9 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
     let mut plate = Vec::new();
     let mut direct = Vec::new();
     for (side, y0, y1) in [
-        (SupportSide::Support1, 0.0, py0),
-        (SupportSide::Middle, py0, py1),
-        (SupportSide::Support2, py1, w),
+        (ElectrodeSide::Support1, 0.0, py0),
+        (ElectrodeSide::Middle, py0, py1),
+        (ElectrodeSide::Support2, py1, w),
     ] {
         let c = clip_polygon(poly, 0.0, y0, l, y1);
         if c.len() < 3 {
@@ -187,7 +187,7 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
             continue;
         }
         let f = force_n * a / area;
-        if side == SupportSide::Middle {
+        if side == ElectrodeSide::Middle {
             plate.push(Load::Polygon {
                 points_um: c,
                 total_force_n: f,

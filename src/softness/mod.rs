@@ -21,23 +21,24 @@ pub mod composite_beam;
 pub mod continuum;
 pub mod inverse;
 pub mod plot;
+pub mod study;
 pub mod tissue_fe;
 
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::sensor::{SensorGeometry, SupportSide};
+use crate::sensor::{ElectrodeSide, SensorGeometry};
 
 /// Softness errors; each carries a hint.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SoftnessError {
-    #[error("sparse solver failed ({detail}); hint: {hint}")]
+    #[error("sparse solver failed ({detail})\n  hint: {hint}")]
     Solver { detail: String, hint: &'static str },
-    #[error("no middle electrode over the die centre; hint: {hint}")]
+    #[error("no middle electrode over the die centre\n  hint: {hint}")]
     NoMiddleElectrode { hint: &'static str },
     #[error(
         "voltage per force {v_per_n:.4e} V/N is outside the model's range [{lo:.4e}, {hi:.4e}] \
-         for E in [{e_lo_pa:.3e}, {e_hi_pa:.3e}] Pa; hint: {hint}"
+         for E in [{e_lo_pa:.3e}, {e_hi_pa:.3e}] Pa\n  hint: {hint}"
     )]
     OutOfRange {
         v_per_n: f64,
@@ -47,7 +48,7 @@ pub enum SoftnessError {
         e_hi_pa: f64,
         hint: &'static str,
     },
-    #[error("invalid input {field} = {value}; hint: {hint}")]
+    #[error("invalid input {field} = {value}\n  hint: {hint}")]
     BadInput {
         field: &'static str,
         value: f64,
@@ -110,7 +111,7 @@ impl SoftnessSetup {
         let e = g
             .electrodes
             .iter()
-            .find(|e| e.side == SupportSide::Middle && e.x0_um <= xc && e.x1_um >= xc)
+            .find(|e| e.side == ElectrodeSide::Middle && e.x0_um <= xc && e.x1_um >= xc)
             .ok_or(SoftnessError::NoMiddleElectrode {
                 hint: "the PVDF mask needs a middle island over the die centre",
             })?;

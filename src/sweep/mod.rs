@@ -22,11 +22,11 @@ pub use shard::{merge_dir, Merged, Shard};
 /// Sweep errors; each carries a hint.
 #[derive(Debug, Error)]
 pub enum SweepError {
-    #[error("bad shard '{text}'; hint: {hint}")]
+    #[error("bad shard '{text}'\n  hint: {hint}")]
     BadShard { text: String, hint: &'static str },
-    #[error("merge failed: {detail}; hint: {hint}")]
+    #[error("merge failed: {detail}\n  hint: {hint}")]
     Merge { detail: String, hint: &'static str },
-    #[error("{}: {cause}; hint: check that the directory exists and is readable", path.display())]
+    #[error("{}: {cause}\n  hint: check that the directory exists and is readable", path.display())]
     Io {
         path: PathBuf,
         cause: std::io::Error,

@@ -3,7 +3,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::fe::{richardson, FeResult, Richardson};
+use crate::fe::{FeResult, ThreeMesh};
 use crate::sweep::design::{Design, DesignModel, DesignSolver, Grid, Response};
 
 /// One CSV row: a design, its response and whether it belongs to the prototype's family.
@@ -146,9 +146,8 @@ pub fn run_range(
 }
 
 /// Estimated discretisation error of the sweep mesh for one design: three nested meshes (the
-/// sweep's, 2x and 4x finer), Richardson per quantity (fe::richardson); the relative error of the
-/// sweep mesh is |f_sweep - f_extrapolated| / |f_extrapolated| (or the fine-level difference when
-/// not monotone).
+/// sweep's, 2x and 4x finer) and the one three-mesh estimate per quantity
+/// ([`ThreeMesh::relative_error_of`] the sweep mesh's value).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DesignError {
     pub design: Design,
@@ -172,11 +171,10 @@ pub fn estimate_error(model: &DesignModel, designs: &[Design]) -> FeResult<Vec<D
                     .solve(d)
                 })
                 .collect::<FeResult<_>>()?;
+            // Error of the coarsest (the sweep's) level against the best estimate of the limit.
             let rel = |f: fn(&Response) -> f64| {
                 let (f3, f2, f1) = (f(&levels[0]), f(&levels[1]), f(&levels[2]));
-                let rich: Richardson = richardson(f3, f2, f1, 2.0);
-                // Error of the coarsest (the sweep's) level against the best estimate of the limit.
-                (f3 - rich.extrapolated).abs().max(rich.error_estimate) / rich.extrapolated.abs()
+                ThreeMesh::new(f3, f2, f1, 2.0, 2.0).relative_error_of(f3)
             };
             Ok(DesignError {
                 design: *d,

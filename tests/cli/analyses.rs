@@ -5,9 +5,9 @@
 use tactfab::analysis::calibration::{calibrate, Calibration, CalibrationPlan, SupportGroups};
 use tactfab::analysis::inverse::{held_out_errors, noise_study, Locator};
 use tactfab::analysis::orientation::{study, OrientationPlan};
-use tactfab::etch;
+use tactfab::design::Design;
 use tactfab::process::load_str;
-use tactfab::sensor::SensorGeometry;
+use tactfab::sensor::{Accuracy, ModelKind, SensorGeometry};
 
 use std::sync::OnceLock;
 
@@ -19,9 +19,7 @@ fn geometry() -> SensorGeometry {
     let p = load_str(PROCESS, "mis-grasper.yaml", &[])
         .expect("valid process")
         .process;
-    let plan = etch::plan(&p);
-    let masks = tactfab::layout::build(&p, &plan).expect("mask set");
-    SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks))
+    SensorGeometry::new(&Design::new(p).expect("design"))
 }
 
 /// A small but real plan, solved once for both library tests (one coarse 1 mm mesh level shared by
@@ -31,7 +29,7 @@ fn reduced() -> &'static (SensorGeometry, Calibration) {
     static CAL: OnceLock<(SensorGeometry, Calibration)> = OnceLock::new();
     CAL.get_or_init(|| {
         let g = geometry();
-        let mut plan = CalibrationPlan::new(&g, 7500.0, 2500.0, 0, 250.0, 0.05, 1);
+        let mut plan = CalibrationPlan::new(&g, 7500.0, 2500.0, 0, 250.0, Accuracy::new(0.05, 1));
         plan.force_table_n = vec![0.001, 1.0, 5.0];
         plan.y_sweep_um = vec![221.0, 5074.0, 7500.0, 9926.0, 14779.0];
         plan.x_sweep_um = vec![1000.0, 29000.0];
@@ -60,7 +58,7 @@ fn calibration_is_linear_and_reads_the_supports_as_paper_002_describes() {
     // Fig. 12/23: over support 1 only support 1 reads (direct load), V12 = V22 at the centre,
     // the support-1 share falls monotonically across the plate.
     let first = &c.y_sweep[0];
-    assert_eq!(first.model, "direct");
+    assert_eq!(first.model, Some(ModelKind::Direct));
     assert!(first.voltage_mv[s22] == 0.0 && first.voltage_mv[s12] < 0.0);
     let mid = c
         .y_sweep
@@ -162,7 +160,7 @@ fn the_inverse_recovers_grid_loads_exactly_and_held_out_loads_within_the_stated_
 #[test]
 fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
     let g = geometry();
-    let mut plan = OrientationPlan::paper(&g, 30.0, 0.05, 1);
+    let mut plan = OrientationPlan::paper(&g, 30.0, Accuracy::new(0.05, 1));
     plan.degree = 4;
     plan.fourier_degree = 2;
     plan.inverse_fractions = vec![0.3, 0.7];
@@ -233,12 +231,10 @@ fn the_four_element_sensor_reads_orientation_as_paper_000_reports() {
     let p = load_str(&text, "four-element.yaml", &[])
         .expect("valid process")
         .process;
-    let plan = etch::plan(&p);
-    let masks = tactfab::layout::build(&p, &plan).expect("mask set");
-    let g = SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks));
+    let g = SensorGeometry::new(&Design::new(p).expect("design"));
     let names: Vec<&str> = g.electrodes.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, ["A", "B", "C", "D"]);
-    let mut op = OrientationPlan::paper(&g, 15.0, 0.05, 1);
+    let mut op = OrientationPlan::paper(&g, 15.0, Accuracy::new(0.05, 1));
     op.inverse_fractions = vec![0.25, 0.75];
     op.electrode = Some("A".into());
     let o = study(&g, &op).expect("study");

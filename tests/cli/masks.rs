@@ -7,7 +7,8 @@ use std::path::Path;
 use super::harness::{root, run, run_env};
 
 const PROCESS: &str = "process/mis-grasper.yaml";
-const FILES: [&str; 5] = [
+const FILES: [&str; 6] = [
+    "masks.txt",
     "mis-grasper.gds",
     "mis-grasper.lyp",
     "mis-grasper-front-si.svg",

@@ -1,12 +1,12 @@
 //! The sensor model against the papers' claims and physical invariants, and `tactfab fe` through
 //! the binary. Meshes are kept to two or three levels so the suite stays fast.
 
-use tactfab::etch;
+use tactfab::design::Design;
 use tactfab::fe::richardson_ratios;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::sensor::{
-    evaluate, evaluate_many_with, level_ratios, MeshOptions, SceneReport, SensorGeometry,
-    SUBDIVISIONS,
+    evaluate, evaluate_many_with, level_ratios, Accuracy, MeshOptions, ModelKind, SceneReport,
+    SensorGeometry, SUBDIVISIONS,
 };
 
 use super::harness::{tactfab, REFERENCE};
@@ -18,9 +18,7 @@ fn geometry(sets: &[&str]) -> SensorGeometry {
     let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
         .expect("valid process")
         .process;
-    let plan = etch::plan(&p);
-    let masks = tactfab::layout::build(&p, &plan).expect("mask set");
-    SensorGeometry::new(&p, &plan, SensorGeometry::electrodes_from_masks(&masks))
+    SensorGeometry::new(&Design::new(p).expect("design"))
 }
 
 fn point(x_mm: f64, y_mm: f64, force_n: f64) -> Scene {
@@ -37,7 +35,7 @@ fn point(x_mm: f64, y_mm: f64, force_n: f64) -> Scene {
 }
 
 fn solve(g: &SensorGeometry, s: &Scene, levels: usize) -> SceneReport {
-    evaluate(g, s, 1e-9, levels).expect("solves")
+    evaluate(g, s, Accuracy::new(1e-9, levels)).expect("solves")
 }
 
 fn v(r: &SceneReport, name: &str) -> f64 {
@@ -133,7 +131,7 @@ fn support_pair_follows_the_load_across_y() {
     rel_eq(f12[4], f22[4], 1e-6);
     // On top of support 1 the plate carries nothing: the direct model answers.
     let on_support = solve(&g, &point(15.0, 1.0, 1.0), 2);
-    assert_eq!(on_support.model.kind, "direct");
+    assert_eq!(on_support.model.kind, ModelKind::Direct);
     rel_eq(on_support.reactions_n.support1, 1.0, 1e-12);
 }
 
@@ -209,7 +207,7 @@ fn isotropic_silicon_is_stiffer_than_anisotropic() {
 #[test]
 fn error_estimate_comes_from_three_meshes_and_is_conservative() {
     let g = geometry(&[]);
-    let r = evaluate(&g, &point(15.0, 7.5, 1.0), 0.01, 4).unwrap();
+    let r = evaluate(&g, &point(15.0, 7.5, 1.0), Accuracy::new(0.01, 4)).unwrap();
     let est = r.error_estimate.unwrap();
     assert!(r.converged && est < 0.01, "{est}");
     let c = &r.convergence;
@@ -226,7 +224,7 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
     }
     // The truth, Richardson on subdivisions 4, 6 and 8 (observed order ~1.2, steady from 3 to 16):
     // the estimate is above the true error of the deflection, and not wildly so.
-    let fine = evaluate(&g, &point(15.0, 7.5, 1.0), 1e-9, 6).unwrap();
+    let fine = evaluate(&g, &point(15.0, 7.5, 1.0), Accuracy::new(1e-9, 6)).unwrap();
     let w: Vec<f64> = fine
         .convergence
         .iter()
@@ -342,12 +340,13 @@ fn the_strip_model_answers_line_loads_within_its_own_bound() {
                 load: SceneLoad::Line { y_um, force_n: 1.0 },
                 limits: Limits::default(),
             };
-            let beam = evaluate(&g, &s, 2.0 * bound, 1).unwrap();
-            assert_eq!(beam.model.kind, "beam", "{sets:?}");
+            let beam = evaluate(&g, &s, Accuracy::new(2.0 * bound, 1)).unwrap();
+            assert_eq!(beam.model.kind, ModelKind::Beam, "{sets:?}");
             assert_eq!(beam.error_estimate, Some(bound));
-            let plate = evaluate(&g, &s, 0.99 * bound, 3).unwrap();
+            let plate = evaluate(&g, &s, Accuracy::new(0.99 * bound, 3)).unwrap();
             assert_eq!(
-                plate.model.kind, "plate",
+                plate.model.kind,
+                ModelKind::Plate,
                 "a tolerance under the bound needs the plate"
             );
             let allowed = bound + plate.error_estimate.unwrap();
@@ -406,7 +405,7 @@ fn hard_cases_solve_with_a_stated_error() {
         "steps.tmah-etch.time_h=null",
     ]);
     assert!((thin.plate_thickness_um - 50.0).abs() < 1e-9);
-    let r = evaluate(&thin, &point(20.0, 7.5, 1.0), 0.02, 4).unwrap();
+    let r = evaluate(&thin, &point(20.0, 7.5, 1.0), Accuracy::new(0.02, 4)).unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     assert!(
         r.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
@@ -415,7 +414,7 @@ fn hard_cases_solve_with_a_stated_error() {
     );
     let p = r.model.observed_order.expect("monotone convergence");
     assert!(p > 0.5 && p < 3.0, "observed order {p}");
-    let small = evaluate(&thin, &point(20.0, 7.5, 0.01), 0.02, 4).unwrap();
+    let small = evaluate(&thin, &point(20.0, 7.5, 0.01), Accuracy::new(0.02, 4)).unwrap();
     assert!(
         !small.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
         "{:?}",
@@ -425,7 +424,7 @@ fn hard_cases_solve_with_a_stated_error() {
     let g = geometry(&[]);
     // At a free corner of the plate, next to support 1 and the x = 0 end: the near end unit of
     // support 1 carries the most, and the reactions still balance the load.
-    let r = evaluate(&g, &point(0.6, 3.1, 1.0), 0.02, 4).unwrap();
+    let r = evaluate(&g, &point(0.6, 3.1, 1.0), Accuracy::new(0.02, 4)).unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
     let support_max = r
@@ -441,16 +440,15 @@ fn hard_cases_solve_with_a_stated_error() {
     let r = evaluate(
         &g,
         &point(t.x0_um / 1e3, (t.y0_um + t.y1_um) / 2e3, 1.0),
-        0.02,
-        4,
+        Accuracy::new(0.02, 4),
     )
     .unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     rel_eq(r.reactions_n.support1 + r.reactions_n.support2, 1.0, 1e-9);
 
     // Wholly over a support: no plate solve, the support takes it all.
-    let r = evaluate(&g, &point(15.0, 1.0, 1.0), 0.02, 4).unwrap();
-    assert_eq!(r.model.kind, "direct");
+    let r = evaluate(&g, &point(15.0, 1.0, 1.0), Accuracy::new(0.02, 4)).unwrap();
+    assert_eq!(r.model.kind, ModelKind::Direct);
     rel_eq(r.reactions_n.support1, 1.0, 1e-12);
 }
 
@@ -471,8 +469,7 @@ fn symmetric_scenes_solve_part_of_the_plate() {
         let sym = evaluate_many_with(
             &g,
             std::slice::from_ref(&s),
-            0.01,
-            6,
+            Accuracy::new(0.01, 6),
             MeshOptions::default(),
         )
         .unwrap()
@@ -480,8 +477,7 @@ fn symmetric_scenes_solve_part_of_the_plate() {
         let whole = evaluate_many_with(
             &g,
             std::slice::from_ref(&s),
-            0.01,
-            6,
+            Accuracy::new(0.01, 6),
             MeshOptions {
                 symmetry: false,
                 graded: false,
@@ -526,13 +522,12 @@ fn symmetric_scenes_solve_part_of_the_plate() {
     }
     // Off the mirror line, or several scenes of which one is off it: the whole plate.
     let g = geometry(&[]);
-    let off = evaluate(&g, &point(15.0, 5.0, 1.0), 0.05, 3).unwrap();
+    let off = evaluate(&g, &point(15.0, 5.0, 1.0), Accuracy::new(0.05, 3)).unwrap();
     assert_eq!(off.model.symmetry, None);
     let both = evaluate_many_with(
         &g,
         &[point(15.0, 7.5, 1.0), point(15.0, 5.0, 1.0)],
-        0.05,
-        3,
+        Accuracy::new(0.05, 3),
         MeshOptions::default(),
     )
     .unwrap();
@@ -549,8 +544,7 @@ fn graded_and_ungraded_meshes_agree_within_their_estimates() {
         let plain = evaluate_many_with(
             &g,
             std::slice::from_ref(&s),
-            0.01,
-            4,
+            Accuracy::new(0.01, 4),
             MeshOptions::default(),
         )
         .unwrap()
@@ -558,8 +552,7 @@ fn graded_and_ungraded_meshes_agree_within_their_estimates() {
         let graded = evaluate_many_with(
             &g,
             std::slice::from_ref(&s),
-            0.01,
-            4,
+            Accuracy::new(0.01, 4),
             MeshOptions {
                 symmetry: true,
                 graded: true,

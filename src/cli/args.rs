@@ -1,0 +1,404 @@
+//! Every clap type of the command line. Shared option groups (the process file, accuracy, the
+//! calibration grid, the output date) are flattened into the subcommands that need them, and
+//! every value is checked by a value parser, so a subcommand receives only values it can use:
+//! a bad flag is exit 2 naming the flag, before any work starts.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use super::parse;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "tactfab",
+    version,
+    about = "From one process file to etch plan, masks, FE sensitivity and traveler for PVDF \
+             tactile sensors"
+)]
+#[command(
+    after_help = "Exit codes: 0 ok, 1 a check of the process failed, 2 bad input or I/O error."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Validate a process file: summary, defaults used and their sources, all warnings.
+    Check(ProcessArgs),
+    /// Compute the etch plan: rates, times, sidewalls, compensation, oxide budget.
+    Etch(EtchArgs),
+    /// Finite-element sensitivity: charge and voltage of every electrode under each scene.
+    Fe(FeArgs),
+    /// Generate the mask set (GDS, SVG per mask, KLayout .lyp), print the inventory and run DRC.
+    Masks(MasksArgs),
+    /// Everything for one process file into DIR: etch plan, masks, DRC, FE checks, traveler,
+    /// build.json.
+    Build(BuildArgs),
+    /// The process traveler (run sheet) as Markdown and a self-contained HTML page.
+    Traveler(TravelerArgs),
+    /// Design sweep (paper 001 sec. 4.1): 15,000 plates, the family matching the prototype;
+    /// sharded or merged.
+    Sweep(SweepArgs),
+    /// Softness (paper 001 Fig. 24): middle-electrode voltage vs tissue modulus, composite beam
+    /// and FE; the inverse.
+    Softness(SoftnessArgs),
+    /// Calibration tables (force, y, x sweeps), the load inverse's error on held-out loads and
+    /// under noise: CSV + SVG in DIR.
+    Calibrate(CalibrateArgs),
+    /// Force and position of a load from the electrode voltages (through the calibration grid).
+    Locate(LocateArgs),
+    /// Probe-orientation study (paper 000): charge against angle, fits, inverse angle, bivariate
+    /// function.
+    Orient(OrientArgs),
+}
+
+/// The process file and what-if overrides, shared by every subcommand.
+#[derive(Debug, Args)]
+pub struct ProcessArgs {
+    /// Process file (YAML), e.g. process/mis-grasper.yaml.
+    pub file: PathBuf,
+    /// Override a field: `--set steps.tmah-etch.temp_c=85`, `--set geometry.teeth.pattern=matrix`
+    /// (repeatable; steps may be named or indexed as steps[10]).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// How accurate an FE answer must be; shared by every subcommand that solves. The defaults are
+/// those of `fe`, `build` and `traveler`; the studies (many scattered loads on one mesh) set
+/// their own (tol 0.05, 3 levels) and say so in `--help`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct AccuracyArgs {
+    /// Relative error the answer must be under (estimated from three meshes), in (0, 1).
+    #[arg(long, value_parser = parse::tolerance, default_value = "0.01")]
+    pub tol: f64,
+    /// Most mesh levels to try, 1-10 (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, 8, 12,
+    /// 16, 24 or 32 times; three are needed for an error estimate).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "8")]
+    pub max_levels: u8,
+}
+
+impl From<AccuracyArgs> for tactfab::sensor::Accuracy {
+    fn from(a: AccuracyArgs) -> Self {
+        tactfab::sensor::Accuracy {
+            tol_rel: a.tol,
+            max_levels: usize::from(a.max_levels),
+        }
+    }
+}
+
+/// Dates written into the GDS header: `SOURCE_DATE_EPOCH` (reproducible builds) or zero.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct DateArgs {
+    /// GDS modification/access date in seconds since 1970 (years 1970-9999); without it the dates
+    /// are zero, so the same input gives the same bytes.
+    #[arg(
+        long = "source-date-epoch",
+        env = "SOURCE_DATE_EPOCH",
+        value_name = "SECONDS",
+        value_parser = parse::source_date_epoch,
+        hide_env_values = true
+    )]
+    pub epoch_s: Option<i64>,
+}
+
+/// Where the calibration grid's point loads go; shared by `calibrate` and `locate`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct GridArgs {
+    /// Spacing of the x sweep and of the inverse grid's x nodes (0.1-30 mm).
+    #[arg(long, default_value = "2", value_parser = parse::grid_step_mm)]
+    pub x_step_mm: f64,
+    /// Spacing of the y sweep (support to support) and of the inverse grid's y nodes (0.1-30 mm).
+    #[arg(long, default_value = "1.25", value_parser = parse::grid_step_mm)]
+    pub y_step_mm: f64,
+    /// Contact radius of the point loads (0.01-5 mm; the stress under a point is singular).
+    #[arg(long, default_value = "0.25", value_parser = parse::contact_radius_mm)]
+    pub contact_radius_mm: f64,
+}
+
+#[derive(Debug, Args)]
+pub struct EtchArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Print the plan as JSON (stable contract) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct FeArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Run only this scene of checks.scenes.
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (contact radius
+    /// default 0.25 mm).
+    #[arg(long, value_name = "X_MM,Y_MM,FORCE_N[,RADIUS_MM]", value_parser = parse::point_load)]
+    pub point: Vec<parse::PointLoad>,
+    /// Ad-hoc uniform pressure over the plate, by total force.
+    #[arg(long, value_name = "FORCE_N", allow_hyphen_values = true, value_parser = parse::force_n)]
+    pub pressure: Vec<f64>,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
+    /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Solve the whole plate even when the teeth and every scene are mirror-symmetric (by default
+    /// such scenes solve half or a quarter of it; this is the cross-check).
+    #[arg(long)]
+    pub no_symmetry: bool,
+    /// Grade the coarsest mesh geometrically towards the load patches and tooth edges (by default
+    /// only feature lines: on the bundled design grading cost 2.7x at 1 % and paid only for a
+    /// centre load at 0.5 %).
+    #[arg(long)]
+    pub graded: bool,
+    /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)
+    /// and write the plot of error against dofs and time (see --plot).
+    #[arg(long)]
+    pub convergence: bool,
+    /// Where --convergence writes its SVG plot.
+    #[arg(
+        long,
+        value_name = "SVG",
+        default_value = "fe-convergence.svg",
+        requires = "convergence"
+    )]
+    pub plot: PathBuf,
+}
+
+/// Mask output formats; the .lyp goes with the GDS.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Gds,
+    Svg,
+}
+
+#[derive(Debug, Args)]
+pub struct MasksArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory; files are `<device>.gds`, `<device>.lyp`, `<device>-<mask>.svg`.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Formats to write (comma-separated); the .lyp comes with gds.
+    #[arg(long, value_delimiter = ',', default_value = "gds,svg")]
+    pub format: Vec<Format>,
+    #[command(flatten)]
+    pub date: DateArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct BuildArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory, written atomically; an existing one is replaced only if it holds a
+    /// previous build (`build.json`) or is empty.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
+    #[command(flatten)]
+    pub date: DateArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct TravelerArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output path: writes PATH.md and PATH.html (a `.md` or `.html` extension is replaced).
+    #[arg(short = 'o', long = "out", value_name = "PATH")]
+    pub out: PathBuf,
+    /// Skip the FE solves: the traveler says the sensitivity was not computed.
+    #[arg(long)]
+    pub no_fe: bool,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
+    #[command(flatten)]
+    pub date: DateArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct SoftnessArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Tissue thickness (um) [choice: paper 001 gives none].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_THICKNESS_UM,
+          value_parser = parse::tissue_thickness_um)]
+    pub tissue_thickness_um: f64,
+    /// Tissue Poisson's ratio, 0-0.4999 [paper 001 sec. 4.3.2: 0.49].
+    #[arg(long, default_value_t = tactfab::softness::TISSUE_NU, value_parser = parse::tissue_nu)]
+    pub tissue_nu: f64,
+    /// Distributed loads (N) [paper 001 Fig. 24: 1-5 N].
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5", value_parser = parse::force_n)]
+    pub forces_n: Vec<f64>,
+    /// Tissue modulus range LO,HI,POINTS (Pa, log spaced, 2-200 points) [paper 001: 1e4-1e8 Pa].
+    #[arg(long, default_value = "1e4,1e8,17", value_name = "LO,HI,POINTS",
+          value_parser = parse::modulus_range_pa)]
+    pub e_range_pa: parse::Range,
+    /// E_t from a measured middle-electrode voltage and force: VOLTAGE_MV,FORCE_N.
+    #[arg(long, value_name = "VOLTAGE_MV,FORCE_N", allow_hyphen_values = true,
+          value_parser = parse::voltage_and_force)]
+    pub invert: Option<(f64, f64)>,
+    /// Write softness.csv and softness.svg into DIR.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab \
+                  sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  \
+                  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'"
+)]
+pub struct SweepArgs {
+    /// The process file (Si stiffness, die size of the prototype, fracture strength and safety
+    /// factor) and overrides; not with --merge.
+    #[command(flatten)]
+    pub process: Option<ProcessArgs>,
+    /// Output directory: sweep.csv (or sweep-i-of-n.csv) and family.svg.
+    #[arg(
+        short = 'o',
+        long = "out",
+        value_name = "DIR",
+        required_unless_present = "merge"
+    )]
+    pub out: Option<PathBuf>,
+    /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw
+    /// DIR/family.svg.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "shard", "out"])]
+    pub merge: Option<PathBuf>,
+    /// Relative tolerance on the elongation for the family, in (0, 1) (paper 001 gives none).
+    #[arg(long, default_value = "0.01", value_parser = parse::tolerance)]
+    pub tol: f64,
+    /// Centre load (N) [paper 001 sec. 4.1].
+    #[arg(long, default_value = "4", value_parser = parse::force_n)]
+    pub force_n: f64,
+    /// Contact patch radius (0.01-5 mm): the stress under a point is singular [choice, as
+    /// `tactfab fe --point`].
+    #[arg(long, default_value = "0.25", value_parser = parse::contact_radius_mm)]
+    pub contact_radius_mm: f64,
+    /// Plate length range LO,HI,STEPS (um) [paper 001: 10-40 mm, 30 steps].
+    #[arg(long, default_value = "10000,40000,30", value_name = "LO,HI,STEPS",
+          value_parser = parse::sweep_range_um)]
+    pub length_um: parse::Range,
+    /// Plate width (clamped span) range LO,HI,STEPS (um) [paper 001: 7.5-20 mm, 25 steps].
+    #[arg(long, default_value = "7500,20000,25", value_name = "LO,HI,STEPS",
+          value_parser = parse::sweep_range_um)]
+    pub width_um: parse::Range,
+    /// Plate thickness range LO,HI,STEPS (um) [paper 001: 50-150 um, 20 steps].
+    #[arg(long, default_value = "50,150,20", value_name = "LO,HI,STEPS",
+          value_parser = parse::sweep_range_um)]
+    pub thickness_um: parse::Range,
+    /// Skip the three-mesh error estimate at the grid corners and the prototype.
+    #[arg(long)]
+    pub no_error_estimate: bool,
+    /// Refactorise per design instead of scaling one solve per (length, width) by t^3 (same
+    /// results to ~1e-9, ~20x slower).
+    #[arg(long)]
+    pub direct: bool,
+}
+
+/// The studies' accuracy: many scattered loads share one mesh, so a coarser default than `fe`.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct StudyAccuracyArgs {
+    /// Relative error the FE answer should be under (three-mesh estimate), in (0, 1).
+    #[arg(long, value_parser = parse::tolerance, default_value = "0.05")]
+    pub tol: f64,
+    /// Most mesh levels, 1-10 (level k splits the 2 mm coarse mesh 1, 2, 3, 4, 6, ... times); 3
+    /// are needed for an error estimate.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "3")]
+    pub max_levels: u8,
+}
+
+impl From<StudyAccuracyArgs> for tactfab::sensor::Accuracy {
+    fn from(a: StudyAccuracyArgs) -> Self {
+        tactfab::sensor::Accuracy {
+            tol_rel: a.tol,
+            max_levels: usize::from(a.max_levels),
+        }
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory: force.csv, y-sweep.csv, x-sweep.csv, grid.csv, held-out.csv, noise.csv
+    /// and SVG plots.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// Held-out loads (cell centres, forces 0.05/0.3/1.7/4.2 N) for the inverse's error table
+    /// (0-1000).
+    #[arg(long, default_value = "8", value_parser = clap::value_parser!(u16).range(0..=1000))]
+    pub held_out: u16,
+    /// Gaussian noise levels (standard deviation, mV, 0-1e4) added to every voltage in the noise
+    /// study.
+    #[arg(long, value_delimiter = ',', default_value = "0,0.1,0.3,1,3,10",
+          value_parser = parse::noise_mv)]
+    pub noise_mv: Vec<f64>,
+    /// Noisy copies of each held-out load per noise level (1-10000).
+    #[arg(long, default_value = "50", value_parser = clap::value_parser!(u16).range(1..=10000))]
+    pub trials: u16,
+    /// Seed of the noise generator (splitmix64 + Box-Muller): same seed, same numbers.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[command(flatten)]
+    pub accuracy: StudyAccuracyArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct LocateArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// One voltage (mV) per electrode in the model's order (S11,S12,S13,M1,M2,M3,S21,S22,S23 on
+    /// mis-grasper).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true,
+          value_parser = parse::finite)]
+    pub voltages: Vec<f64>,
+    /// Directory written by `tactfab calibrate` (reads its grid.csv); without it the grid is
+    /// solved now.
+    #[arg(long, value_name = "DIR")]
+    pub calibration: Option<PathBuf>,
+    #[command(flatten)]
+    pub grid: GridArgs,
+    #[command(flatten)]
+    pub accuracy: StudyAccuracyArgs,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct OrientArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Angle step, 1-90 deg; must divide 180 (paper 000: 10).
+    #[arg(long, default_value = "10", value_parser = parse::angle_step_deg)]
+    pub step_deg: f64,
+    /// Degree of the Chebyshev fit, 0-30 (paper 000: 10).
+    #[arg(long, default_value = "10", value_parser = clap::value_parser!(u8).range(0..=30))]
+    pub degree: u8,
+    /// Harmonics of the Fourier-in-2-theta fit, 0-30 (2 k + 1 terms; at most 8 on 18 distinct
+    /// angles).
+    #[arg(long, default_value = "4", value_parser = clap::value_parser!(u8).range(0..=30))]
+    pub fourier_degree: u8,
+    /// Electrode for the inverse angle (default: the one whose charge varies most with angle).
+    #[arg(long)]
+    pub electrode: Option<String>,
+    /// Also write orientation.csv and one SVG per electrode (FE points and both fits) here.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub accuracy: StudyAccuracyArgs,
+    /// Print the whole study as JSON (the cost fields hold wall-clock ms and vary run to run).
+    #[arg(long)]
+    pub json: bool,
+}
