@@ -274,7 +274,7 @@ fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
         .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a })
 }
 
-/// The plate path of [`evaluate_many`].
+/// The plate path of [`evaluate_many`]: the level loop, then one report per scene.
 fn evaluate_plate(
     g: &SensorGeometry,
     scenes: &[Scene],
@@ -283,6 +283,44 @@ fn evaluate_plate(
     mesh: MeshOptions,
 ) -> Result<Vec<SceneReport>, FeError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
+    let levels = solve_levels(g, &loads, tol, max_levels, mesh)?;
+    Ok(scenes
+        .iter()
+        .zip(&loads)
+        .enumerate()
+        .map(|(k, (scene, l))| scene_report(g, scene, l, k, &levels, tol))
+        .collect())
+}
+
+/// What the level loop leaves: per scene the history of its quantities (deflection at the load,
+/// then each electrode's charge) and estimates, the cost of each level, and the last level's
+/// solutions and readings.
+struct Levels {
+    /// Per scene, per level: [w at the load, charge of each electrode].
+    history: Vec<Vec<Vec<f64>>>,
+    /// Per scene, per level: (estimate, observed order) after that level.
+    estimates: Vec<Vec<(Option<f64>, Option<f64>)>>,
+    /// Per level: (element size, elements, dofs, ms).
+    cost: Vec<(f64, usize, usize, f64)>,
+    elapsed_ms: f64,
+    solutions: Vec<Option<crate::fe::PlateSolution>>,
+    info: ModelInfo,
+    readouts: Vec<Readout>,
+}
+
+fn latest(est: &[(Option<f64>, Option<f64>)]) -> (Option<f64>, Option<f64>) {
+    est.last().copied().unwrap_or((None, None))
+}
+
+/// Solves all scenes on the shared mesh sequence (one factorisation per level, the scenes as one
+/// multi-column solve) until every plate scene's estimate is under `tol` or `max_levels` ran.
+fn solve_levels(
+    g: &SensorGeometry,
+    loads: &[SceneLoads],
+    tol: f64,
+    max_levels: usize,
+    mesh: MeshOptions,
+) -> Result<Levels, FeError> {
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
     let sym = if mesh.symmetry {
@@ -291,30 +329,27 @@ fn evaluate_plate(
         Symmetry::none(g)
     };
     let part_cases: Vec<Vec<_>> = cases.iter().map(|c| sym.restrict(c)).collect();
-    let mut history: Vec<Vec<Vec<f64>>> = vec![Vec::new(); scenes.len()];
-    let mut last: Option<(
-        Vec<Option<crate::fe::PlateSolution>>,
-        ModelInfo,
-        Vec<Readout>,
-    )> = None;
-    let mut elapsed_ms = 0.0;
+    let n = loads.len();
+    let mut out = Levels {
+        history: vec![Vec::new(); n],
+        estimates: vec![Vec::new(); n],
+        cost: Vec::new(),
+        elapsed_ms: 0.0,
+        solutions: vec![None; n],
+        info: ModelInfo::direct(),
+        readouts: Vec::new(),
+    };
     let levels = if needs_plate { max_levels } else { 1 };
-    let mut base: Option<(Vec<f64>, Vec<f64>)> = None;
-    let mut level_cost: Vec<(f64, usize, usize, f64)> = Vec::new();
-    // Per scene and level: (estimate, observed order) after that level.
-    let mut level_est: Vec<Vec<(Option<f64>, Option<f64>)>> = vec![Vec::new(); scenes.len()];
-    let latest = |est: &[(Option<f64>, Option<f64>)]| est.last().copied().unwrap_or((None, None));
-    for (level, &n) in SUBDIVISIONS.iter().enumerate().take(levels) {
+    let base = base_lines(g, loads, &sym, mesh.graded);
+    for (level, &sub) in SUBDIVISIONS.iter().enumerate().take(levels) {
         let t0 = Instant::now();
-        let h = COARSE_ELEMENT_UM / n as f64;
-        let base = base.get_or_insert_with(|| base_lines(g, &loads, &sym, mesh.graded));
+        let h = COARSE_ELEMENT_UM / sub as f64;
         let (sols, info) = if needs_plate {
-            let problem = build_problem(g, base, level, &sym);
-            let fact = Factorised::new(&problem)?;
-            let solved = fact.solve(&part_cases)?;
+            let problem = build_problem(g, &base, level, &sym);
+            let solved = Factorised::new(&problem)?.solve(&part_cases)?;
             let sols: Vec<_> = solved
                 .into_iter()
-                .zip(&loads)
+                .zip(loads)
                 .map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s)))
                 .collect();
             let info = ModelInfo {
@@ -325,149 +360,182 @@ fn evaluate_plate(
                 max_element_um: h,
                 observed_order: None,
                 symmetry: sym.describe(),
-                grading: mesh.graded.then(|| grading_description(&loads)),
+                grading: mesh.graded.then(|| grading_description(loads)),
             };
             (sols, info)
         } else {
-            (vec![None; scenes.len()], ModelInfo::direct())
+            (vec![None; n], ModelInfo::direct())
         };
         let dt = t0.elapsed().as_secs_f64() * 1e3;
-        elapsed_ms += dt;
-        level_cost.push((h, info.elements, info.dofs, dt));
-        let mut readouts = Vec::with_capacity(loads.len());
-        for (k, l) in loads.iter().enumerate() {
-            let r = read(g, sols[k].as_ref(), &l.direct);
-            let w = sols[k]
-                .as_ref()
-                .map(|s| s.deflection_m(l.at_um.0, l.at_um.1))
-                .unwrap_or(0.0);
-            let mut q = vec![w];
-            q.extend(r.electrodes.iter().map(|e| e.charge_pc));
-            history[k].push(q);
-            let est = if history[k].len() >= 3 {
-                let (e, p) = estimate(&history[k], g);
-                (Some(e), p)
-            } else {
-                latest(&level_est[k])
-            };
-            level_est[k].push(est);
-            readouts.push(r);
-        }
-        last = Some((sols, info, readouts));
-        let done = level_est
+        out.elapsed_ms += dt;
+        out.cost.push((h, info.elements, info.dofs, dt));
+        out.readouts = loads
             .iter()
-            .zip(&loads)
+            .enumerate()
+            .map(|(k, l)| {
+                let r = read(g, sols[k].as_ref(), &l.direct);
+                let w = sols[k]
+                    .as_ref()
+                    .map_or(0.0, |s| s.deflection_m(l.at_um.0, l.at_um.1));
+                let mut q = vec![w];
+                q.extend(r.electrodes.iter().map(|e| e.charge_pc));
+                out.history[k].push(q);
+                let est = if out.history[k].len() >= 3 {
+                    let (e, p) = estimate(&out.history[k], g);
+                    (Some(e), p)
+                } else {
+                    latest(&out.estimates[k])
+                };
+                out.estimates[k].push(est);
+                r
+            })
+            .collect();
+        (out.solutions, out.info) = (sols, info);
+        let done = out
+            .estimates
+            .iter()
+            .zip(loads)
             .all(|(est, l)| l.plate.is_empty() || latest(est).0.is_some_and(|e| e < tol));
         if done {
             break;
         }
     }
-    let (sols, info, readouts) = last.expect("at least one level ran");
-    let mut out = Vec::new();
-    for (k, ((scene, l), r)) in scenes.iter().zip(&loads).zip(readouts).enumerate() {
-        let sol = sols[k].as_ref();
-        let (estimate_k, order_k) = latest(&level_est[k]);
-        let mut info = if sol.is_some() {
-            info.clone()
-        } else {
-            ModelInfo::direct()
-        };
-        info.observed_order = order_k;
-        let w_load = history[k].last().map_or(0.0, |q| q[0]);
-        let peak = sol.map(|s| s.max_deflection());
-        let w_max = peak.map_or(0.0, |p| p.w_m);
-        let stress_pa = sol
-            .and_then(|s| s.max_principal_stress(l.patch))
-            .map_or(0.0, |p| p.sigma_pa);
-        let f = l.total_force_n;
-        let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
-        let safety = if stress_pa > 0.0 {
+    Ok(out)
+}
+
+/// The report of scene `k` from the level loop.
+fn scene_report(
+    g: &SensorGeometry,
+    scene: &Scene,
+    l: &SceneLoads,
+    k: usize,
+    levels: &Levels,
+    tol: f64,
+) -> SceneReport {
+    let sol = levels.solutions[k].as_ref();
+    let r = levels.readouts[k].clone();
+    let (estimate_k, order_k) = latest(&levels.estimates[k]);
+    let mut info = if sol.is_some() {
+        levels.info.clone()
+    } else {
+        ModelInfo::direct()
+    };
+    info.observed_order = order_k;
+    let history = &levels.history[k];
+    let w_load = history.last().map_or(0.0, |q| q[0]);
+    let peak = sol.map(|s| s.max_deflection());
+    let w_max = peak.map_or(0.0, |p| p.w_m);
+    let stress_pa = sol
+        .and_then(|s| s.max_principal_stress(l.patch))
+        .map_or(0.0, |p| p.sigma_pa);
+    let f = l.total_force_n;
+    let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
+    let (best, sens) = most_sensitive(&r, f);
+    let ratio = sol
+        .zip(peak.as_ref())
+        .map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
+    let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
+    let warnings = scene_warnings(w_max, ratio, converged, estimate_k, order_k, &info, tol);
+    SceneReport {
+        scene: scene.name.clone(),
+        force_n: f,
+        solve_ms: levels.elapsed_ms,
+        error_estimate: if sol.is_none() { Some(0.0) } else { estimate_k },
+        converged,
+        deflection_at_load_um: w_load * 1e6,
+        max_deflection_um: w_max * 1e6,
+        max_stress_mpa: stress_pa * 1e-6,
+        safety_factor: if stress_pa > 0.0 {
             g.fracture_strength_mpa * 1e6 / stress_pa
         } else {
             f64::INFINITY
-        };
-        let (best, sens) = most_sensitive(&r, f);
-        let mut warnings = Vec::new();
-        let ratio = sol
-            .zip(peak.as_ref())
-            .map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
-        if ratio > LINEAR_RANGE_LIMIT {
-            warnings.push(format!(
-                "LINEAR_RANGE: maximum deflection {:.1} um is {ratio:.2} x the local thickness \
-                 (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings \
-                 overestimate",
-                w_max.abs() * 1e6,
-            ));
-        }
-        let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
-        if !converged {
-            warnings.push(match estimate_k {
-                Some(e) => format!(
-                    "NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} \
-                     after {} mesh levels",
-                    info.levels
-                ),
-                None => format!(
-                    "NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate",
-                    info.levels
-                ),
-            });
-        }
-        if order_k.is_none() && estimate_k.is_some() && sol.is_some() {
-            warnings.push(
-                "ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error \
-                 estimate is the last change"
-                    .into(),
-            );
-        }
-        let largest = history[k].last().map(|q| {
-            (1..q.len())
-                .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
-                .unwrap_or(0)
-        });
-        let convergence = level_cost
-            .iter()
-            .zip(&history[k])
-            .zip(&level_est[k])
-            .map(|((&(h, el, dofs, ms), q), &(e, p))| LevelRecord {
-                max_element_um: h,
-                elements: el,
-                dofs,
-                time_ms: ms,
-                deflection_at_load_um: q[0] * 1e6,
-                charge_pc: largest.map(|i| q[i]).unwrap_or(0.0),
-                error_estimate: e,
-                observed_order: p,
-            })
-            .collect();
-        out.push(SceneReport {
-            scene: scene.name.clone(),
-            force_n: f,
-            model: info,
-            solve_ms: elapsed_ms,
-            error_estimate: if sol.is_none() { Some(0.0) } else { estimate_k },
-            converged,
-            deflection_at_load_um: w_load * 1e6,
-            max_deflection_um: w_max * 1e6,
-            max_stress_mpa: stress_pa * 1e-6,
-            safety_factor: safety,
-            max_permissible_load_n: if stress_pa > 0.0 {
-                f.abs() * allowed_pa / stress_pa
-            } else {
-                f64::INFINITY
-            },
-            sensitivity_mv_per_n: sens,
-            most_sensitive: best,
-            reactions_n: Reactions {
-                support1: r.support1_n,
-                support2: r.support2_n,
-            },
-            electrodes: r.electrodes,
-            warnings,
-            convergence,
+        },
+        max_permissible_load_n: if stress_pa > 0.0 {
+            f.abs() * allowed_pa / stress_pa
+        } else {
+            f64::INFINITY
+        },
+        sensitivity_mv_per_n: sens,
+        most_sensitive: best,
+        reactions_n: Reactions {
+            support1: r.support1_n,
+            support2: r.support2_n,
+        },
+        electrodes: r.electrodes,
+        warnings,
+        convergence: convergence_records(history, &levels.cost, &levels.estimates[k]),
+        model: info,
+    }
+}
+
+/// What a plate answer should be read with: beyond the linear range, not converged, no estimate
+/// or no observed order.
+fn scene_warnings(
+    w_max_m: f64,
+    linear_range_ratio: f64,
+    converged: bool,
+    estimate: Option<f64>,
+    order: Option<f64>,
+    info: &ModelInfo,
+    tol: f64,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if linear_range_ratio > LINEAR_RANGE_LIMIT {
+        warnings.push(format!(
+            "LINEAR_RANGE: maximum deflection {:.1} um is {linear_range_ratio:.2} x the local \
+             thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, \
+             readings overestimate",
+            w_max_m.abs() * 1e6,
+        ));
+    }
+    if !converged {
+        warnings.push(match estimate {
+            Some(e) => format!(
+                "NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} after {} \
+                 mesh levels",
+                info.levels
+            ),
+            None => format!(
+                "NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate",
+                info.levels
+            ),
         });
     }
-    Ok(out)
+    if order.is_none() && estimate.is_some() && info.kind == ModelKind::Plate {
+        warnings.push(
+            "ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error \
+             estimate is the last change"
+                .into(),
+        );
+    }
+    warnings
+}
+
+/// Per level: size, cost, the deflection and the largest electrode's charge, and the estimate.
+fn convergence_records(
+    history: &[Vec<f64>],
+    cost: &[(f64, usize, usize, f64)],
+    estimates: &[(Option<f64>, Option<f64>)],
+) -> Vec<LevelRecord> {
+    let largest = history.last().map(|q| {
+        (1..q.len())
+            .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
+            .unwrap_or(0)
+    });
+    cost.iter()
+        .zip(history)
+        .zip(estimates)
+        .map(|((&(h, el, dofs, ms), q), &(e, p))| LevelRecord {
+            max_element_um: h,
+            elements: el,
+            dofs,
+            time_ms: ms,
+            deflection_at_load_um: q[0] * 1e6,
+            charge_pc: largest.map_or(0.0, |i| q[i]),
+            error_estimate: e,
+            observed_order: p,
+        })
+        .collect()
 }
 
 /// Relative error of the finest level: the worst quantity, each by the one three-mesh estimate
