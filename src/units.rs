@@ -13,3 +13,8 @@ pub fn sidewall_angle_rad() -> f64 {
 pub fn kelvin(temp_c: f64) -> f64 {
     temp_c + 273.15
 }
+
+/// `x` with exactly `decimals` decimals: text and CSV output stay byte-stable.
+pub fn fixed(x: f64, decimals: usize) -> String {
+    format!("{x:.decimals$}")
+}

@@ -12,5 +12,6 @@ pub mod interp;
 pub mod inverse;
 pub mod noise;
 pub mod orientation;
+pub mod study;
 
 pub use error::AnalysisError;

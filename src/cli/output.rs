@@ -10,6 +10,4 @@ pub fn checks(checks: &[Check]) -> String {
 }
 
 /// Fixed-decimal formatting so text output is stable.
-pub fn f(x: f64, decimals: usize) -> String {
-    format!("{x:.decimals$}")
-}
+pub use tactfab::units::fixed as f;

@@ -5,15 +5,18 @@
 //! traveler); [`traveler`] is the run sheet as data, [`markdown`] and [`html`] format it,
 //! [`section`] draws the cross-section after each step from the etch plan, [`inventory`] lists
 //! the masks with their SHA-256, [`fe`] summarises the FE scenes, [`limits`] checks their
-//! pass/fail limits, [`summary`] is `build.json`. Outputs are byte-identical for the same input;
+//! pass/fail limits, [`summary`] is `build.json`; [`calibration`] and [`orientation`] render the studies' CSV
+//! and SVG files. Outputs are byte-identical for the same input;
 //! FE wall times appear only in `build.json` under `timings_ms`.
 
 pub mod build;
+pub mod calibration;
 pub mod fe;
 pub mod html;
 pub mod inventory;
 pub mod limits;
 pub mod markdown;
+pub mod orientation;
 pub mod section;
 pub mod summary;
 pub mod traveler;
