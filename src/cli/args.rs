@@ -104,6 +104,15 @@ pub struct DateArgs {
     pub epoch_s: Option<i64>,
 }
 
+/// Permission to replace an output directory that holds files tactfab did not write.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct OverwriteArgs {
+    /// Replace the output directory even if it holds files tactfab did not write or that changed
+    /// since (by default such a directory is refused; the input file is never replaced).
+    #[arg(long)]
+    pub overwrite: bool,
+}
+
 /// Where the calibration grid's point loads go; shared by `calibrate` and `locate`.
 #[derive(Debug, Clone, Copy, Args)]
 pub struct GridArgs {
@@ -143,9 +152,14 @@ pub struct FeArgs {
     pub pressure: Vec<f64>,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
-    /// Print JSON (`{"scenes": [...]}`, stable contract) instead of text.
+    /// Print JSON (`{"scenes": [...]}`, stable contract: the same input gives the same bytes)
+    /// instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Add the wall-clock fields to the JSON (`solve_ms` per scene, `time_ms` per mesh level);
+    /// they vary run to run, so they are left out by default.
+    #[arg(long, requires = "json")]
+    pub timings: bool,
     /// Solve the whole plate even when the teeth and every scene are mirror-symmetric (by default
     /// such scenes solve half or a quarter of it; this is the cross-check).
     #[arg(long)]
@@ -188,28 +202,36 @@ pub struct MasksArgs {
     pub format: Vec<Format>,
     #[command(flatten)]
     pub date: DateArgs,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
 }
 
 #[derive(Debug, Args)]
 pub struct BuildArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// Output directory, written atomically; an existing one is replaced only if it holds a
-    /// previous build (`build.json`) or is empty.
+    /// Output directory, written as one unit; an existing one is replaced only if it is empty or
+    /// holds exactly a previous output (its `tactfab.sha256` manifest proves it).
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     pub out: PathBuf,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
     #[command(flatten)]
     pub date: DateArgs,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
+    /// Do not fail when a declared scene's estimated error stays above --tol (the traveler and
+    /// build.json still say which did not converge).
+    #[arg(long)]
+    pub allow_unconverged: bool,
 }
 
 #[derive(Debug, Args)]
 pub struct TravelerArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
-    /// Output path: writes PATH.md and PATH.html (a `.md` or `.html` extension is replaced).
-    #[arg(short = 'o', long = "out", value_name = "PATH")]
+    /// Output directory: `<device>-traveler.md` and `<device>-traveler.html`, written as one unit.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
     pub out: PathBuf,
     /// Skip the FE solves: the traveler says the sensitivity was not computed.
     #[arg(long)]
@@ -218,6 +240,12 @@ pub struct TravelerArgs {
     pub accuracy: AccuracyArgs,
     #[command(flatten)]
     pub date: DateArgs,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
+    /// Do not fail when a declared scene's estimated error stays above --tol (the traveler and
+    /// build.json still say which did not converge).
+    #[arg(long)]
+    pub allow_unconverged: bool,
 }
 
 #[derive(Debug, Args)]
@@ -245,13 +273,16 @@ pub struct SoftnessArgs {
     /// Write softness.csv and softness.svg into DIR.
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
 }
 
 #[derive(Debug, Args)]
 #[command(
     after_help = "Slurm job array (8 shards, then merge):\n  sbatch --array=1-8 --wrap 'tactfab \
                   sweep process/mis-grasper.yaml -o out --shard ${SLURM_ARRAY_TASK_ID}/8'\n  \
-                  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'"
+                  sbatch --dependency=afterok:<jobid> --wrap 'tactfab sweep --merge out'\n(give --merge \
+                  the --tol the shards ran with)"
 )]
 pub struct SweepArgs {
     /// The process file (Si stiffness, die size of the prototype, fracture strength and safety
@@ -302,6 +333,8 @@ pub struct SweepArgs {
     /// results to ~1e-9, ~20x slower).
     #[arg(long)]
     pub direct: bool,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
 }
 
 /// The studies' accuracy: many scattered loads share one mesh, so a coarser default than `fe`.
@@ -352,6 +385,8 @@ pub struct CalibrateArgs {
     pub seed: u64,
     #[command(flatten)]
     pub accuracy: StudyAccuracyArgs,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
 }
 
 #[derive(Debug, Args)]
@@ -401,4 +436,6 @@ pub struct OrientArgs {
     /// Print the whole study as JSON (the cost fields hold wall-clock ms and vary run to run).
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
 }

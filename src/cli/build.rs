@@ -1,35 +1,33 @@
 //! `tactfab build FILE -o DIR`: everything for one process file, written atomically.
 
-use anyhow::Context;
-
-use tactfab::export::dir::write_dir_atomic;
 use tactfab::report::{build, summary, Options};
 
 use super::args::BuildArgs;
-use super::{design, Outcome, Progress};
+use super::{design, process_identity, write_dir, Outcome, Progress};
 
-/// The summary's name; also the marker that lets a later build replace DIR.
+/// The summary's name.
 pub const SUMMARY: &str = "build.json";
 
 pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    let (process_file, process_sha256) = process_identity(&args.process)?;
     let opts = Options {
-        process_file: args.process.file.display().to_string(),
+        process_file,
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
+        allow_unconverged: args.allow_unconverged,
     };
     let built = {
         let progress = Progress::new();
         build(&loaded, &design, &opts, &mut |s| progress.stage(s))?
     };
     let mut files = built.files();
-    let s = summary(&built, &opts.process_file, &files);
+    let s = summary(&built, &opts.process_file, &process_sha256, &files);
     files.push((
         SUMMARY.to_string(),
         (serde_json::to_string_pretty(&s)? + "\n").into_bytes(),
     ));
-    write_dir_atomic(&args.out, &files, SUMMARY)
-        .with_context(|| format!("cannot write {}", args.out.display()))?;
+    write_dir(&args.out, &files, args.replace, &args.process)?;
 
     let mut out = String::new();
     let errors = built.plan.warnings.iter().filter(|c| c.is_error()).count();
@@ -60,8 +58,13 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
                         .collect::<Vec<_>>()
                         .join("; ")
                 };
+                let ms = built
+                    .fe_reports
+                    .iter()
+                    .find(|r| r.scene == sc.name)
+                    .map_or(0.0, |r| r.solve_ms);
                 out.push_str(&format!(
-                    "  FE `{}`: {:.3} mV/N ({}), safety factor {:.2}; {}\n",
+                    "  FE `{}`: {:.3} mV/N ({}), safety factor {:.2}; {} ({ms:.0} ms)\n",
                     sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, sc.safety_factor, limits
                 ));
             }

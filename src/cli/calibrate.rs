@@ -8,13 +8,12 @@ use anyhow::Context;
 use tactfab::analysis::calibration::{Calibration, CalibrationPlan};
 use tactfab::analysis::inverse::{HeldOutError, Locator, NoiseRow};
 use tactfab::analysis::study::{calibration_study, NoiseSpec};
-use tactfab::export::dir::write_dir_atomic;
 use tactfab::report::calibration::files;
 use tactfab::sensor::SensorGeometry;
 
 use super::args::CalibrateArgs;
 use super::output::f;
-use super::{design, Outcome};
+use super::{design, write_dir, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
@@ -34,7 +33,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
         force_n: 1.0,
     };
     let s = calibration_study(&g, &cp, &noise).context("calibration")?;
-    write_dir_atomic(&args.out, &files(&s), "grid.csv")?;
+    write_dir(&args.out, &files(&s), args.replace, &args.process)?;
     print!(
         "{}",
         summary(&s.calibration, &s.locator, &s.held_out, &s.noise, &args.out)

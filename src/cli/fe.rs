@@ -30,9 +30,13 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         .zip(&scenes)
         .any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
     if args.json {
+        let mut scenes = serde_json::to_value(&reports)?;
+        if !args.timings {
+            strip_timings(&mut scenes);
+        }
         println!(
             "{}",
-            serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?
+            serde_json::to_string_pretty(&serde_json::json!({ "scenes": scenes }))?
         );
     } else {
         for (r, s) in reports.iter().zip(&scenes) {
@@ -55,6 +59,20 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     } else {
         Outcome::Ok
     })
+}
+
+/// Removes the wall-clock fields (`solve_ms`, each level's `time_ms`) from the scenes' JSON.
+fn strip_timings(scenes: &mut serde_json::Value) {
+    for scene in scenes.as_array_mut().into_iter().flatten() {
+        if let Some(o) = scene.as_object_mut() {
+            o.remove("solve_ms");
+        }
+        for level in scene["convergence"].as_array_mut().into_iter().flatten() {
+            if let Some(o) = level.as_object_mut() {
+                o.remove("time_ms");
+            }
+        }
+    }
 }
 
 /// The scenes to run: `--point`/`--pressure` if given, else the file's (optionally one `--scene`).

@@ -1,18 +1,14 @@
 //! `tactfab masks FILE -o DIR [--format gds,svg]`: mask set, inventory and DRC.
 //!
-//! Everything is rendered in memory and written as one directory ([`write_dir_atomic`]): an error
-//! leaves no partial output, and DIR holds the files of one run, never a mix. `masks.txt` (the
-//! report printed) marks the directory as this command's. A DRC failure still writes the set (to
-//! be inspected) but exits 1 and says so.
+//! Everything is rendered in memory and written as one directory
+//! ([`tactfab::export::dir::write_dir_atomic`]): an error leaves no partial output, and DIR holds
+//! the files of one run, never a mix. A DRC failure still writes the set (to be inspected) but
+//! exits 1 and says so.
 
-use tactfab::export::dir::write_dir_atomic;
 use tactfab::export::gds::GdsOptions;
 
 use super::args::{Format, MasksArgs};
-use super::{design, Outcome};
-
-/// The file every `masks` output directory holds: it lets a later run replace the directory.
-pub const MARKER: &str = "masks.txt";
+use super::{design, write_dir, Outcome};
 
 pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
@@ -66,8 +62,7 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
             drc.failing()
         )
     };
-    files.push((MARKER.to_string(), format!("{out}{verdict}").into_bytes()));
-    write_dir_atomic(&args.out, &files, MARKER)?;
+    write_dir(&args.out, &files, args.replace, &args.process)?;
     for (name, bytes) in &files {
         out.push_str(&format!(
             "wrote {} ({} bytes)\n",

@@ -75,6 +75,39 @@ pub fn design(
     tactfab::design::Design::load(&args.file, &args.set).map_err(anyhow::Error::new)
 }
 
+/// How outputs name the process file: its name and the SHA-256 of its bytes, never the path as
+/// typed (a relative and an absolute path must give the same bytes).
+pub fn process_identity(args: &ProcessArgs) -> anyhow::Result<(String, String)> {
+    use sha2::Digest;
+    let bytes = std::fs::read(&args.file)?;
+    let name = args.file.file_name().map_or_else(
+        || args.file.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let hash = sha2::Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    Ok((name, hash))
+}
+
+/// Writes `files` as the whole directory `out`: replaces only a previous output of tactfab (or
+/// anything, with `--overwrite`), never the directory holding the process file.
+pub fn write_dir(
+    out: &std::path::Path,
+    files: &[(String, Vec<u8>)],
+    replace: args::OverwriteArgs,
+    process: &ProcessArgs,
+) -> anyhow::Result<()> {
+    let guard = tactfab::export::dir::Guard {
+        overwrite: replace.overwrite,
+        flag: "--overwrite",
+        inputs: &[process.file.as_path()],
+    };
+    tactfab::export::dir::write_dir_atomic(out, files, &guard)?;
+    Ok(())
+}
+
 /// A spinner on stderr when it is a terminal; nothing otherwise.
 pub struct Progress(Option<indicatif::ProgressBar>);
 

@@ -7,13 +7,12 @@ use std::fmt::Write as _;
 use anyhow::Context;
 
 use tactfab::analysis::orientation::{study, Orientation, OrientationPlan};
-use tactfab::export::dir::write_dir_atomic;
 use tactfab::report::orientation::files;
 use tactfab::sensor::SensorGeometry;
 
 use super::args::OrientArgs;
 use super::output::f;
-use super::{design, Outcome};
+use super::{design, write_dir, Outcome};
 
 pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
@@ -24,7 +23,7 @@ pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
     op.electrode = args.electrode.clone();
     let o = study(&g, &op).context("orientation study")?;
     if let Some(dir) = &args.out {
-        write_dir_atomic(dir, &files(&o), "orientation.csv")?;
+        write_dir(dir, &files(&o), args.replace, &args.process)?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&o)?);

@@ -4,14 +4,13 @@
 
 use std::fmt::Write as _;
 
-use tactfab::export::write_atomic;
 use tactfab::sensor::SensorGeometry;
 use tactfab::softness::study::{study, Study, StudySpec};
 use tactfab::softness::tissue_fe::TissueMesh;
 use tactfab::softness::TISSUE_THICKNESS_UM;
 
 use super::args::SoftnessArgs;
-use super::{design, Outcome};
+use super::{design, write_dir, Outcome};
 
 pub fn run(a: &SoftnessArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&a.process)?;
@@ -27,9 +26,11 @@ pub fn run(a: &SoftnessArgs) -> anyhow::Result<Outcome> {
     let s = study(&SensorGeometry::new(&design), &spec)?;
     print!("{}", text(&s, a.tissue_thickness_um));
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)?;
-        write_atomic(&dir.join("softness.csv"), s.csv().as_bytes())?;
-        write_atomic(&dir.join("softness.svg"), s.svg().as_bytes())?;
+        let files = [
+            ("softness.csv".to_string(), s.csv().into_bytes()),
+            ("softness.svg".to_string(), s.svg().into_bytes()),
+        ];
+        write_dir(dir, &files, a.replace, &a.process)?;
         println!(
             "wrote {} and {}",
             dir.join("softness.csv").display(),

@@ -16,7 +16,7 @@ use tactfab::sweep::{
 };
 
 use super::args::SweepArgs;
-use super::{load, Outcome};
+use super::{load, write_dir, Outcome};
 
 /// A flag's range as the sweep's axis.
 fn axis(r: &super::parse::Range) -> Range {
@@ -34,11 +34,11 @@ fn ensure_dir(dir: &Path) -> anyhow::Result<()> {
 
 pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     if let Some(dir) = &a.merge {
-        let merged = tactfab::sweep::merge_dir(dir)?;
+        let merged = tactfab::sweep::merge_dir(dir, a.tol)?;
         write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
         write_atomic(
             &dir.join("family.svg"),
-            tactfab::sweep::plot::family_svg(&merged.family, None).as_bytes(),
+            tactfab::sweep::plot::family_svg(&merged.family, Some(a.tol)).as_bytes(),
         )?;
         println!(
             "merged {} designs into {}; family {} designs -> {}",
@@ -78,7 +78,9 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         si.fracture_strength_mpa / si.safety_factor,
     )?;
     let range = shard.map_or(0..grid.len(), |s| s.range(grid.len()));
-    ensure_dir(out)?;
+    if shard.is_some() {
+        ensure_dir(out)?;
+    }
 
     let bar = if std::io::stderr().is_terminal() {
         ProgressBar::new(range.len() as u64)
@@ -101,14 +103,20 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     bar.finish_and_clear();
     let secs = t.elapsed().as_secs_f64();
 
-    let name = shard.map_or(shard::UNSHARDED.to_string(), |s| s.file_name());
-    write_atomic(&out.join(&name), shard::csv(&rows).as_bytes())?;
     let family = shard::family(&rows);
-    if shard.is_none() {
-        write_atomic(
-            &out.join("family.svg"),
-            tactfab::sweep::plot::family_svg(&family, Some(a.tol)).as_bytes(),
-        )?;
+    match shard {
+        // A shard writes one file into the directory its siblings share.
+        Some(s) => write_atomic(&out.join(s.file_name()), shard::csv(&rows).as_bytes())?,
+        None => {
+            let files = [
+                (shard::UNSHARDED.to_string(), shard::csv(&rows).into_bytes()),
+                (
+                    "family.svg".to_string(),
+                    tactfab::sweep::plot::family_svg(&family, Some(a.tol)).into_bytes(),
+                ),
+            ];
+            write_dir(out, &files, a.replace, process)?;
+        }
     }
     let pr = &matching.prototype_response;
     println!(
@@ -140,7 +148,8 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         family.len(),
         100.0 * a.tol,
         rows.iter().filter(|r| r.within_strength).count(),
-        out.join(&name).display(),
+        out.join(shard.map_or(shard::UNSHARDED.to_string(), |s| s.file_name()))
+            .display(),
         secs
     );
     if !a.no_error_estimate {

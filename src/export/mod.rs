@@ -24,6 +24,29 @@ pub enum ExportError {
     },
     #[error("{0}")]
     Invalid(String),
+    /// The output directory holds what tactfab cannot prove it wrote.
+    #[error(
+        "{}: not replaced: it holds {} that tactfab did not write (or that changed since): {}\n  \
+         hint: choose another directory, or pass {flag} to replace it with everything in it",
+        dir.display(),
+        if entries.len() == 1 { "an entry" } else { "entries" },
+        entries.join(", ")
+    )]
+    Foreign {
+        dir: std::path::PathBuf,
+        entries: Vec<String>,
+        flag: String,
+    },
+    /// An input file lies inside the output directory.
+    #[error(
+        "{}: not replaced: the input {} lies inside it\n  hint: write the output elsewhere",
+        dir.display(),
+        input.display()
+    )]
+    InputInside {
+        dir: std::path::PathBuf,
+        input: std::path::PathBuf,
+    },
 }
 
 /// um (already on the 1 nm grid) to integer nm.

@@ -45,6 +45,8 @@ pub struct Options {
     pub fe: Option<Accuracy>,
     /// GDS modification/access dates; None writes zeros (reproducible).
     pub gds_epoch_s: Option<i64>,
+    /// Report scenes that did not reach the tolerance without failing the build.
+    pub allow_unconverged: bool,
 }
 
 /// Stages, for progress reporting.
@@ -169,7 +171,13 @@ pub fn build(
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
             let reports = evaluate_many(&SensorGeometry::new(design), scenes, o)?;
-            let summary = summarise(scenes, &reports, o.tol_rel, o.max_levels);
+            let summary = summarise(
+                scenes,
+                &reports,
+                o.tol_rel,
+                o.max_levels,
+                !opts.allow_unconverged,
+            );
             (reports, Some(summary))
         }
         _ => (Vec::new(), None),

@@ -1,8 +1,6 @@
 //! The FE sensitivity summary of the declared scenes: the deterministic part of each
-//! [`SceneReport`] with its limits checked, and its plots. Solve times stay out (see
-//! [`timings_ms`]): the traveler must be byte-identical for the same input.
-
-use std::collections::BTreeMap;
+//! [`SceneReport`] with its limits checked, and its plots. Solve times stay out: the traveler and
+//! `build.json` must be byte-identical for the same input.
 
 use serde::Serialize;
 
@@ -59,21 +57,38 @@ impl FeScene {
 pub struct FeSummary {
     pub tol_rel: f64,
     pub max_levels: usize,
+    /// A scene whose estimate did not reach `tol_rel` fails the build (unless
+    /// `--allow-unconverged`).
+    pub require_convergence: bool,
     pub scenes: Vec<FeScene>,
 }
 
 impl FeSummary {
-    /// Failing limits as `scene `name`: what` lines.
+    /// Failing limits, and scenes that did not reach the tolerance, as `scene `name`: what`
+    /// lines: an answer of unknown accuracy is never a pass.
     pub fn failures(&self) -> Vec<String> {
-        self.scenes
-            .iter()
-            .flat_map(|s| {
+        let mut out = Vec::new();
+        for s in &self.scenes {
+            if self.require_convergence && !s.converged {
+                out.push(format!(
+                    "scene `{}`: not converged: estimated error {} is not under the tolerance {} \
+                     after {} mesh levels (raise --max-levels or --tol, or pass \
+                     --allow-unconverged)",
+                    s.name,
+                    s.error_estimate
+                        .map_or_else(|| "unknown".to_string(), |e| format!("{e:.2e}")),
+                    self.tol_rel,
+                    s.levels
+                ));
+            }
+            out.extend(
                 s.limits
                     .iter()
                     .filter(|l| !l.passed)
-                    .map(move |l| format!("scene `{}`: {l}", s.name))
-            })
-            .collect()
+                    .map(|l| format!("scene `{}`: {l}", s.name)),
+            );
+        }
+        out
     }
 }
 
@@ -134,6 +149,7 @@ pub fn summarise(
     reports: &[SceneReport],
     tol_rel: f64,
     max_levels: usize,
+    require_convergence: bool,
 ) -> FeSummary {
     assert_eq!(scenes.len(), reports.len(), "one report per scene");
     let scenes = scenes
@@ -177,17 +193,9 @@ pub fn summarise(
     FeSummary {
         tol_rel,
         max_levels,
+        require_convergence,
         scenes,
     }
-}
-
-/// Wall time per scene (ms): for the build summary's `timings_ms` only, never the traveler.
-/// Scenes solved together share their meshes and report the same total.
-pub fn timings_ms(reports: &[SceneReport]) -> BTreeMap<String, f64> {
-    reports
-        .iter()
-        .map(|r| (r.scene.clone(), r.solve_ms))
-        .collect()
 }
 
 /// Plots of the summary: voltage per newton by electrode, and deflection per newton by mesh level.

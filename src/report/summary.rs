@@ -1,14 +1,12 @@
-//! `build.json`: the machine-readable summary of a build. Everything in it is deterministic
-//! except `timings_ms` (wall times of the FE solves), which tools must not compare.
-
-use std::collections::BTreeMap;
+//! `build.json`: the machine-readable summary of a build. Everything in it is deterministic: the
+//! same input gives the same bytes (wall times are printed by `tactfab build`, never stored).
 
 use serde::Serialize;
 
 use crate::etch::Check;
 
 use super::build::Built;
-use super::fe::{timings_ms, FeSummary};
+use super::fe::FeSummary;
 use super::inventory::{sha256_hex, Inventory};
 
 /// One file written by the build.
@@ -24,7 +22,10 @@ pub struct FileEntry {
 pub struct BuildSummary {
     pub device: String,
     pub revision: String,
+    /// The process file's name (not its path, which depends on where the build ran from).
     pub process_file: String,
+    /// SHA-256 of the process file's bytes.
+    pub process_sha256: String,
     pub passed: bool,
     /// Why it failed, one line each (etch-plan errors, DRC, FE limits).
     pub failures: Vec<String>,
@@ -37,12 +38,15 @@ pub struct BuildSummary {
     pub fe: Option<FeSummary>,
     /// Every other file of the build, sorted by name.
     pub files: Vec<FileEntry>,
-    /// NOT deterministic: wall time of each scene's FE solve (ms). Excluded from comparisons.
-    pub timings_ms: BTreeMap<String, f64>,
 }
 
 /// The summary of `built` whose other files are `files`.
-pub fn summary(built: &Built, process_file: &str, files: &[(String, Vec<u8>)]) -> BuildSummary {
+pub fn summary(
+    built: &Built,
+    process_file: &str,
+    process_sha256: &str,
+    files: &[(String, Vec<u8>)],
+) -> BuildSummary {
     let failures = built.failures();
     let mut entries: Vec<FileEntry> = files
         .iter()
@@ -57,6 +61,7 @@ pub fn summary(built: &Built, process_file: &str, files: &[(String, Vec<u8>)]) -
         device: built.set.device.clone(),
         revision: built.set.revision.clone(),
         process_file: process_file.to_string(),
+        process_sha256: process_sha256.to_string(),
         passed: failures.is_empty(),
         failures,
         checks: built.traveler.checks.clone(),
@@ -67,6 +72,5 @@ pub fn summary(built: &Built, process_file: &str, files: &[(String, Vec<u8>)]) -
         plate_thickness_um: built.plan.plate_thickness_um,
         fe: built.fe.clone(),
         files: entries,
-        timings_ms: timings_ms(&built.fe_reports),
     }
 }

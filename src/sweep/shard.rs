@@ -35,9 +35,11 @@ impl Shard {
         }
         Ok(Shard { index, count })
     }
-    /// Design indices of this shard out of `total`.
+    /// Design indices of this shard out of `total` (in 128 bits: i and n as large as `usize`
+    /// lose no design to overflow).
     pub fn range(&self, total: usize) -> std::ops::Range<usize> {
-        (total * (self.index - 1) / self.count)..(total * self.index / self.count)
+        let at = |i: usize| (total as u128 * i as u128 / self.count as u128) as usize;
+        at(self.index - 1)..at(self.index)
     }
     /// `sweep-i-of-n.csv`.
     pub fn file_name(&self) -> String {
@@ -110,9 +112,37 @@ fn shard_files(dir: &Path) -> Result<Vec<(Shard, PathBuf)>, SweepError> {
     Ok(out)
 }
 
-/// Merge `DIR/sweep-i-of-n.csv` (all i = 1..n, one n) into the unsharded CSV, checking the headers
-/// and that the indices run 0, 1, ... without gaps or repeats.
-pub fn merge_dir(dir: &Path) -> Result<Merged, SweepError> {
+/// Checks one row: every field a number of its column's kind (the flags 0 or 1), and the family
+/// flag agrees with `tol` wherever the 6-decimal ratio decides it.
+fn check_row(f: &[&str], tol: f64) -> Result<(), String> {
+    for (j, v) in f.iter().enumerate() {
+        let ok = match j {
+            0 => v.parse::<usize>().is_ok(),
+            8 | 9 => *v == "0" || *v == "1",
+            _ => v.parse::<f64>().is_ok_and(f64::is_finite),
+        };
+        if !ok {
+            let column = HEADER.split(',').nth(j).unwrap_or("?");
+            return Err(format!("`{v}` is not a valid {column}"));
+        }
+    }
+    let off = (f[7].parse::<f64>().unwrap_or(f64::NAN) - 1.0).abs();
+    if (off - tol).abs() > 1e-6 && (off <= tol) != (f[8] == "1") {
+        return Err(format!(
+            "`matches` is {} but the elongation ratio {} is {} the tolerance {tol}: the shards ran \
+             with another --tol",
+            f[8],
+            f[7],
+            if off <= tol { "within" } else { "beyond" }
+        ));
+    }
+    Ok(())
+}
+
+/// Merge `DIR/sweep-i-of-n.csv` (all i = 1..n, one n) into the unsharded CSV, checking the headers,
+/// every value, that the indices run 0, 1, ... without gaps or repeats, and that the family was
+/// chosen with `tol`.
+pub fn merge_dir(dir: &Path, tol: f64) -> Result<Merged, SweepError> {
     let files = shard_files(dir)?;
     let Some(&(first, _)) = files.first() else {
         return Err(SweepError::Merge {
@@ -169,6 +199,12 @@ pub fn merge_dir(dir: &Path) -> Result<Merged, SweepError> {
                     hint: "a shard file is truncated or from another sweep: rerun that shard",
                 });
             }
+            if let Err(why) = check_row(&f, tol) {
+                return Err(SweepError::Merge {
+                    detail: format!("{}:{}: {why}", path.display(), k + 2),
+                    hint: "rerun that shard, or merge with the --tol the shards ran with",
+                });
+            }
             if f[8] == "1" {
                 let num = |j: usize| f[j].parse::<f64>().unwrap_or(f64::NAN);
                 family.push(Design {
@@ -204,6 +240,20 @@ mod tests {
     use crate::fe::{DieEdge, PlateMaterial};
     use crate::sweep::design::{DesignModel, Grid, MeshSpec, Range};
     use crate::sweep::run::{run_range, Matching, Mode};
+
+    #[test]
+    fn huge_shard_numbers_lose_no_design() {
+        let n = usize::MAX;
+        let parts: usize = [1, 2, n - 1, n]
+            .iter()
+            .map(|&i| Shard { index: i, count: n }.range(1000).len())
+            .sum();
+        assert!(parts <= 1000);
+        let all: usize = (1..=7)
+            .map(|i| Shard { index: i, count: 7 }.range(usize::MAX / 3).len())
+            .sum();
+        assert_eq!(all, usize::MAX / 3);
+    }
 
     #[test]
     fn parse_and_ranges_partition() {
@@ -317,15 +367,25 @@ mod tests {
             .unwrap();
             std::fs::write(dir.path().join(s.file_name()), csv(&rows)).unwrap();
         }
-        let merged = merge_dir(dir.path()).unwrap();
+        let merged = merge_dir(dir.path(), 0.2).unwrap();
         assert_eq!(merged.csv, whole);
         assert_eq!(merged.total, grid.len());
         assert_eq!(
             merged.family.len(),
             all.iter().filter(|r| r.matches).count()
         );
-        std::fs::remove_file(dir.path().join("sweep-3-of-4.csv")).unwrap();
-        let e = merge_dir(dir.path()).unwrap_err().to_string();
+        // Another tolerance than the shards': the family flags contradict it.
+        let e = merge_dir(dir.path(), 0.01).unwrap_err().to_string();
+        assert!(e.contains("another --tol"), "{e}");
+        // A value that is not a number is refused, not copied.
+        let third = dir.path().join("sweep-3-of-4.csv");
+        let text = std::fs::read_to_string(&third).unwrap();
+        let bad = text.replacen(",0,", ",x,", 1).replacen(",1,", ",x,", 1);
+        std::fs::write(&third, bad).unwrap();
+        let e = merge_dir(dir.path(), 0.2).unwrap_err().to_string();
+        assert!(e.contains("`x` is not a valid"), "{e}");
+        std::fs::remove_file(&third).unwrap();
+        let e = merge_dir(dir.path(), 0.2).unwrap_err().to_string();
         assert!(e.contains("missing shards 3/4"), "{e}");
     }
 }

@@ -243,7 +243,7 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
 
 #[test]
 fn fe_json_contract() {
-    let run = tactfab(&[
+    let args = [
         "fe",
         REFERENCE,
         "--point",
@@ -251,14 +251,21 @@ fn fe_json_contract() {
         "--max-levels",
         "3",
         "--json",
-    ]);
+    ];
+    let run = tactfab(&args);
     run.expect_code(0);
+    // A stable contract: no wall-clock field, the same bytes on a second run.
+    assert!(!run.stdout.contains("solve_ms") && !run.stdout.contains("time_ms"));
+    assert_eq!(tactfab(&args).stdout, run.stdout);
+    let timed = tactfab(&[&args[..], &["--timings"]].concat());
+    let t: serde_json::Value = serde_json::from_str(&timed.stdout).unwrap();
+    assert!(t["scenes"][0]["solve_ms"].is_number());
+    assert!(t["scenes"][0]["convergence"][0]["time_ms"].is_number());
     let j: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
     let s = &j["scenes"][0];
     for key in [
         "scene",
         "model",
-        "solve_ms",
         "error_estimate",
         "deflection_at_load_um",
         "max_deflection_um",

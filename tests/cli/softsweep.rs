@@ -36,12 +36,21 @@ fn sharded_sweep_merges_to_the_unsharded_bytes() {
         sweep(parts.to_str().unwrap(), &["--shard", &format!("{i}/3")]).expect_code(0);
     }
     assert!(!parts.join("sweep.csv").exists());
-    tactfab(&["sweep", "--merge", parts.to_str().unwrap()]).expect_code(0);
+    // Merged with another --tol than the shards: refused, the family would be wrong.
+    let r = tactfab(&["sweep", "--merge", parts.to_str().unwrap()]);
+    r.expect_code(2);
+    assert!(r.stderr.contains("--tol"), "{}", r.stderr);
+    tactfab(&["sweep", "--merge", parts.to_str().unwrap(), "--tol", "0.2"]).expect_code(0);
     let a = std::fs::read(whole.join("sweep.csv")).unwrap();
     assert_eq!(a, std::fs::read(parts.join("sweep.csv")).unwrap());
     assert_eq!(String::from_utf8(a).unwrap().lines().count(), 19);
     let svg = std::fs::read_to_string(parts.join("family.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("length (mm)"));
+    // The merged plot is the unsharded one, title and all.
+    assert_eq!(
+        svg,
+        std::fs::read_to_string(whole.join("family.svg")).unwrap()
+    );
     // Determinism: a second run gives the same bytes.
     sweep(whole.to_str().unwrap(), &[]).expect_code(0);
     assert_eq!(
