@@ -46,9 +46,9 @@ impl Design {
         if !unknown.is_empty() {
             return Err(DesignError::UnknownWaivers {
                 codes: unknown.join(", "),
-                known: crate::drc::CODES
+                known: crate::finding::DrcCode::ALL
                     .iter()
-                    .map(|(c, _)| *c)
+                    .map(|c| c.as_str())
                     .collect::<Vec<_>>()
                     .join(", "),
             });

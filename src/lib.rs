@@ -16,7 +16,7 @@
 //! 2. [`etch`] turns the process into an [`etch::EtchPlan`]: etch rates (TMAH Arrhenius from a
 //!    measured rate, KOH after Seidel), times, {111} sidewall run-out, undercut, streets, corner
 //!    compensation, the oxide mask budget, Deal-Grove oxidation and resist thickness, plus
-//!    [`etch::Check`]s: warnings and errors as values with stable codes.
+//!    its findings.
 //! 3. [`layout`] turns process + plan into a [`layout::MaskSet`]: polygons per layer in f64 um (geo
 //!    types) for the front teeth with corner compensation, the back supports, the PVDF electrodes
 //!    (each with its [`layout::ElectrodeSide`]), alignment marks and polygon labels, a die cell
@@ -48,6 +48,10 @@
 //!     [`softness`] (composite beam, paper 001 Eq. 7-12, beside a locking-free tissue FE, and the
 //!     inverse) and [`sweep`] (paper 001's 15,000 plates, sharded).
 //!
+//! Every warning, error and rule violation on the way is a [`finding::Finding`]: a code enum per
+//! domain (etch plan, design rules, layout, FE scene) with one stable spelling, a severity, the
+//! message and where it is. Nothing prints: the CLI and the report render findings.
+//!
 //! Nothing flows back: later stages read the design, never change it.
 //!
 //! ```
@@ -76,6 +80,7 @@ pub mod drc;
 pub mod etch;
 pub mod export;
 pub mod fe;
+pub mod finding;
 pub mod layout;
 pub mod plot;
 pub mod process;

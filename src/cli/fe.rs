@@ -175,7 +175,7 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         ));
     }
     for w in &r.warnings {
-        s.push_str(&format!("  warning: {w}\n"));
+        s.push_str(&format!("  {w}\n"));
     }
     for x in failures {
         s.push_str(&format!("  FAIL: {x}\n"));

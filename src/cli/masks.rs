@@ -43,7 +43,7 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
     if !set.warnings.is_empty() {
         out.push_str("layout warnings:\n");
         for w in &set.warnings {
-            out.push_str(&format!("  warning[{}]: {}\n", w.code, w.message));
+            out.push_str(&format!("  {w}\n"));
         }
     }
     let plan_errors = plan.warnings.iter().filter(|c| c.is_error()).count();

@@ -1,10 +1,10 @@
 //! Small text-formatting helpers shared by subcommands.
 
-use tactfab::etch::Check;
+use tactfab::finding::Finding;
 
 /// Lines `warning[CODE]: message` for every check, errors first.
-pub fn checks(checks: &[Check]) -> String {
-    let mut sorted: Vec<&Check> = checks.iter().collect();
+pub fn checks(checks: &[Finding]) -> String {
+    let mut sorted: Vec<&Finding> = checks.iter().collect();
     sorted.sort_by_key(|c| std::cmp::Reverse(c.severity));
     sorted.iter().map(|c| format!("  {c}\n")).collect()
 }

@@ -13,92 +13,48 @@ pub mod widthspace;
 use serde::Serialize;
 
 use crate::etch::EtchPlan;
+use crate::finding::{At, Code, DrcCode, Finding, Severity};
 use crate::layout::{LayerKind, MaskSet};
 use crate::process::Process;
 
-/// One rule violation.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Violation {
-    pub code: &'static str,
-    pub layer: Option<LayerKind>,
-    /// Where (um, die coordinates unless the message says wafer).
-    pub x_um: f64,
-    pub y_um: f64,
-    pub message: String,
-    /// Waived by the process file: reported, does not fail.
-    pub waived: bool,
+/// A rule violation: an error finding of a [`DrcCode`], placed at a point of a layer. The
+/// process file can waive its code: it is then a warning, still reported.
+pub fn violation(
+    code: DrcCode,
+    layer: Option<LayerKind>,
+    at: (f64, f64),
+    message: impl Into<String>,
+) -> Finding {
+    Finding::error(code, message).at(At::Point {
+        x_um: at.0,
+        y_um: at.1,
+        layer: layer.map(LayerKind::name),
+    })
 }
 
-impl Violation {
-    pub fn new(
-        code: &'static str,
-        layer: Option<LayerKind>,
-        at: (f64, f64),
-        message: impl Into<String>,
-    ) -> Self {
-        Violation {
-            code,
-            layer,
-            x_um: at.0,
-            y_um: at.1,
-            message: message.into(),
-            waived: false,
-        }
+/// Waived: reported, does not fail.
+pub fn is_waived(v: &Finding) -> bool {
+    !v.is_error()
+}
+
+/// `CODE (waived) [layer] at (x, y) um: message`, one line of the report.
+pub fn line(v: &Finding) -> String {
+    let w = if is_waived(v) { " (waived)" } else { "" };
+    match &v.at {
+        At::Point { x_um, y_um, layer } => format!(
+            "{}{w} [{}] at ({x_um:.3}, {y_um:.3}) um: {}",
+            v.code,
+            layer.unwrap_or("-"),
+            v.message
+        ),
+        _ => format!("{}{w}: {}", v.code, v.message),
     }
 }
-
-impl std::fmt::Display for Violation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let layer = self.layer.map(|l| l.name()).unwrap_or("-");
-        let w = if self.waived { " (waived)" } else { "" };
-        write!(
-            f,
-            "{}{w} [{layer}] at ({:.3}, {:.3}) um: {}",
-            self.code, self.x_um, self.y_um, self.message
-        )
-    }
-}
-
-/// Every rule code with what it means.
-pub const CODES: &[(&str, &str)] = &[
-    ("MIN_WIDTH", "a shape is narrower than drc.min_width_um"),
-    ("MIN_SPACE", "two shapes are closer than drc.min_space_um"),
-    (
-        "COMPENSATORS_COLLIDE",
-        "compensated teeth touch or come closer than drc.min_space_um: a bridge",
-    ),
-    (
-        "COMPENSATOR_OUTSIDE_DIE",
-        "a tooth's compensators cross the die edge",
-    ),
-    (
-        "TEETH_BASES_MERGE",
-        "etched tooth bases (top + 2 sidewall run-outs) overlap",
-    ),
-    (
-        "STREET_TOO_NARROW",
-        "an etched street (within the die or across the dicing street) is narrower than sqrt 2 x \
-         depth",
-    ),
-    (
-        "ELECTRODE_GAP",
-        "two electrode islands are closer than drc.min_electrode_gap_um",
-    ),
-    (
-        "ELECTRODE_EDGE",
-        "an electrode island is closer to the film edge than the edge margin",
-    ),
-    (
-        "INVALID_POLYGON",
-        "unclosed, fewer than 3 vertices, self-intersecting, clockwise, with holes, or too many \
-         vertices",
-    ),
-];
 
 /// The DRC result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DrcReport {
-    pub violations: Vec<Violation>,
+    pub violations: Vec<Finding>,
     pub min_width_um: f64,
     pub min_space_um: f64,
 }
@@ -106,10 +62,10 @@ pub struct DrcReport {
 impl DrcReport {
     /// True when nothing unwaived is left.
     pub fn passed(&self) -> bool {
-        self.violations.iter().all(|v| v.waived)
+        self.violations.iter().all(is_waived)
     }
     pub fn failing(&self) -> usize {
-        self.violations.iter().filter(|v| !v.waived).count()
+        self.violations.iter().filter(|v| v.is_error()).count()
     }
     /// A readable report: one line per violation, at most `per_code` per code.
     pub fn summary(&self, per_code: usize) -> String {
@@ -122,14 +78,19 @@ impl DrcReport {
             self.min_width_um,
             self.min_space_um
         ));
-        for (code, meaning) in CODES {
-            let vs: Vec<&Violation> = self.violations.iter().filter(|v| v.code == *code).collect();
+        for &code in DrcCode::ALL {
+            let meaning = code.meaning();
+            let vs: Vec<&Finding> = self
+                .violations
+                .iter()
+                .filter(|v| v.code == Code::Drc(code))
+                .collect();
             if vs.is_empty() {
                 continue;
             }
             out.push_str(&format!("  {code}: {} ({meaning})\n", vs.len()));
             for v in vs.iter().take(per_code) {
-                out.push_str(&format!("    {v}\n"));
+                out.push_str(&format!("    {}\n", line(v)));
             }
             if vs.len() > per_code {
                 out.push_str(&format!("    ... and {} more\n", vs.len() - per_code));
@@ -144,7 +105,7 @@ pub fn unknown_waivers(p: &Process) -> Vec<String> {
     p.drc
         .waive
         .iter()
-        .filter(|w| !CODES.iter().any(|(c, _)| c == w))
+        .filter(|w| !DrcCode::ALL.iter().any(|c| c.as_str() == w.as_str()))
         .cloned()
         .collect()
 }
@@ -174,7 +135,9 @@ pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
     v.extend(rules::streets(set, p, plan));
     v.extend(rules::electrodes(set, p));
     for x in &mut v {
-        x.waived = d.waive.iter().any(|w| w == x.code);
+        if d.waive.iter().any(|w| w == x.code.as_str()) {
+            x.severity = Severity::Warning;
+        }
     }
     DrcReport {
         violations: v,

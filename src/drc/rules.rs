@@ -2,8 +2,9 @@
 
 use geo::{BoundingRect, Distance, Euclidean, Polygon, Rect};
 
-use super::Violation;
+use super::violation;
 use crate::etch::EtchPlan;
+use crate::finding::{DrcCode, Finding};
 use crate::layout::boolean::{rect, translate};
 use crate::layout::{front_compensation, LayerKind, MaskSet};
 use crate::process::{Process, Side};
@@ -25,7 +26,7 @@ fn near(a: &Rect, b: &Rect, d: f64) -> bool {
 }
 
 /// Compensators colliding or crossing the die edge; tooth bases merging.
-pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
+pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Finding> {
     let mut out = Vec::new();
     let Some(cell) = &set.tooth_cell else {
         return out;
@@ -53,8 +54,8 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
             } else {
                 "it reaches"
             };
-            out.push(Violation::new(
-                "COMPENSATOR_OUTSIDE_DIE",
+            out.push(violation(
+                DrcCode::CompensatorOutsideDie,
                 Some(LayerKind::FrontSi),
                 centre(r),
                 format!(
@@ -80,8 +81,8 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
                     .fold(f64::INFINITY, f64::min);
             if d < min_space {
                 let (ca, cb) = (centre(&a.2), centre(&b.2));
-                out.push(Violation::new(
-                    "COMPENSATORS_COLLIDE",
+                out.push(violation(
+                    DrcCode::CompensatorsCollide,
                     Some(LayerKind::FrontSi),
                     ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
                     format!(
@@ -119,8 +120,8 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
             if near(a, b, 0.0) {
                 let (ti, tj) = (&set.teeth[i], &set.teeth[j]);
                 let (ca, cb) = (centre(a), centre(b));
-                out.push(Violation::new(
-                    "TEETH_BASES_MERGE",
+                out.push(violation(
+                    DrcCode::TeethBasesMerge,
                     Some(LayerKind::FrontSi),
                     ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
                     format!(
@@ -137,7 +138,7 @@ pub fn teeth(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
 
 /// Etched streets on each silicon side, within the die and across the dicing street to the
 /// neighbouring dies: narrower than sqrt 2 h they self-stop as V-grooves.
-pub fn streets(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
+pub fn streets(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Finding> {
     let mut out = Vec::new();
     let (px, py) = (set.pitch_x_um, set.pitch_y_um);
     for (layer, side) in [
@@ -186,8 +187,8 @@ pub fn streets(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
                         let d = gap(&a[i], &b[j]);
                         if d > 1e-9 && d < need {
                             let (ca, cb) = (centre(&ab[i]), centre(&bb[j]));
-                            out.push(Violation::new(
-                                "STREET_TOO_NARROW",
+                            out.push(violation(
+                                DrcCode::StreetTooNarrow,
                                 Some(layer),
                                 ((ca.0 + cb.0) / 2.0, (ca.1 + cb.1) / 2.0),
                                 format!(
@@ -212,7 +213,7 @@ pub fn streets(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Violation> {
 }
 
 /// Electrode islands closer than the minimum gap or than the edge margin to the film edge.
-pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Violation> {
+pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Finding> {
     let mut out = Vec::new();
     let min = p.drc.min_electrode_gap_um;
     let es = &set.electrodes;
@@ -221,8 +222,8 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Violation> {
             let d = gap(&es[i].polygon, &es[j].polygon);
             if d < min {
                 let r = es[i].polygon.bounding_rect().expect("island");
-                out.push(Violation::new(
-                    "ELECTRODE_GAP",
+                out.push(violation(
+                    DrcCode::ElectrodeGap,
                     Some(LayerKind::Pvdf),
                     centre(&r),
                     format!(
@@ -243,8 +244,8 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Violation> {
             || r.max().x > fr.max().x + 1e-6
             || r.max().y > fr.max().y + 1e-6
         {
-            out.push(Violation::new(
-                "ELECTRODE_EDGE",
+            out.push(violation(
+                DrcCode::ElectrodeEdge,
                 Some(LayerKind::Pvdf),
                 centre(&r),
                 format!("{} is closer than {m} um to the film edge", e.name),

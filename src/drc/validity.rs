@@ -3,7 +3,8 @@
 
 use geo::{Area, Polygon, Validation};
 
-use super::Violation;
+use super::violation;
+use crate::finding::{DrcCode, Finding};
 use crate::layout::{LayerKind, MaskSet};
 
 /// Problems of one polygon, as messages.
@@ -39,7 +40,7 @@ pub fn problems(p: &Polygon, max_vertices: usize) -> Vec<String> {
 }
 
 /// Checks every polygon of every cell and layer.
-pub fn check(set: &MaskSet, max_vertices: usize) -> Vec<Violation> {
+pub fn check(set: &MaskSet, max_vertices: usize) -> Vec<Finding> {
     let mut out = Vec::new();
     for (name, cell) in &set.cells {
         for (layer, polys) in &cell.shapes {
@@ -47,8 +48,8 @@ pub fn check(set: &MaskSet, max_vertices: usize) -> Vec<Violation> {
                 let probs = problems(p, max_vertices);
                 if !probs.is_empty() {
                     let c = p.exterior().0.first().copied().unwrap_or_default();
-                    out.push(Violation::new(
-                        "INVALID_POLYGON",
+                    out.push(violation(
+                        DrcCode::InvalidPolygon,
                         Some(*layer),
                         (c.x, c.y),
                         format!("cell {name}: {}", probs.join("; ")),

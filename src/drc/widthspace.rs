@@ -8,7 +8,8 @@
 
 use geo::{Coord, Polygon};
 
-use super::Violation;
+use super::violation;
+use crate::finding::{DrcCode, Finding};
 use crate::layout::LayerKind;
 
 #[derive(Clone, Copy)]
@@ -27,7 +28,7 @@ pub fn check(
     layer: LayerKind,
     min_width_um: f64,
     min_space_um: f64,
-) -> Vec<Violation> {
+) -> Vec<Finding> {
     let mut hor = Vec::new();
     let mut ver = Vec::new();
     for p in polys {
@@ -68,15 +69,15 @@ pub fn check(
                 let mid = (lo + hi) / 2.0;
                 let at = |c: f64| if horizontal { (mid, c) } else { (c, mid) };
                 if e1.interior_plus && !e2.interior_plus && d < min_width_um {
-                    out.push(Violation::new(
-                        "MIN_WIDTH",
+                    out.push(violation(
+                        DrcCode::MinWidth,
                         Some(layer),
                         at(e1.at + d / 2.0),
                         format!("width {d:.3} um < {min_width_um} um"),
                     ));
                 } else if !e1.interior_plus && e2.interior_plus && d < min_space_um {
-                    out.push(Violation::new(
-                        "MIN_SPACE",
+                    out.push(violation(
+                        DrcCode::MinSpace,
                         Some(layer),
                         at(e1.at + d / 2.0),
                         format!("space {d:.3} um < {min_space_um} um"),
@@ -110,8 +111,8 @@ pub fn check(
                 && dy.abs() > 1e-9
                 && !inside_any(polys, a.0, b.0)
             {
-                out.push(Violation::new(
-                    "MIN_SPACE",
+                out.push(violation(
+                    DrcCode::MinSpace,
                     Some(layer),
                     ((a.0.x + b.0.x) / 2.0, (a.0.y + b.0.y) / 2.0),
                     format!("corner-to-corner space {d:.3} um < {min_space_um} um"),
@@ -124,7 +125,7 @@ pub fn check(
 
 /// Shapes of one layer that meet only at a vertex: on the mask a zero-width neck (pieces that
 /// share an edge, such as the halves of a cut glyph, are fine).
-fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Violation> {
+fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Finding> {
     let mut at: std::collections::BTreeMap<(i64, i64), Vec<(usize, usize)>> =
         std::collections::BTreeMap::new();
     for (k, p) in polys.iter().enumerate() {
@@ -157,8 +158,8 @@ fn point_contacts(polys: &[Polygon], layer: LayerKind) -> Vec<Violation> {
                     })
                 });
                 if !shared {
-                    out.push(Violation::new(
-                        "MIN_WIDTH",
+                    out.push(violation(
+                        DrcCode::MinWidth,
                         Some(layer),
                         (*x as f64 / 1000.0, *y as f64 / 1000.0),
                         "shapes touch at a single point: a zero-width neck",
@@ -190,8 +191,8 @@ mod tests {
             10.0,
             10.0,
         );
-        assert!(v.iter().any(|x| x.code == "MIN_WIDTH"));
-        assert!(v.iter().any(|x| x.code == "MIN_SPACE"));
+        assert!(v.iter().any(|x| x.code == DrcCode::MinWidth.into()));
+        assert!(v.iter().any(|x| x.code == DrcCode::MinSpace.into()));
         let ok = check(
             &[rect(0.0, 0.0, 100.0, 20.0), rect(0.0, 40.0, 100.0, 80.0)],
             LayerKind::FrontSi,

@@ -3,7 +3,6 @@
 //! Inputs come only from the validated [`Process`]; the plan is plain data (serialisable as the
 //! stable JSON of `tactfab etch --json`).
 
-pub mod check;
 pub mod compensation;
 pub mod geometry;
 pub mod oxidation;
@@ -11,7 +10,6 @@ mod plan;
 pub mod rate;
 pub mod resist;
 
-pub use check::{Check, Severity, CODES};
 pub use compensation::{design as compensation_design, CompensationDesign};
 pub use plan::*;
 

@@ -2,7 +2,6 @@
 
 use serde::Serialize;
 
-use super::check::Check;
 use super::compensation::{design, CompensationDesign};
 use super::geometry::{
     mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um,
@@ -10,6 +9,7 @@ use super::geometry::{
 use super::oxidation::{DealGrove, SI_CONSUMED_PER_OXIDE};
 use super::rate::{koh_rate_100, koh_rate_110, tmah_rate_100};
 use super::resist::spin_thickness_um;
+use crate::finding::{DrcCode, EtchCode, Finding, Severity};
 use crate::process::{
     CompensationGeometry, EtchMask, Etchant, Process, Side, StepParams, TeethPattern,
 };
@@ -34,12 +34,12 @@ pub struct EtchPlan {
     pub resists: Vec<ResistResult>,
     pub oxide_etches: Vec<OxideEtchResult>,
     /// Warnings and errors, each with a stable code.
-    pub warnings: Vec<Check>,
+    pub warnings: Vec<Finding>,
 }
 
 impl EtchPlan {
     pub fn has_errors(&self) -> bool {
-        self.warnings.iter().any(Check::is_error)
+        self.warnings.iter().any(Finding::is_error)
     }
 }
 
@@ -135,8 +135,8 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                     o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
                 if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
                     if (x - e).abs() / e > 0.05 {
-                        warnings.push(Check::warning(
-                            "OXIDE_CLAIM",
+                        warnings.push(Finding::warning(
+                            EtchCode::OxideClaim,
                             format!(
                                 "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, \
                                  not the {e} um stated; {e} um needs {t:.2} h",
@@ -201,20 +201,21 @@ pub(super) fn build(p: &Process) -> EtchPlan {
     let tol = p.wafer.thickness_tolerance_um;
     if !steps.is_empty() {
         if front + back >= wafer {
-            warnings.push(Check::error(
-                "DEPTH_EXCEEDS_WAFER",
+            warnings.push(Finding::error(
+                EtchCode::DepthExceedsWafer,
                 format!(
                     "front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"
                 ),
             ));
         } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
-            let c = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 {
-                Check::error
+            let severity = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 {
+                Severity::Error
             } else {
-                Check::warning
+                Severity::Warning
             };
-            warnings.push(c(
-                "PLATE_THICKNESS_MISMATCH",
+            warnings.push(Finding::new(
+                severity,
+                EtchCode::PlateThicknessMismatch,
                 format!(
                     "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), \
                      not the {} um of geometry.plate_thickness_um",
@@ -223,8 +224,8 @@ pub(super) fn build(p: &Process) -> EtchPlan {
             ));
         }
         if tol / g.plate_thickness_um > 0.05 {
-            warnings.push(Check::warning(
-                "PLATE_TOLERANCE",
+            warnings.push(Finding::warning(
+                EtchCode::PlateTolerance,
                 format!(
                     "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} \
                      um; etch to 90 % of the time, measure the depth, then finish",
@@ -258,7 +259,7 @@ fn silicon_etch(
     name: &str,
     e: &crate::process::SiliconEtch,
     oxide_um: f64,
-    warnings: &mut Vec<Check>,
+    warnings: &mut Vec<Finding>,
 ) -> EtchStep {
     let et = &p.etchants;
     let (model_100, r110, r100_over_r111, oxide_rate) = match e.etchant {
@@ -271,8 +272,8 @@ fn silicon_etch(
             let (r, extrapolated) =
                 tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
             if extrapolated && e.measured_rate_um_per_h.is_none() {
-                warnings.push(Check::warning(
-                    "RATE_EXTRAPOLATED",
+                warnings.push(Finding::warning(
+                    EtchCode::RateExtrapolated,
                     format!(
                         "step `{name}`: no TMAH rate measured near {} wt %; the nearest table row \
                          is used",
@@ -281,8 +282,8 @@ fn silicon_etch(
                 ));
             }
             if e.concentration_wt_pct < 22.0 {
-                warnings.push(Check::warning(
-                    "HILLOCK_RISK",
+                warnings.push(Finding::warning(
+                    EtchCode::HillockRisk,
                     format!(
                         "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~22 wt %",
                         e.concentration_wt_pct
@@ -318,8 +319,8 @@ fn silicon_etch(
     };
     if let Some(m) = e.measured_rate_um_per_h {
         if (m - model_100).abs() / model_100 > 0.3 {
-            warnings.push(Check::warning(
-                "RATE_MODEL_DISAGREES",
+            warnings.push(Finding::warning(
+                EtchCode::RateModelDisagrees,
                 format!(
                     "step `{name}`: measured {m} um/h vs model {model_100:.1} um/h; the \
                      measurement is used"
@@ -333,8 +334,8 @@ fn silicon_etch(
     let time_h = e.time_h.unwrap_or(time_for_depth_h);
     let achieved = rate * time_h;
     if (achieved - e.depth_um).abs() / e.depth_um > MISMATCH_REL {
-        warnings.push(Check::warning(
-            "ETCH_TIME_DEPTH_MISMATCH",
+        warnings.push(Finding::warning(
+            EtchCode::EtchTimeDepthMismatch,
             format!(
                 "step `{name}`: {time_h} h at {rate} um/h etches {achieved:.1} um per face, not \
                  {} um; {:.3} h reaches {} um",
@@ -359,20 +360,20 @@ fn silicon_etch(
         EtchMask::Resist => (0.0, f64::NEG_INFINITY),
     };
     match e.mask {
-        EtchMask::Resist => warnings.push(Check::error(
-            "RESIST_NOT_A_MASK",
+        EtchMask::Resist => warnings.push(Finding::error(
+            EtchCode::ResistNotAMask,
             format!(
                 "step `{name}`: photoresist does not mask {}: it dissolves (its developer is \
                  TMAH); use thermal oxide or nitride",
                 e.etchant.label()
             ),
         )),
-        EtchMask::Oxide if start <= 0.0 => warnings.push(Check::error(
-            "NO_OXIDE_MASK",
+        EtchMask::Oxide if start <= 0.0 => warnings.push(Finding::error(
+            EtchCode::NoOxideMask,
             format!("step `{name}`: masked by oxide, but no oxide is grown before it"),
         )),
-        EtchMask::Oxide if remaining <= 0.0 => warnings.push(Check::error(
-            "MASK_CONSUMED",
+        EtchMask::Oxide if remaining <= 0.0 => warnings.push(Finding::error(
+            EtchCode::MaskConsumed,
             format!(
                 "step `{name}`: {:.2} um of oxide is etched away in {time_h:.2} h at {mask_rate} \
                  um/h, but only {start:.3} um was grown; the mask fails at {:.1} h",
@@ -380,8 +381,8 @@ fn silicon_etch(
                 start / mask_rate
             ),
         )),
-        EtchMask::Oxide if remaining < 0.25 * start => warnings.push(Check::warning(
-            "MASK_MARGIN_LOW",
+        EtchMask::Oxide if remaining < 0.25 * start => warnings.push(Finding::warning(
+            EtchCode::MaskMarginLow,
             format!(
                 "step `{name}`: only {remaining:.3} um of the {start:.3} um oxide is left at the \
                  end"
@@ -398,8 +399,8 @@ fn silicon_etch(
             Some(c) => {
                 if e.etchant == Etchant::Tmah && (0.53..=0.56).contains(&c.ratio) {
                     let a = e.depth_um / c.ratio;
-                    warnings.push(Check::warning(
-                        "COMP_RATIO_FROM_KOH",
+                    warnings.push(Finding::warning(
+                        EtchCode::CompRatioFromKoh,
                         format!(
                             "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = \
                              0.548); it is unvalidated for TMAH, whose convex corners undercut \
@@ -414,8 +415,8 @@ fn silicon_etch(
                 Some(design(e.depth_um, c.ratio, c.geometry))
             }
             None => {
-                warnings.push(Check::warning(
-                    "NO_COMPENSATION",
+                warnings.push(Finding::warning(
+                    EtchCode::NoCompensation,
                     format!(
                         "step `{name}`: the tooth corners are convex and will be undercut without \
                          compensation"
@@ -459,14 +460,14 @@ fn silicon_etch(
 }
 
 /// Cross-checks of geometry against the etch steps: depths, teeth spacing, compensators.
-fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
+fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>) {
     let g = &p.geometry;
     let t = &g.teeth;
     let w = p.wafer.thickness_um;
     let implied = w - t.height_um * f64::from(t.pattern != TeethPattern::None) - g.channel_depth_um;
     if t.pattern != TeethPattern::None && (implied - g.plate_thickness_um).abs() > 1e-6 {
-        warnings.push(Check::error(
-            "GEOMETRY_INCONSISTENT",
+        warnings.push(Finding::error(
+            EtchCode::GeometryInconsistent,
             format!(
                 "wafer {w} - teeth {} - channel {} = {implied} um, but \
                  geometry.plate_thickness_um is {}",
@@ -488,8 +489,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         && t.pattern != TeethPattern::None
         && (front_target - t.height_um).abs() > 1e-6
     {
-        warnings.push(Check::error(
-            "DEPTH_GEOMETRY_MISMATCH",
+        warnings.push(Finding::error(
+            EtchCode::DepthGeometryMismatch,
             format!(
                 "front etch depth {front_target} um differs from geometry.teeth.height_um {}",
                 t.height_um
@@ -497,8 +498,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         ));
     }
     if !steps.is_empty() && (back_target - g.channel_depth_um).abs() > 1e-6 {
-        warnings.push(Check::error(
-            "DEPTH_GEOMETRY_MISMATCH",
+        warnings.push(Finding::error(
+            EtchCode::DepthGeometryMismatch,
             format!(
                 "back etch depth {back_target} um differs from geometry.channel_depth_um {}",
                 g.channel_depth_um
@@ -522,8 +523,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         _ => (2.0 * t.pitch_x_um - t.top_um).min(2.0 * t.pitch_y_um - t.top_um),
     };
     if street < front.min_street_um {
-        warnings.push(Check::error(
-            "STREET_TOO_NARROW",
+        warnings.push(Finding::error(
+            DrcCode::StreetTooNarrow,
             format!(
                 "the {street:.0} um street between teeth self-stops as a V-groove {:.0} um deep; \
                  full depth {} um needs {:.0} um (the tooth bases merge)",
@@ -545,8 +546,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
         CompensationGeometry::Centred => "centred",
     };
     if collide {
-        warnings.push(Check::error(
-            "COMPENSATORS_COLLIDE",
+        warnings.push(Finding::error(
+            DrcCode::CompensatorsCollide,
             format!(
                 "{kind} compensators of {:.1} um need {:.1} um between facing tooth corners; the \
                  pitch leaves {:.0} x {:.0} um: they merge into a bridge. Raise the pitch to >= \
@@ -567,8 +568,8 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
     let x1 = t.origin_x_um + t.count_x as f64 * t.pitch_x_um - inset + c.reach_um;
     let y1 = t.origin_y_um + t.count_y as f64 * t.pitch_y_um - inset_y + c.reach_um;
     if x0 < 0.0 || y0 < 0.0 || x1 > g.die_length_um || y1 > g.die_width_um {
-        warnings.push(Check::error(
-            "COMPENSATOR_OUTSIDE_DIE",
+        warnings.push(Finding::error(
+            DrcCode::CompensatorOutsideDie,
             format!(
                 "compensators of the outer teeth span x {x0:.0}..{x1:.0}, y {y0:.0}..{y1:.0} um, \
                  beyond the {} x {} um die",
@@ -580,7 +581,7 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Check>) {
 
 /// g = d / (eps0 eps_r) (IEEE piezo relations; fe-validation.md): report when the given g, d and
 /// eps_r disagree by more than 10 %.
-fn piezo_check(p: &Process, warnings: &mut Vec<Check>) {
+fn piezo_check(p: &Process, warnings: &mut Vec<Finding>) {
     let f = &p.materials.pvdf;
     for (label, d, g) in [
         ("31", f.d31_pc_per_n, f.g31_vm_per_n),
@@ -593,8 +594,8 @@ fn piezo_check(p: &Process, warnings: &mut Vec<Check>) {
         }
         let implied_eps_r = d * 1e-12 / (g * EPS0_F_PER_M);
         if (implied_eps_r - f.eps_r).abs() / f.eps_r > 0.1 {
-            warnings.push(Check::warning(
-                "PIEZO_CONSTANTS_INCONSISTENT",
+            warnings.push(Finding::warning(
+                EtchCode::PiezoConstantsInconsistent,
                 format!(
                     "d{label} = {d} pC/N with g{label} = {g} V m/N implies eps_r = \
                      {implied_eps_r:.1}, but eps_r is {}; tactfab uses d and eps_r and derives \

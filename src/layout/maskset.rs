@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use geo::{Coord, Polygon};
 use serde::Serialize;
 
+use crate::finding::Finding;
 use crate::process::{GdsLayer, LayerMap, MaskPurpose, Side, Tone};
 
 use super::boolean::translate;
@@ -188,13 +189,6 @@ pub struct MaskEntry {
     pub chrome: String,
 }
 
-/// A layout finding that is not a rule violation (reaches the report as a value).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LayoutWarning {
-    pub code: &'static str,
-    pub message: String,
-}
-
 /// Where an electrode island sits across the die: what it reads depends on it (thickness mode
 /// under a support, extension mode over the plate).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -253,7 +247,7 @@ pub struct MaskSet {
     pub tooth_top_um: f64,
     pub electrodes: Vec<Electrode>,
     pub masks: Vec<MaskEntry>,
-    pub warnings: Vec<LayoutWarning>,
+    pub warnings: Vec<Finding>,
 }
 
 impl MaskSet {

@@ -25,11 +25,11 @@ use std::f64::consts::PI;
 use geo::{Coord, LineString, Polygon};
 
 pub use maskset::{
-    Cell, Electrode, ElectrodeSide, LayerKind, LayoutWarning, MaskEntry, MaskSet, Note, Placement,
-    Tooth,
+    Cell, Electrode, ElectrodeSide, LayerKind, MaskEntry, MaskSet, Note, Placement, Tooth,
 };
 
 use crate::etch::{CompensationDesign, EtchPlan};
+use crate::finding::{At, Finding, LayoutCode};
 use crate::process::{CompensationGeometry, MaskPurpose, Process, Side, TeethPattern, Tone};
 
 use boolean::{rect, snap, translate};
@@ -227,26 +227,32 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
                 if matches!(layer, LayerKind::FrontSi | LayerKind::BackSi) {
                     let depth = plan.steps.iter().map(|s| s.depth_um).fold(0.0, f64::max);
                     if pixel < 2.0 * depth {
-                        warnings.push(LayoutWarning {
-                            code: "LABEL_ON_DEEP_ETCH",
-                            message: format!(
+                        warnings.push(
+                            Finding::warning(
+                                LayoutCode::LabelOnDeepEtch,
+                                format!(
                                 "mask `{}`: label strokes of {pixel} um are undercut away by the \
                                  {depth} um etch: the label identifies the mask plate, not the \
                                  etched die",
                                 m.name
                             ),
-                        });
+                            )
+                            .at(At::Mask(m.name.clone())),
+                        );
                     }
                 }
             }
-            None => warnings.push(LayoutWarning {
-                code: "LABEL_NO_ROOM",
-                message: format!(
+            None => warnings.push(
+                Finding::warning(
+                    LayoutCode::LabelNoRoom,
+                    format!(
                     "mask `{}`: no free spot on layer {} for a {pixel} um-pixel label; none drawn",
                     m.name,
                     layer.name()
                 ),
-            }),
+                )
+                .at(At::Mask(m.name.clone())),
+            ),
         }
     }
     cells.insert(die_name.clone(), die);

@@ -100,8 +100,8 @@ impl Built {
             .filter(|c| c.is_error())
             .map(|c| format!("etch plan: {c}"))
             .collect();
-        for x in self.drc.violations.iter().filter(|x| !x.waived) {
-            v.push(format!("DRC: {x}"));
+        for x in self.drc.violations.iter().filter(|x| x.is_error()) {
+            v.push(format!("DRC: {}", crate::drc::line(x)));
         }
         if let Some(fe) = &self.fe {
             v.extend(fe.failures());

@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 
+use crate::finding::Finding;
 use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
 use crate::process::{Scene, SceneLoad};
 use crate::sensor::SceneReport;
@@ -40,7 +41,7 @@ pub struct FeScene {
     pub most_sensitive: String,
     pub electrodes: Vec<FeElectrode>,
     pub limits: Vec<LimitCheck>,
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Finding>,
     /// (largest element um, deflection at the load per newton um/N) per mesh level: the
     /// convergence the error estimate is made from.
     pub deflection_by_level: Vec<(f64, f64)>,

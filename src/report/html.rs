@@ -4,7 +4,7 @@
 use super::fe::plots;
 use super::markdown::err_text;
 use super::section::{svg as section_svg, xml};
-use super::traveler::{CompensationRow, Traveler};
+use super::traveler::{CompensationRow, Traveler, DRC_PER_CODE};
 
 /// Pictures that come from outside the model: each mask as the shop receives it, and one tooth
 /// of the front mask with its compensators.
@@ -268,16 +268,15 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
             esc(&c.to_string())
         ));
     }
-    for (code, m) in &t.layout_warnings {
-        b.push_str(&format!(
-            "<li>layout warning[{}]: {}</li>",
-            esc(code),
-            esc(m)
-        ));
+    for w in &t.layout_warnings {
+        b.push_str(&format!("<li>layout {}</li>", esc(&w.to_string())));
     }
     b.push_str("</ul>\n");
-    b.push_str(&format!("<pre>{}</pre>\n", esc(&t.drc_summary)));
-    b.push_str(if t.drc_passed {
+    b.push_str(&format!(
+        "<pre>{}</pre>\n",
+        esc(&t.drc.summary(DRC_PER_CODE))
+    ));
+    b.push_str(if t.drc.passed() {
         "<p class=\"pass\">DRC passed.</p>\n"
     } else {
         "<p class=\"fail\">DRC FAILED: do not release the masks.</p>\n"
@@ -293,7 +292,7 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
             .iter()
             .map(|d| {
                 vec![
-                    format!("<code>{}</code>", esc(&d.code)),
+                    format!("<code>{}</code>", esc(d.code.as_str())),
                     esc(&d.quantity),
                     esc(&d.source_says),
                     esc(&d.computed),
@@ -416,9 +415,9 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
                 .scenes
                 .iter()
                 .flat_map(|sc| {
-                    sc.warnings
-                        .iter()
-                        .map(move |w| format!("<li>scene {}: {}</li>", esc(&sc.name), esc(w)))
+                    sc.warnings.iter().map(move |w| {
+                        format!("<li>scene {}: {}</li>", esc(&sc.name), esc(&w.to_string()))
+                    })
                 })
                 .collect();
             if !warnings.is_empty() {

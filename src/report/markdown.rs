@@ -1,7 +1,7 @@
 //! The traveler as Markdown (GitHub tables; `<br>` inside cells). Deterministic: fixed decimals,
 //! the model's order, no dates or timings.
 
-use super::traveler::{CompensationRow, Traveler};
+use super::traveler::{CompensationRow, Traveler, DRC_PER_CODE};
 
 /// A table cell: pipes escaped, newlines as `<br>`.
 fn cell(s: &str) -> String {
@@ -183,11 +183,14 @@ pub fn markdown(t: &Traveler) -> String {
     for c in &t.checks {
         s.push_str(&format!("- {c}\n"));
     }
-    for (code, m) in &t.layout_warnings {
-        s.push_str(&format!("- layout warning[{code}]: {m}\n"));
+    for w in &t.layout_warnings {
+        s.push_str(&format!("- layout {w}\n"));
     }
-    s.push_str(&format!("\n```text\n{}```\n\n", t.drc_summary));
-    s.push_str(if t.drc_passed {
+    s.push_str(&format!(
+        "\n```text\n{}```\n\n",
+        t.drc.summary(DRC_PER_CODE)
+    ));
+    s.push_str(if t.drc.passed() {
         "DRC passed.\n\n"
     } else {
         "**DRC FAILED**: do not release the masks.\n\n"
@@ -280,7 +283,7 @@ pub fn markdown(t: &Traveler) -> String {
             }
             for sc in &fe.scenes {
                 for w in &sc.warnings {
-                    s.push_str(&format!("- scene `{}`: warning: {w}\n", sc.name));
+                    s.push_str(&format!("- scene `{}`: {w}\n", sc.name));
                 }
             }
             if fe.scenes.iter().any(|sc| !sc.warnings.is_empty()) {

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::etch::Check;
+use crate::finding::Finding;
 
 use super::build::Built;
 use super::fe::FeSummary;
@@ -29,7 +29,7 @@ pub struct BuildSummary {
     pub passed: bool,
     /// Why it failed, one line each (etch-plan errors, DRC, FE limits).
     pub failures: Vec<String>,
-    pub checks: Vec<Check>,
+    pub checks: Vec<Finding>,
     pub drc_passed: bool,
     pub drc_violations: usize,
     pub drc_failing: usize,

@@ -6,7 +6,8 @@
 use serde::Serialize;
 
 use crate::drc::DrcReport;
-use crate::etch::{Check, EtchPlan, EtchStep};
+use crate::etch::{EtchPlan, EtchStep};
+use crate::finding::{Code, EtchCode, Finding};
 use crate::layout::MaskSet;
 use crate::process::{Process, Provenance, Side, StepParams};
 
@@ -77,7 +78,7 @@ pub struct HoldPoint {
 /// A number of the source against what tactfab computes.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Discrepancy {
-    pub code: String,
+    pub code: Code,
     pub quantity: String,
     pub source_says: String,
     pub computed: String,
@@ -129,6 +130,9 @@ impl CompensationRow {
     }
 }
 
+/// Violations the traveler lists per DRC code (the DRC report file lists them all).
+pub const DRC_PER_CODE: usize = 10;
+
 /// The whole traveler.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Traveler {
@@ -145,10 +149,11 @@ pub struct Traveler {
     pub cut: Cut,
     pub stacks: Vec<Stack>,
     /// Etch-plan checks, errors first, then by code (stable order).
-    pub checks: Vec<Check>,
-    pub drc_summary: String,
-    pub drc_passed: bool,
-    pub layout_warnings: Vec<(String, String)>,
+    pub checks: Vec<Finding>,
+    /// The design-rule check of the masks, as data.
+    pub drc: DrcReport,
+    /// What drawing the masks found.
+    pub layout_warnings: Vec<Finding>,
     pub discrepancies: Vec<Discrepancy>,
     pub compensation: Vec<CompensationRow>,
     pub defaults_used: Vec<Provenance>,
@@ -543,7 +548,11 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
     }
 
     let mut checks = plan.warnings.clone();
-    checks.sort_by(|a, b| b.severity.cmp(&a.severity).then(a.code.cmp(b.code)));
+    checks.sort_by(|a, b| {
+        b.severity
+            .cmp(&a.severity)
+            .then(a.code.as_str().cmp(b.code.as_str()))
+    });
     let material = vec![
         (
             "wafer".to_string(),
@@ -610,14 +619,8 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         cut: Cut::new(p, input.set),
         stacks: stacks(p, plan),
         checks,
-        drc_summary: input.drc.summary(10),
-        drc_passed: input.drc.passed(),
-        layout_warnings: input
-            .set
-            .warnings
-            .iter()
-            .map(|w| (w.code.to_string(), w.message.clone()))
-            .collect(),
+        drc: input.drc.clone(),
+        layout_warnings: input.set.warnings.clone(),
         discrepancies: discrepancies(p, plan),
         compensation: compensation(p, plan),
         defaults_used: input.defaults_used.to_vec(),
@@ -703,7 +706,7 @@ pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
         if let (Some(e), Some(t)) = (o.expected_thickness_um, o.time_for_expected_h) {
             if (o.thickness_um - e).abs() / e > OXIDE_TOL_REL {
                 v.push(Discrepancy {
-                    code: "OXIDE_CLAIM".into(),
+                    code: EtchCode::OxideClaim.into(),
                     quantity: format!("oxide of `{}`", o.name),
                     source_says: format!("{e} um in {} h at {} C", o.time_h, o.temp_c),
                     computed: format!(
@@ -725,7 +728,7 @@ pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
         if let Some(t) = e.time_h {
             if (s.achieved_depth_um - s.depth_um).abs() / s.depth_um > DEPTH_TOL_REL {
                 v.push(Discrepancy {
-                    code: "ETCH_TIME_DEPTH_MISMATCH".into(),
+                    code: EtchCode::EtchTimeDepthMismatch.into(),
                     quantity: format!("etch time of `{}`", s.name),
                     source_says: format!(
                         "{t} h for {} um per face at {} um/h",
@@ -744,7 +747,7 @@ pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
             > DEPTH_TOL_REL
     {
         v.push(Discrepancy {
-            code: "PLATE_THICKNESS_MISMATCH".into(),
+            code: EtchCode::PlateThicknessMismatch.into(),
             quantity: "plate thickness".into(),
             source_says: format!("{} um", plan.plate_target_um),
             computed: format!(
@@ -756,22 +759,20 @@ pub fn discrepancies(p: &Process, plan: &EtchPlan) -> Vec<Discrepancy> {
             ),
         });
     }
-    for c in plan.warnings.iter().filter(|c| {
-        matches!(
-            c.code,
-            "COMP_RATIO_FROM_KOH" | "PIEZO_CONSTANTS_INCONSISTENT" | "RATE_MODEL_DISAGREES"
-        )
-    }) {
+    for c in &plan.warnings {
         let (quantity, source_says) = match c.code {
-            "COMP_RATIO_FROM_KOH" => (
+            Code::Etch(EtchCode::CompRatioFromKoh) => (
                 "corner compensation ratio",
                 "a = h / 0.544 (a KOH rule) for TMAH",
             ),
-            "PIEZO_CONSTANTS_INCONSISTENT" => ("PVDF g and d constants", "d, g and eps_r as given"),
-            _ => ("(100) etch rate", "the measured rate"),
+            Code::Etch(EtchCode::PiezoConstantsInconsistent) => {
+                ("PVDF g and d constants", "d, g and eps_r as given")
+            }
+            Code::Etch(EtchCode::RateModelDisagrees) => ("(100) etch rate", "the measured rate"),
+            _ => continue,
         };
         v.push(Discrepancy {
-            code: c.code.into(),
+            code: c.code,
             quantity: quantity.into(),
             source_says: source_says.into(),
             computed: c.message.clone(),
@@ -874,7 +875,7 @@ mod tests {
         let oxide = t
             .discrepancies
             .iter()
-            .find(|d| d.code == "OXIDE_CLAIM")
+            .find(|d| d.code == EtchCode::OxideClaim.into())
             .unwrap();
         assert!(oxide.computed.starts_with("0.942 um"), "{}", oxide.computed);
         let comp = &t.compensation[0];

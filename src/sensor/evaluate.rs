@@ -11,6 +11,7 @@ use crate::fe::{
     Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion,
     ThreeMesh,
 };
+use crate::finding::{Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
 
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
@@ -143,7 +144,7 @@ pub struct SceneReport {
     pub most_sensitive: String,
     pub reactions_n: Reactions,
     pub electrodes: Vec<ElectrodeReading>,
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Finding>,
     /// Per mesh level: size, cost, values and the estimate (`tactfab fe --convergence`).
     pub convergence: Vec<LevelRecord>,
 }
@@ -478,35 +479,40 @@ fn scene_warnings(
     order: Option<f64>,
     info: &ModelInfo,
     tol: f64,
-) -> Vec<String> {
+) -> Vec<Finding> {
     let mut warnings = Vec::new();
     if linear_range_ratio > LINEAR_RANGE_LIMIT {
-        warnings.push(format!(
-            "LINEAR_RANGE: maximum deflection {:.1} um is {linear_range_ratio:.2} x the local \
-             thickness (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, \
-             readings overestimate",
-            w_max_m.abs() * 1e6,
+        warnings.push(Finding::warning(
+            SceneCode::LinearRange,
+            format!(
+                "maximum deflection {:.1} um is {linear_range_ratio:.2} x the local thickness \
+                 (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings \
+                 overestimate",
+                w_max_m.abs() * 1e6,
+            ),
         ));
     }
     if !converged {
         warnings.push(match estimate {
-            Some(e) => format!(
-                "NOT_CONVERGED: estimated error {e:.2e} is above the tolerance {tol:.0e} after {} \
-                 mesh levels",
-                info.levels
+            Some(e) => Finding::warning(
+                SceneCode::NotConverged,
+                format!(
+                    "estimated error {e:.2e} is above the tolerance {tol:.0e} after {} mesh levels",
+                    info.levels
+                ),
             ),
-            None => format!(
-                "NO_ERROR_ESTIMATE: {} mesh level(s) give no three-mesh estimate",
-                info.levels
+            None => Finding::warning(
+                SceneCode::NoErrorEstimate,
+                format!("{} mesh level(s) give no three-mesh estimate", info.levels),
             ),
         });
     }
     if order.is_none() && estimate.is_some() && info.kind == ModelKind::Plate {
-        warnings.push(
-            "ORDER_UNKNOWN: the three finest meshes do not converge monotonically; the error \
-             estimate is the last change"
-                .into(),
-        );
+        warnings.push(Finding::warning(
+            SceneCode::OrderUnknown,
+            "the three finest meshes do not converge monotonically; the error estimate is the \
+             last change",
+        ));
     }
     warnings
 }

@@ -311,7 +311,9 @@ fn drc_violation_exits_1_and_waivers_release_it() {
         })
         .filter(|c| {
             c.chars().all(|ch| ch.is_ascii_uppercase() || ch == '_')
-                && tactfab::drc::CODES.iter().any(|(k, _)| k == c)
+                && tactfab::finding::DrcCode::ALL
+                    .iter()
+                    .any(|k| k.as_str() == c)
         })
         .collect();
     assert!(!codes.is_empty());

@@ -3,6 +3,7 @@
 
 use tactfab::design::Design;
 use tactfab::fe::richardson_ratios;
+use tactfab::finding::SceneCode;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::sensor::{
     evaluate, evaluate_many_with, level_ratios, Accuracy, MeshOptions, ModelKind, SceneReport,
@@ -298,7 +299,7 @@ fn fe_json_contract() {
         .as_array()
         .unwrap()
         .iter()
-        .any(|w| w.as_str().unwrap().starts_with("LINEAR_RANGE")));
+        .any(|w| w["code"] == "LINEAR_RANGE" && w["severity"] == "warning"));
 }
 
 #[test]
@@ -415,7 +416,9 @@ fn hard_cases_solve_with_a_stated_error() {
     let r = evaluate(&thin, &point(20.0, 7.5, 1.0), Accuracy::new(0.02, 4)).unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
     assert!(
-        r.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
+        r.warnings
+            .iter()
+            .any(|w| w.code == SceneCode::LinearRange.into()),
         "{:?}",
         r.warnings
     );
@@ -423,7 +426,10 @@ fn hard_cases_solve_with_a_stated_error() {
     assert!(p > 0.5 && p < 3.0, "observed order {p}");
     let small = evaluate(&thin, &point(20.0, 7.5, 0.01), Accuracy::new(0.02, 4)).unwrap();
     assert!(
-        !small.warnings.iter().any(|w| w.starts_with("LINEAR_RANGE")),
+        !small
+            .warnings
+            .iter()
+            .any(|w| w.code == SceneCode::LinearRange.into()),
         "{:?}",
         small.warnings
     );
