@@ -87,5 +87,6 @@ pub mod process;
 pub mod report;
 pub mod sensor;
 pub mod softness;
+pub mod spelling;
 pub mod sweep;
 pub mod units;

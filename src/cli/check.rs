@@ -1,5 +1,7 @@
 //! `tactfab check FILE`: validate, summarise, list defaults and every warning.
 
+use tactfab::spelling::yaml;
+
 use super::output::{checks, f};
 use super::{load, Outcome, ProcessArgs};
 
@@ -27,7 +29,7 @@ pub fn run(args: &ProcessArgs) -> anyhow::Result<Outcome> {
         g.die_width_um / 1000.0,
         g.plate_thickness_um,
         g.support_width_um / 1000.0,
-        format!("{:?}", g.teeth.pattern).to_lowercase(),
+        yaml(&g.teeth.pattern),
         g.teeth.height_um
     ));
     out.push_str(&format!(

@@ -1,5 +1,7 @@
 //! `tactfab etch FILE [--json]`: the etch plan.
 
+use tactfab::spelling::yaml;
+
 use super::args::EtchArgs;
 use super::output::{checks, f};
 use super::{load, Outcome};
@@ -48,8 +50,13 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
         }
         for s in &plan.steps {
             out.push_str(&format!(
-                "silicon etch `{}`: {} {} wt % at {} C, side {:?}, target {} um\n",
-                s.name, s.etchant, s.concentration_wt_pct, s.temp_c, s.side, s.depth_um
+                "silicon etch `{}`: {} {} wt % at {} C, side {}, target {} um\n",
+                s.name,
+                s.etchant.label(),
+                s.concentration_wt_pct,
+                s.temp_c,
+                yaml(&s.side),
+                s.depth_um
             ));
             out.push_str(&format!(
                 "  rate (100) {} um/h [{}], model {} um/h; (110) {} um/h; (111) {} um/h\n",
@@ -76,16 +83,16 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             }
             out.push('\n');
             out.push_str(&format!(
-                "  {:?} mask: {} um consumed, {} um left\n",
-                s.mask,
+                "  {} mask: {} um consumed, {} um left\n",
+                yaml(&s.mask),
                 f(s.mask_consumed_um, 3),
                 f(s.mask_remaining_um, 3)
             ));
             if let Some(c) = &s.compensation {
                 out.push_str(&format!(
-                    "  compensation {:?}: square {} um (a = h/{}), reaches {} um, needs {} um \
+                    "  compensation {}: square {} um (a = h/{}), reaches {} um, needs {} um \
                      between facing corners\n",
-                    c.kind,
+                    yaml(&c.kind),
                     f(c.side_um, 1),
                     c.ratio,
                     f(c.reach_um, 1),

@@ -36,14 +36,18 @@ pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
 fn text(o: &Orientation) -> String {
     let p = &o.plan;
     let mut s = format!(
-        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {:?} N (reference {} N \
+        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {} N (reference {} N \
          solved, others scaled; linearity check {:.1e})\n",
         f(p.width_um / 1e3, 1),
         f(p.height_um / 1e3, 1),
         f(p.x_um / 1e3, 2),
         f(p.y_um / 1e3, 2),
         p.angles_deg.len(),
-        p.forces_n,
+        p.forces_n
+            .iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
         p.reference_force_n,
         o.linearity_deviation
     );

@@ -5,6 +5,7 @@
 
 pub mod compensation;
 pub mod geometry;
+pub mod limits;
 pub mod oxidation;
 mod plan;
 pub mod rate;

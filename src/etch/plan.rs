@@ -6,6 +6,7 @@ use super::compensation::{design, CompensationDesign};
 use super::geometry::{
     mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um,
 };
+use super::limits::*;
 use super::oxidation::{DealGrove, SI_CONSUMED_PER_OXIDE};
 use super::rate::{koh_rate_100, koh_rate_110, tmah_rate_100};
 use super::resist::spin_thickness_um;
@@ -47,8 +48,9 @@ impl EtchPlan {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EtchStep {
     pub name: String,
-    /// `TMAH` or `KOH`.
-    pub etchant: String,
+    /// Written `TMAH` or `KOH` (the JSON contract predates the enum).
+    #[serde(serialize_with = "etchant_label")]
+    pub etchant: Etchant,
     pub concentration_wt_pct: f64,
     pub temp_c: f64,
     pub side: Side,
@@ -77,6 +79,10 @@ pub struct EtchStep {
     pub mask_consumed_um: f64,
     pub mask_remaining_um: f64,
     pub compensation: Option<CompensationDesign>,
+}
+
+fn etchant_label<S: serde::Serializer>(e: &Etchant, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(e.label())
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -111,9 +117,6 @@ pub struct OxideEtchResult {
     pub time_min: f64,
 }
 
-/// Relative difference beyond which a time or thickness "does not add up".
-const MISMATCH_REL: f64 = 0.01;
-
 pub(super) fn build(p: &Process) -> EtchPlan {
     let mut warnings = Vec::new();
     let wafer = p.wafer.thickness_um;
@@ -134,7 +137,7 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                 let time_for_expected_h =
                     o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
                 if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
-                    if (x - e).abs() / e > 0.05 {
+                    if (x - e).abs() / e > OXIDE_CLAIM_REL {
                         warnings.push(Finding::warning(
                             EtchCode::OxideClaim,
                             format!(
@@ -208,7 +211,9 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                 ),
             ));
         } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
-            let severity = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > 0.25 {
+            let severity = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um
+                > PLATE_MISMATCH_ERROR_REL
+            {
                 Severity::Error
             } else {
                 Severity::Warning
@@ -223,7 +228,7 @@ pub(super) fn build(p: &Process) -> EtchPlan {
                 ),
             ));
         }
-        if tol / g.plate_thickness_um > 0.05 {
+        if tol / g.plate_thickness_um > PLATE_TOLERANCE_REL {
             warnings.push(Finding::warning(
                 EtchCode::PlateTolerance,
                 format!(
@@ -281,11 +286,11 @@ fn silicon_etch(
                     ),
                 ));
             }
-            if e.concentration_wt_pct < 22.0 {
+            if e.concentration_wt_pct < TMAH_HILLOCK_WT_PCT {
                 warnings.push(Finding::warning(
                     EtchCode::HillockRisk,
                     format!(
-                        "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~22 wt %",
+                        "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~{TMAH_HILLOCK_WT_PCT} wt %",
                         e.concentration_wt_pct
                     ),
                 ));
@@ -318,7 +323,7 @@ fn silicon_etch(
         },
     };
     if let Some(m) = e.measured_rate_um_per_h {
-        if (m - model_100).abs() / model_100 > 0.3 {
+        if (m - model_100).abs() / model_100 > RATE_MODEL_REL {
             warnings.push(Finding::warning(
                 EtchCode::RateModelDisagrees,
                 format!(
@@ -381,7 +386,7 @@ fn silicon_etch(
                 start / mask_rate
             ),
         )),
-        EtchMask::Oxide if remaining < 0.25 * start => warnings.push(Finding::warning(
+        EtchMask::Oxide if remaining < MASK_MARGIN_REL * start => warnings.push(Finding::warning(
             EtchCode::MaskMarginLow,
             format!(
                 "step `{name}`: only {remaining:.3} um of the {start:.3} um oxide is left at the \
@@ -397,7 +402,7 @@ fn silicon_etch(
     let compensation = if has_teeth {
         match &e.compensation {
             Some(c) => {
-                if e.etchant == Etchant::Tmah && (0.53..=0.56).contains(&c.ratio) {
+                if e.etchant == Etchant::Tmah && KOH_RULE_RATIO.contains(&c.ratio) {
                     let a = e.depth_um / c.ratio;
                     warnings.push(Finding::warning(
                         EtchCode::CompRatioFromKoh,
@@ -430,7 +435,7 @@ fn silicon_etch(
     };
     EtchStep {
         name: name.to_string(),
-        etchant: e.etchant.label().to_string(),
+        etchant: e.etchant,
         concentration_wt_pct: e.concentration_wt_pct,
         temp_c: e.temp_c,
         side: e.side,
@@ -593,7 +598,7 @@ fn piezo_check(p: &Process, warnings: &mut Vec<Finding>) {
             continue;
         }
         let implied_eps_r = d * 1e-12 / (g * EPS0_F_PER_M);
-        if (implied_eps_r - f.eps_r).abs() / f.eps_r > 0.1 {
+        if (implied_eps_r - f.eps_r).abs() / f.eps_r > PIEZO_EPS_REL {
             warnings.push(Finding::warning(
                 EtchCode::PiezoConstantsInconsistent,
                 format!(

@@ -302,12 +302,12 @@ impl MaskSet {
         out.push_str("masks:\n");
         for m in &self.masks {
             out.push_str(&format!(
-                "  {:<10} layer {}/{} ({}), {:?} side, {}: {}\n",
+                "  {:<10} layer {}/{} ({}), {} side, {}: {}\n",
                 m.name,
                 m.gds.layer,
                 m.gds.datatype,
                 m.layer.name(),
-                m.side,
+                crate::spelling::yaml(&m.side),
                 match m.tone {
                     Tone::LightField => "light field",
                     Tone::DarkField => "dark field",

@@ -31,6 +31,7 @@ pub use maskset::{
 use crate::etch::{CompensationDesign, EtchPlan};
 use crate::finding::{At, Finding, LayoutCode};
 use crate::process::{CompensationGeometry, MaskPurpose, Process, Side, TeethPattern, Tone};
+use crate::spelling::yaml;
 
 use boolean::{rect, snap, translate};
 use marks::{mark, MarkKind, MARK_KEEPOUT_HALF_UM};
@@ -118,8 +119,12 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
     if let Some(c) = &comp {
         die.note(
             format!(
-                "TEETH {:?} {} X {} UM, {:?} COMPENSATION {:.1} UM",
-                g.teeth.pattern, g.teeth.top_um, g.teeth.top_um, c.kind, c.side_um
+                "TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
+                yaml(&g.teeth.pattern),
+                g.teeth.top_um,
+                g.teeth.top_um,
+                yaml(&c.kind),
+                c.side_um
             )
             .to_uppercase(),
             l / 2.0,

@@ -128,7 +128,7 @@ pub fn html(t: &Traveler, fig: &Figures) -> String {
             vec![
                 esc(&m.name),
                 esc(&m.gds_layer),
-                format!("{:?}", m.side).to_lowercase(),
+                crate::spelling::yaml(&m.side),
                 esc(&m.tone),
                 if m.mirrored {
                     "<b>MIRRORED</b>".into()

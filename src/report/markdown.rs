@@ -79,7 +79,7 @@ pub fn markdown(t: &Traveler) -> String {
         s.push_str(&row(&[
             m.name.clone(),
             m.gds_layer.clone(),
-            format!("{:?}", m.side).to_lowercase(),
+            crate::spelling::yaml(&m.side),
             m.tone.clone(),
             if m.mirrored {
                 "MIRRORED".into()

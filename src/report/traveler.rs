@@ -6,29 +6,28 @@
 use serde::Serialize;
 
 use crate::drc::DrcReport;
-use crate::etch::{EtchPlan, EtchStep};
+use crate::etch::{limits, EtchPlan, EtchStep};
 use crate::finding::{Code, EtchCode, Finding};
 use crate::layout::MaskSet;
-use crate::process::{Process, Provenance, Side, StepParams};
+use crate::process::{Etchant, Process, Provenance, Side, StepParams};
 
 use super::fe::FeSummary;
 use super::inventory::Inventory;
 use super::section::{stacks, Cut, Stack};
 
-/// Oxide thickness tolerance: the 5 % the plan's OXIDE_CLAIM check allows.
-pub const OXIDE_TOL_REL: f64 = 0.05;
-/// Etch depth tolerance: the 1 % beyond which the plan calls a depth "not what was asked".
-pub const DEPTH_TOL_REL: f64 = 0.01;
-/// Plate tolerance: the 5 % of the plan's PLATE_TOLERANCE check.
-pub const PLATE_TOL_REL: f64 = 0.05;
+/// Oxide thickness tolerance: what the plan's OXIDE_CLAIM check allows.
+pub const OXIDE_TOL_REL: f64 = limits::OXIDE_CLAIM_REL;
+/// Etch depth tolerance: beyond it the plan calls a depth "not what was asked".
+pub const DEPTH_TOL_REL: f64 = limits::MISMATCH_REL;
+/// Plate tolerance: that of the plan's PLATE_TOLERANCE check.
+pub const PLATE_TOL_REL: f64 = limits::PLATE_TOLERANCE_REL;
 /// Resist thickness tolerance [choice]: spin-coat repeatability of a few %; 10 % flags a wrong
 /// speed.
 pub const RESIST_TOL_REL: f64 = 0.10;
 /// Stop for a depth measurement at this fraction of the computed time (process-physics.md).
 pub const HOLD_FRACTION: f64 = 0.9;
-/// Oxide left after the silicon etch must stay above this share of the grown oxide
-/// (the plan's MASK_MARGIN_LOW threshold).
-pub const MASK_MARGIN_REL: f64 = 0.25;
+/// Oxide left after the silicon etch must stay above this share of the grown oxide.
+pub use limits::MASK_MARGIN_REL;
 
 /// A computed number and where it comes from.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -175,13 +174,7 @@ pub struct TravelerInput<'a> {
     pub fe: Option<FeSummary>,
 }
 
-/// The YAML spelling of an enum value (its serde name).
-fn label<T: Serialize>(t: &T) -> String {
-    match serde_json::to_value(t) {
-        Ok(serde_json::Value::String(s)) => s,
-        other => format!("{other:?}"),
-    }
-}
+use crate::spelling::yaml as label;
 
 fn side(s: Side) -> &'static str {
     match s {
@@ -299,7 +292,7 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                                 e.name,
                                 e.mask_consumed_um,
                                 e.time_h,
-                                if e.etchant == "TMAH" {
+                                if e.etchant == Etchant::Tmah {
                                     p.etchants.tmah_oxide_rate_um_per_h
                                 } else {
                                     p.etchants.koh_oxide_rate_um_per_h
@@ -789,7 +782,7 @@ fn compensation(p: &Process, plan: &EtchPlan) -> Vec<CompensationRow> {
         .filter_map(|s| {
             let c = s.compensation?;
             let street = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
-            let koh_rule = s.etchant == "TMAH" && (0.53..=0.56).contains(&c.ratio);
+            let koh_rule = s.etchant == Etchant::Tmah && limits::KOH_RULE_RATIO.contains(&c.ratio);
             Some(CompensationRow {
                 step: s.name.clone(),
                 geometry: label(&c.kind),

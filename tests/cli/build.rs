@@ -441,3 +441,31 @@ fn bad_input_exits_2_without_output() {
         "nothing written, no temporary directory left"
     );
 }
+
+/// Text outputs show the YAML spelling of every kind (`both`, `corner_attached`), never Rust's
+/// `Debug` (`Both`, `CornerAttached`).
+#[test]
+fn outputs_spell_kinds_as_the_yaml_does() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("m");
+    let mut text = String::new();
+    for args in [
+        vec!["etch", REFERENCE],
+        vec!["check", REFERENCE],
+        vec!["masks", REFERENCE, "-o", out.to_str().unwrap()],
+    ] {
+        let (code, stdout, stderr) = run(&args);
+        assert!(code == 0, "{args:?}: {stderr}");
+        text.push_str(&stdout);
+    }
+    assert!(text.contains("side both") && text.contains("compensation corner_attached"));
+    let camel = text.split(|c: char| !c.is_ascii_alphanumeric()).find(|w| {
+        let upper = w.chars().filter(|c| c.is_ascii_uppercase()).count();
+        w.len() > 3
+            && w.starts_with(|c: char| c.is_ascii_uppercase())
+            && upper >= 2
+            && w.chars().any(|c| c.is_ascii_lowercase())
+            && !["McGill", "MicroFab"].contains(w)
+    });
+    assert_eq!(camel, None, "a Rust Debug name in the output:\n{text}");
+}
