@@ -2,11 +2,7 @@
 
 use crate::layout::{LayerKind, MaskSet};
 
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use super::xml::escape;
 
 impl MaskSet {
     /// The .lyp XML: one entry per layer with its name, colour and source `L/D@1`.

@@ -6,6 +6,7 @@ pub mod dir;
 pub mod gds;
 pub mod lyp;
 pub mod svg;
+pub mod xml;
 
 use std::path::Path;
 

@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::etch::geometry::sidewall_run_out_um;
 use crate::etch::EtchPlan;
+use crate::export::xml::escape;
 use crate::layout::MaskSet;
 use crate::process::{Process, Side, StepParams, StripTarget, Substrate};
 
@@ -503,18 +504,10 @@ pub fn svg(cut: &Cut, st: &Stack, caption: &str) -> String {
          role=\"img\"><title>{}</title>{body}{legend}<text x=\"{X0}\" y=\"12\">{}</text><text \
          x=\"{X0}\" y=\"24\" fill=\"#555\">cut across y at x = {:.0} um; vertical \
          x{exaggeration:.1}, films not to scale; front (teeth) up</text></svg>",
-        xml(caption),
-        xml(caption),
+        escape(caption),
+        escape(caption),
         cut.x_um
     )
-}
-
-/// Escapes text for XML/HTML.
-pub fn xml(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]

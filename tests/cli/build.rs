@@ -407,7 +407,7 @@ fn failed_limit_exits_1_and_lists_it() {
     );
     let md = std::fs::read_to_string(out.join("mis-grasper-traveler.md")).unwrap();
     assert!(
-        md.contains("FAIL stress"),
+        md.contains("**FAIL** stress"),
         "the traveler shows the failed limit"
     );
 }
