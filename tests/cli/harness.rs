@@ -67,3 +67,22 @@ pub fn run_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
 pub fn run(args: &[&str]) -> (i32, String, String) {
     run_env(args, &[])
 }
+
+/// A `tactfab ARGS` command run in the crate root with SOURCE_DATE_EPOCH cleared, not yet
+/// started (for tests that spawn, time or kill the process themselves).
+pub fn command(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_tactfab"));
+    c.args(args)
+        .current_dir(root())
+        .env_remove("SOURCE_DATE_EPOCH");
+    c
+}
+
+/// The SHA-256 of `bytes` as lowercase hex, as `sha256sum` prints it.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
