@@ -3,11 +3,14 @@
 use thiserror::Error;
 
 use crate::fe::FeError;
+use crate::sensor::SensorError;
 
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum AnalysisError {
     #[error("finite-element solve failed: {0}")]
     Fe(#[from] FeError),
+    #[error("{0}")]
+    Sensor(#[from] SensorError),
     #[error("fit: {reason}\n  hint: use at least degree + 1 distinct samples and a degree >= 0")]
     Fit { reason: String },
     #[error(

@@ -32,6 +32,8 @@ pub enum ReportError {
     Export(#[from] ExportError),
     #[error("finite-element solve failed: {0}")]
     Fe(#[from] crate::fe::FeError),
+    #[error("{0}")]
+    Sensor(#[from] crate::sensor::SensorError),
     #[error("JSON: {0}")]
     Json(#[from] serde_json::Error),
 }

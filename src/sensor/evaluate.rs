@@ -14,6 +14,7 @@ use crate::fe::{
 use crate::finding::{Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
 
+use super::check::{check_scene, SensorError};
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
@@ -150,7 +151,11 @@ pub struct SceneReport {
 }
 
 /// Solves one scene; see [`evaluate_many`].
-pub fn evaluate(g: &SensorGeometry, scene: &Scene, acc: Accuracy) -> Result<SceneReport, FeError> {
+pub fn evaluate(
+    g: &SensorGeometry,
+    scene: &Scene,
+    acc: Accuracy,
+) -> Result<SceneReport, SensorError> {
     Ok(evaluate_many(g, std::slice::from_ref(scene), acc)?.remove(0))
 }
 
@@ -163,7 +168,7 @@ pub fn evaluate_many(
     g: &SensorGeometry,
     scenes: &[Scene],
     acc: Accuracy,
-) -> Result<Vec<SceneReport>, FeError> {
+) -> Result<Vec<SceneReport>, SensorError> {
     evaluate_many_with(g, scenes, acc, MeshOptions::default())
 }
 
@@ -176,8 +181,11 @@ pub fn evaluate_many_with(
     scenes: &[Scene],
     acc: Accuracy,
     mesh: MeshOptions,
-) -> Result<Vec<SceneReport>, FeError> {
+) -> Result<Vec<SceneReport>, SensorError> {
     assert!(acc.max_levels >= 1, "at least one mesh level");
+    for s in scenes {
+        check_scene(s, g)?;
+    }
     let (tol, max_levels) = (acc.tol_rel, acc.max_levels.min(SUBDIVISIONS.len()));
     let beam_error = beam_error_estimate(g);
     let by_beam = |s: &Scene| match s.load {

@@ -9,6 +9,7 @@
 //! ([`Symmetry`]) and reads the electrodes on the mirrored whole-plate field.
 
 mod beam_model;
+mod check;
 mod convergence_plot;
 mod evaluate;
 mod geometry;
@@ -17,6 +18,7 @@ mod readout;
 mod scene;
 mod symmetry;
 
+pub use check::{check_scene, SensorError};
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{

@@ -1,0 +1,153 @@
+//! Whether a scene can be answered: every number finite, sizes positive, and the whole loaded
+//! area (contact patch, probe footprint, pressure region, line) on the die. File scenes and
+//! ad-hoc loads (`fe --point`, `--pressure`) pass this one check before anything is solved, so
+//! a load that reaches off the die is refused instead of losing part of its force.
+
+use crate::fe::loads::probe_polygon;
+use crate::fe::FeError;
+use crate::process::{Scene, SceneLoad};
+
+use super::geometry::SensorGeometry;
+
+/// Why a scene was not solved.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SensorError {
+    #[error("scene `{scene}`: {problem}\n  hint: {hint}")]
+    Scene {
+        scene: String,
+        problem: String,
+        hint: &'static str,
+    },
+    #[error("finite-element solve failed: {0}")]
+    Fe(#[from] FeError),
+}
+
+/// Slack on the die edges (um): a patch drawn exactly to the edge is on the die.
+const EDGE_SLACK_UM: f64 = 1e-6;
+
+/// The footprint of a load: the polygon whose force the sensor must receive in full.
+fn footprint(load: &SceneLoad, g: &SensorGeometry) -> Vec<(f64, f64)> {
+    match *load {
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            radius_um,
+            ..
+        } => {
+            // The square patch of equal area the split and the FE use.
+            let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
+            vec![
+                (x_um - h, y_um - h),
+                (x_um + h, y_um - h),
+                (x_um + h, y_um + h),
+                (x_um - h, y_um + h),
+            ]
+        }
+        SceneLoad::Pressure { region, .. } => match region {
+            Some(r) => vec![(r.x0_um, r.y0_um), (r.x1_um, r.y1_um)],
+            None => vec![(0.0, g.plate_y0_um), (g.length_um, g.plate_y1_um)],
+        },
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            ..
+        } => probe_polygon(x_um, y_um, width_um, height_um, angle_deg).to_vec(),
+        SceneLoad::Line { y_um, .. } => vec![(0.0, y_um), (g.length_um, y_um)],
+    }
+}
+
+/// Every number of the load that must be finite, and the sizes that must be positive.
+fn numbers(load: &SceneLoad) -> (Vec<(&'static str, f64)>, Vec<(&'static str, f64)>) {
+    match *load {
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => (
+            vec![("x_um", x_um), ("y_um", y_um), ("force_n", force_n)],
+            vec![("radius_um", radius_um)],
+        ),
+        SceneLoad::Pressure { force_n, region } => {
+            let mut v = vec![("force_n", force_n)];
+            if let Some(r) = region {
+                v.extend([
+                    ("region.x0_um", r.x0_um),
+                    ("region.y0_um", r.y0_um),
+                    ("region.x1_um", r.x1_um),
+                    ("region.y1_um", r.y1_um),
+                ]);
+            }
+            let sizes = region
+                .map(|r| {
+                    vec![
+                        ("region width (x1_um - x0_um)", r.x1_um - r.x0_um),
+                        ("region height (y1_um - y0_um)", r.y1_um - r.y0_um),
+                    ]
+                })
+                .unwrap_or_default();
+            (v, sizes)
+        }
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            force_n,
+        } => (
+            vec![
+                ("x_um", x_um),
+                ("y_um", y_um),
+                ("angle_deg", angle_deg),
+                ("force_n", force_n),
+            ],
+            vec![("width_um", width_um), ("height_um", height_um)],
+        ),
+        SceneLoad::Line { y_um, force_n } => (vec![("y_um", y_um), ("force_n", force_n)], vec![]),
+    }
+}
+
+/// Checks that `scene` can be answered on `g`.
+pub fn check_scene(scene: &Scene, g: &SensorGeometry) -> Result<(), SensorError> {
+    let err = |problem: String, hint| SensorError::Scene {
+        scene: scene.name.clone(),
+        problem,
+        hint,
+    };
+    let (finite, sizes) = numbers(&scene.load);
+    for (name, v) in finite.iter().chain(&sizes) {
+        if !v.is_finite() {
+            return Err(err(
+                format!("{name} = {v} is not a finite number"),
+                "give a number",
+            ));
+        }
+    }
+    for (name, v) in sizes {
+        if v <= 0.0 {
+            return Err(err(
+                format!("{name} = {v} um must be positive"),
+                "a contact, probe or region needs an area",
+            ));
+        }
+    }
+    let (l, w) = (g.length_um, g.width_um);
+    let off = footprint(&scene.load, g).into_iter().find(|&(x, y)| {
+        x < -EDGE_SLACK_UM || x > l + EDGE_SLACK_UM || y < -EDGE_SLACK_UM || y > w + EDGE_SLACK_UM
+    });
+    if let Some((x, y)) = off {
+        return Err(err(
+            format!(
+                "the loaded area reaches ({x:.1}, {y:.1}) um, off the {l} x {w} um die: part of \
+                 the force would go nowhere"
+            ),
+            "move the load (or shrink its contact) so that all of it is on the die; \
+             coordinates are um from the die corner (mm in `--point`)",
+        ));
+    }
+    Ok(())
+}
