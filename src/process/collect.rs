@@ -17,9 +17,12 @@ pub struct RawProblem {
     pub key_of_parent: Option<(String, String)>,
     pub message: String,
     pub expected: String,
+    pub hint: String,
 }
 
-const MAX_ROUNDS: usize = 500;
+/// Deserialisation attempts per call: each finds one problem, so this bounds the problems one
+/// section can report (and the work a pathological file can cause).
+const MAX_ROUNDS: usize = 2000;
 
 /// Deserialises `value` as `T`, collecting all problems under `base`.
 /// Returns the value with placeholders where problems were (so range rules can still run on the
@@ -71,6 +74,7 @@ pub fn deserialize_all<T: DeserializeOwned>(
                     .collect();
                 problems.push(RawProblem {
                     path: full,
+                    hint: String::new(),
                     key_of_parent: Some((path::join(base, &path::format(parent)), field.clone())),
                     message: format!("unknown field `{field}`{}", did_you_mean(&field, &names)),
                     expected: if allowed.is_empty() {
@@ -99,8 +103,14 @@ pub fn deserialize_all<T: DeserializeOwned>(
                 ));
             }
             suppressed.push(full);
-            match path::get_mut(&mut value, &segs) {
-                Some(Value::Mapping(m)) => {
+            let parent = path::get_mut(&mut value, &segs)?;
+            // An empty section (`geometry:`) is null: serde reads it as a mapping with every
+            // field missing, so fill it in as one and report each missing field.
+            if parent.is_null() {
+                *parent = Value::Mapping(Mapping::new());
+            }
+            match parent {
+                Value::Mapping(m) => {
                     m.insert(Value::String(field), Value::Null);
                 }
                 _ => return None,
@@ -187,6 +197,7 @@ fn raw(path: String, message: String, expected: String) -> RawProblem {
         key_of_parent: None,
         message,
         expected,
+        hint: String::new(),
     }
 }
 
