@@ -17,9 +17,12 @@ pub struct RawProblem {
     pub key_of_parent: Option<(String, String)>,
     pub message: String,
     pub expected: String,
+    pub hint: String,
 }
 
-const MAX_ROUNDS: usize = 500;
+/// Deserialisation attempts per call: each finds one problem, so this bounds the problems one
+/// section can report (and the work a pathological file can cause).
+const MAX_ROUNDS: usize = 2000;
 
 /// Deserialises `value` as `T`, collecting all problems under `base`.
 /// Returns the value with placeholders where problems were (so range rules can still run on the
@@ -59,26 +62,7 @@ pub fn deserialize_all<T: DeserializeOwned>(
             };
             let full = path::join(base, &path::format(&with_key(parent, &field)));
             if !is_suppressed(&full) {
-                let allowed = msg
-                    .split_once(", expected ")
-                    .map(|(_, e)| e.to_string())
-                    .unwrap_or_default();
-                let names: Vec<String> = allowed
-                    .split('`')
-                    .skip(1)
-                    .step_by(2)
-                    .map(str::to_string)
-                    .collect();
-                problems.push(RawProblem {
-                    path: full,
-                    key_of_parent: Some((path::join(base, &path::format(parent)), field.clone())),
-                    message: format!("unknown field `{field}`{}", did_you_mean(&field, &names)),
-                    expected: if allowed.is_empty() {
-                        "no fields here".into()
-                    } else {
-                        allowed
-                    },
-                });
+                problems.push(unknown_field(&msg, &field, full, base, parent));
             }
             match path::get_mut(&mut value, parent) {
                 Some(Value::Mapping(m)) => {
@@ -99,8 +83,14 @@ pub fn deserialize_all<T: DeserializeOwned>(
                 ));
             }
             suppressed.push(full);
-            match path::get_mut(&mut value, &segs) {
-                Some(Value::Mapping(m)) => {
+            let parent = path::get_mut(&mut value, &segs)?;
+            // An empty section (`geometry:`) is null: serde reads it as a mapping with every
+            // field missing, so fill it in as one and report each missing field.
+            if parent.is_null() {
+                *parent = Value::Mapping(Mapping::new());
+            }
+            match parent {
+                Value::Mapping(m) => {
                     m.insert(Value::String(field), Value::Null);
                 }
                 _ => return None,
@@ -114,24 +104,7 @@ pub fn deserialize_all<T: DeserializeOwned>(
             .map(|(_, e)| e.to_string())
             .unwrap_or_default();
         if !is_suppressed(&full) {
-            let what = msg
-                .split_once(", expected ")
-                .map(|(w, _)| w.to_string())
-                .unwrap_or(msg.clone());
-            let variants: Vec<String> = expected
-                .split('`')
-                .skip(1)
-                .step_by(2)
-                .map(str::to_string)
-                .collect();
-            let hint = between(&what, "unknown variant `", "`")
-                .map(|v| did_you_mean(&v, &variants))
-                .unwrap_or_default();
-            problems.push(raw(
-                full.clone(),
-                format!("{what}{hint}"),
-                readable(&expected),
-            ));
+            problems.push(wrong_type(&msg, &expected, full.clone()));
         }
         suppressed.push(full);
         let slot = path::get_mut(&mut value, &segs)?;
@@ -141,6 +114,49 @@ pub fn deserialize_all<T: DeserializeOwned>(
         }
     }
     None
+}
+
+/// The problem of an unknown `field` in the mapping at `parent`, from serde's message.
+fn unknown_field(msg: &str, field: &str, full: String, base: &str, parent: &[Seg]) -> RawProblem {
+    let allowed = msg
+        .split_once(", expected ")
+        .map(|(_, e)| e.to_string())
+        .unwrap_or_default();
+    let names: Vec<String> = allowed
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect();
+    RawProblem {
+        path: full,
+        hint: String::new(),
+        key_of_parent: Some((path::join(base, &path::format(parent)), field.to_string())),
+        message: format!("unknown field `{field}`{}", did_you_mean(field, &names)),
+        expected: if allowed.is_empty() {
+            "no fields here".into()
+        } else {
+            allowed
+        },
+    }
+}
+
+/// The problem of a value of the wrong type or an unknown variant at `full`.
+fn wrong_type(msg: &str, expected: &str, full: String) -> RawProblem {
+    let what = msg
+        .split_once(", expected ")
+        .map(|(w, _)| w.to_string())
+        .unwrap_or(msg.to_string());
+    let variants: Vec<String> = expected
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect();
+    let hint = between(&what, "unknown variant `", "`")
+        .map(|v| did_you_mean(&v, &variants))
+        .unwrap_or_default();
+    raw(full, format!("{what}{hint}"), readable(expected))
 }
 
 /// ` (did you mean `x`?)` when one allowed name is within two edits of `got`.
@@ -187,6 +203,7 @@ fn raw(path: String, message: String, expected: String) -> RawProblem {
         key_of_parent: None,
         message,
         expected,
+        hint: String::new(),
     }
 }
 

@@ -17,7 +17,16 @@ pub enum Location {
     Unknown {
         file: String,
     },
+    /// A value the file never wrote: a default. `section` is the key where the user would write
+    /// it, when the file has that section.
+    Default {
+        file: String,
+        section: Option<(usize, usize)>,
+    },
 }
+
+/// The most problems one error lists (the first ones in file order); the rest are counted.
+pub const MAX_PROBLEMS_SHOWN: usize = 500;
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -25,6 +34,14 @@ impl fmt::Display for Location {
             Location::File { file, line, column } => write!(f, "{file}:{line}:{column}"),
             Location::Override { arg } => write!(f, "--set {arg}"),
             Location::Unknown { file } => write!(f, "{file}"),
+            Location::Default {
+                file,
+                section: Some((line, column)),
+            } => write!(f, "{file}:{line}:{column}"),
+            Location::Default {
+                file,
+                section: None,
+            } => write!(f, "{file}"),
         }
     }
 }
@@ -38,13 +55,27 @@ pub struct Problem {
     pub message: String,
     /// What is allowed there (type, range, choices).
     pub expected: String,
+    /// What to do about it, printed as `\n  hint: ...` under the problem; empty for none.
+    pub hint: String,
 }
 
 impl fmt::Display for Problem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}: {}", self.location, self.path, self.message)?;
+        let default = if matches!(self.location, Location::Default { .. }) {
+            " (default)"
+        } else {
+            ""
+        };
+        write!(
+            f,
+            "{}: {}{default}: {}",
+            self.location, self.path, self.message
+        )?;
         if !self.expected.is_empty() {
             write!(f, " (expected {})", self.expected)?;
+        }
+        if !self.hint.is_empty() {
+            write!(f, "\n  hint: {}", self.hint)?;
         }
         Ok(())
     }
@@ -59,6 +90,13 @@ pub enum LoadError {
         path: PathBuf,
         cause: std::io::Error,
     },
+    /// The file is larger than [`super::MAX_FILE_BYTES`]; only that much plus one byte was read.
+    #[error(
+        "{file}: the process file is larger than {} MiB; it was not read\n  hint: a process \
+         file is a few kB of YAML; check the path",
+        limit >> 20
+    )]
+    TooLarge { file: String, limit: usize },
     /// A `--set` argument is not `path=value`.
     #[error(
         "--set {arg}: {message}\n  hint: write --set path=value, e.g. --set \
@@ -72,11 +110,14 @@ pub enum LoadError {
 
 fn format_problems(problems: &[Problem]) -> String {
     let mut out = String::new();
-    for p in problems {
+    for p in problems.iter().take(MAX_PROBLEMS_SHOWN) {
         out.push_str(&p.to_string());
         out.push('\n');
     }
     let n = problems.len();
+    if n > MAX_PROBLEMS_SHOWN {
+        out.push_str(&format!("... and {} more\n", n - MAX_PROBLEMS_SHOWN));
+    }
     out.push_str(&format!(
         "{n} problem{} found; nothing was written\n  hint: fix every line above; `tactfab check \
          FILE` re-validates",

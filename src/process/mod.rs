@@ -6,20 +6,28 @@
 mod collect;
 pub mod defaults;
 mod error;
+mod input;
+mod locate;
 mod overrides;
 mod path;
 pub mod schema;
 mod validate;
+mod walk;
 
 use std::path::Path;
 
 use serde::Serialize;
 use serde_yaml::Value;
 
-pub use error::{LoadError, Location, Problem};
+pub use error::{LoadError, Location, Problem, MAX_PROBLEMS_SHOWN};
+pub use input::MAX_FILE_BYTES;
 pub use schema::*;
+pub use validate::{
+    MAX_DIES_PER_WAFER, MAX_MASKS, MAX_SCENES, MAX_STEPS, MAX_TEETH, MIN_PLATE_SPAN_UM,
+};
 
 use collect::{deserialize_all, RawProblem};
+use locate::Locator;
 
 /// A default the file relied on, with its value and source.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -39,96 +47,45 @@ pub struct Loaded {
     pub overrides: Vec<(String, String)>,
 }
 
-/// Reads, overrides, deserialises and validates a process file.
+/// Reads, overrides, deserialises and validates a process file. At most [`MAX_FILE_BYTES`] + 1
+/// bytes are read.
 pub fn load(file: &Path, overrides: &[String]) -> Result<Loaded, LoadError> {
-    let text = std::fs::read_to_string(file).map_err(|cause| LoadError::Io {
-        path: file.to_path_buf(),
-        cause,
-    })?;
+    let text = input::read(file)?;
     load_str(&text, &file.display().to_string(), overrides)
 }
 
 /// As [`load`], from text; `file` names it in messages.
 pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, LoadError> {
-    let at = |line: usize, column: usize| Location::File {
-        file: file.to_string(),
-        line,
-        column,
-    };
-    let marked = match marked_yaml::parse_yaml_with_options(
-        0,
-        text,
-        marked_yaml::LoaderOptions::default().error_on_duplicate_keys(true),
-    ) {
-        Ok(n) => n,
-        Err(e) => return Err(LoadError::Invalid(vec![syntax_problem(&e, file, text)])),
-    };
-    let mut value: Value = match serde_yaml::from_str(text) {
-        Ok(v) => v,
-        Err(e) => {
-            let location = e
-                .location()
-                .map(|l| at(l.line(), l.column()))
-                .unwrap_or(Location::Unknown { file: file.into() });
-            return Err(LoadError::Invalid(vec![Problem {
-                location,
-                path: ".".into(),
-                message: format!("YAML syntax: {e}"),
-                expected: "valid YAML".into(),
-            }]));
-        }
-    };
-    if value.is_null() {
-        return Err(LoadError::Invalid(vec![Problem {
-            location: at(1, 1),
-            path: ".".into(),
-            message: "the process file is empty".into(),
-            expected: "a mapping with device, wafer, geometry, materials, masks and steps".into(),
-        }]));
-    }
+    input::check_size(text.len(), file)?;
+    let (marked, mut value) = parse(text, file)?;
+    let unaddressable = walk::take_unaddressable_keys(&mut value);
     let applied = overrides::apply(&mut value, overrides)?;
-    let locate = |p: &str, key: Option<&(String, String)>| -> Location {
-        if let Some(a) = applied.iter().rev().find(|a| path::is_within(p, &a.path)) {
-            return Location::Override { arg: a.arg.clone() };
-        }
-        let found = match key {
-            Some((parent, k)) => path::parse(parent)
-                .ok()
-                .and_then(|s| path::locate_key(&marked, &s, k)),
-            None => path::parse(p).ok().and_then(|s| path::locate(&marked, &s)),
-        };
-        match found {
-            Some((line, column)) => at(line, column),
-            None => Location::Unknown { file: file.into() },
-        }
+    let locator = Locator {
+        file,
+        marked: &marked,
+        applied: &applied,
+        tree: &value,
     };
+    let mut problems: Vec<Problem> = unaddressable
+        .iter()
+        .map(|(parent, key)| unaddressable_key_problem(&locator, parent, key))
+        .collect();
 
     let mut raw = Vec::new();
     let mut placeholders = Vec::new();
     let process = deserialize_process(value.clone(), &mut raw, &mut placeholders);
-    let mut problems: Vec<Problem> = raw
-        .iter()
-        .map(|r| Problem {
-            location: locate(&r.path, r.key_of_parent.as_ref()),
-            path: r.path.clone(),
-            message: r.message.clone(),
-            expected: r.expected.clone(),
-        })
-        .collect();
-
     if let Some(p) = &process {
-        let is_placeholder = |path: &str| placeholders.iter().any(|h| path::is_within(path, h));
-        for v in validate::validate(p, &is_placeholder) {
-            if is_placeholder(&v.path) {
-                continue;
-            }
-            problems.push(Problem {
-                location: locate(&v.path, None),
-                path: v.path,
-                message: v.message,
-                expected: v.expected,
-            });
-        }
+        raw.extend(non_finite_problems(p, &mut placeholders));
+    }
+    problems.extend(raw.iter().map(|r| Problem {
+        location: locator.raw(&r.path, r.key_of_parent.as_ref()),
+        path: r.path.clone(),
+        message: r.message.clone(),
+        expected: r.expected.clone(),
+        hint: r.hint.clone(),
+    }));
+    if let Some(p) = &process {
+        problems.extend(rule_problems(p, &placeholders, &locator));
     }
     if !problems.is_empty() {
         problems.sort_by(|a, b| {
@@ -148,15 +105,144 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
     })
 }
 
-fn sort_key(l: &Location) -> (u8, usize, usize, String) {
-    match l {
-        Location::Override { arg } => (0, 0, 0, arg.clone()),
-        Location::File { line, column, .. } => (1, *line, *column, String::new()),
-        Location::Unknown { .. } => (2, 0, 0, String::new()),
+/// The text as a marked tree (for locations) and a value tree (for serde): one document, valid
+/// YAML, unique keys, a mapping at the top.
+fn parse(text: &str, file: &str) -> Result<(marked_yaml::Node, Value), LoadError> {
+    let invalid = |p: Problem| LoadError::Invalid(vec![p]);
+    if let Some(line) = input::second_document(text) {
+        return Err(invalid(input::second_document_problem(line, file)));
+    }
+    let marked = marked_yaml::parse_yaml_with_options(
+        0,
+        text,
+        marked_yaml::LoaderOptions::default().error_on_duplicate_keys(true),
+    )
+    .map_err(|e| invalid(syntax_problem(&e, file)))?;
+    let value: Value = serde_yaml::from_str(text).map_err(|e| {
+        let location = e
+            .location()
+            .map(|l| Location::File {
+                file: file.into(),
+                line: l.line(),
+                column: l.column(),
+            })
+            .unwrap_or(Location::Unknown { file: file.into() });
+        invalid(Problem {
+            location,
+            path: ".".into(),
+            message: format!("YAML syntax: {e}"),
+            expected: "valid YAML".into(),
+            hint: String::new(),
+        })
+    })?;
+    if value.is_null() {
+        return Err(invalid(Problem {
+            location: Location::File {
+                file: file.into(),
+                line: 1,
+                column: 1,
+            },
+            path: ".".into(),
+            message: "the process file is empty".into(),
+            expected: "a mapping with device, wafer, geometry, materials, masks and steps".into(),
+            hint: String::new(),
+        }));
+    }
+    Ok((marked, value))
+}
+
+/// A key containing `.` or `[`, at the key.
+fn unaddressable_key_problem(locator: &Locator, parent: &[path::Seg], key: &str) -> Problem {
+    let parent_path = path::format(parent);
+    let location = path::locate_key(locator.marked, parent, key)
+        .map(|(line, column)| Location::File {
+            file: locator.file.into(),
+            line,
+            column,
+        })
+        .unwrap_or_else(|| locator.raw(&parent_path, None));
+    Problem {
+        location,
+        path: path::join(&parent_path, &format!("\"{key}\"")),
+        message: format!("the key `{key}` contains `.` or `[`"),
+        expected: "a field name: letters, digits, `_` and `-`".into(),
+        hint: "no field name has a `.`: write the nesting as indentation (`a:` then `  b:` \
+               below it); --set paths use `.` to separate fields, so such a key could not be \
+               addressed"
+            .into(),
     }
 }
 
-fn syntax_problem(e: &marked_yaml::LoadError, file: &str, _text: &str) -> Problem {
+/// NaN or an infinity in any float field; those paths become placeholders so the range rules
+/// do not report them again.
+fn non_finite_problems(p: &Process, placeholders: &mut Vec<String>) -> Vec<RawProblem> {
+    let mut out = Vec::new();
+    for (at, x) in walk::non_finite(p) {
+        if placeholders.iter().any(|h| path::is_within(&at, h)) {
+            continue;
+        }
+        out.push(RawProblem {
+            path: at.clone(),
+            key_of_parent: None,
+            message: format!("{x} is not a finite number"),
+            expected: "a finite number".into(),
+            hint: "`.nan`, `.inf` and numbers beyond 1.8e308 are not measurements; write the \
+                   value in the field's unit"
+                .into(),
+        });
+        placeholders.push(at);
+    }
+    out
+}
+
+/// The range and cross-field rules, each placed by [`Locator::rule`] (a default's problem goes
+/// to its section, with its source in the hint).
+fn rule_problems(p: &Process, placeholders: &[String], locator: &Locator) -> Vec<Problem> {
+    let is_placeholder = |path: &str| placeholders.iter().any(|h| path::is_within(path, h));
+    let mut out = Vec::new();
+    for v in validate::validate(p, &is_placeholder) {
+        if is_placeholder(&v.path) {
+            continue;
+        }
+        let (location, default) = locator.rule(&v.path);
+        let hint = match default {
+            Some(source) => {
+                let d = locate::default_hint(&v.path, source);
+                if v.hint.is_empty() {
+                    d
+                } else {
+                    format!("{}; {d}", v.hint)
+                }
+            }
+            None => v.hint,
+        };
+        out.push(Problem {
+            location,
+            path: v.path,
+            message: v.message,
+            expected: v.expected,
+            hint,
+        });
+    }
+    out
+}
+
+/// File order: `--set` arguments first, then by line and column, then problems with no line.
+fn sort_key(l: &Location) -> (u8, usize, usize, String) {
+    match l {
+        Location::Override { arg } => (0, 0, 0, arg.clone()),
+        Location::File { line, column, .. }
+        | Location::Default {
+            section: Some((line, column)),
+            ..
+        } => (1, *line, *column, String::new()),
+        Location::Default { section: None, .. } => (2, 0, 0, String::new()),
+        Location::Unknown { .. } => (3, 0, 0, String::new()),
+    }
+}
+
+/// A marked_yaml error as a located problem.
+fn syntax_problem(e: &marked_yaml::LoadError, file: &str) -> Problem {
     use marked_yaml::LoadError as E;
     let (marker, message) = match e {
         E::ScanError(m, se) => (Some(*m), format!("YAML syntax: {}", se.info())),
@@ -202,6 +288,7 @@ fn syntax_problem(e: &marked_yaml::LoadError, file: &str, _text: &str) -> Proble
         path: ".".into(),
         message,
         expected: "valid YAML with unique keys".into(),
+        hint: String::new(),
     }
 }
 
@@ -223,6 +310,7 @@ fn deserialize_process(
                 key_of_parent: None,
                 message: "missing field `steps`".into(),
                 expected: "a list of process steps".into(),
+                hint: String::new(),
             });
             None
         }
@@ -243,6 +331,7 @@ fn deserialize_process(
                 key_of_parent: None,
                 message: "`steps` is not a list".into(),
                 expected: "a list of process steps".into(),
+                hint: String::new(),
             });
             None
         }
@@ -270,6 +359,7 @@ fn deserialize_step(
             key_of_parent: None,
             message: "a step must be a mapping".into(),
             expected: "name, kind and the kind's parameters".into(),
+            hint: String::new(),
         });
         return None;
     };
@@ -301,6 +391,7 @@ fn deserialize_step(
                         key_of_parent: None,
                         message: format!("unknown step kind `{other}`{}", collect::did_you_mean(other, &kinds)),
                         expected: format!("one of {}", schema::STEP_KINDS.iter().map(|(k, _)| format!("`{k}`")).collect::<Vec<_>>().join(", ")),
+                        hint: String::new(),
                     });
                     placeholders.push(base.to_string());
                     Some(StepParams::Clean(Generic { time_min: None, temp_c: None }))

@@ -10,6 +10,9 @@ use super::path::{self, Seg};
 pub struct Applied {
     pub path: String,
     pub arg: String,
+    /// The first mapping key the override created (`geometry.x` for `geometry.x.y=1` when the
+    /// file has no `x`): every problem inside it is the override's.
+    pub created: Option<String>,
 }
 
 /// Applies `path=value` overrides in order. A step may be named instead of indexed:
@@ -31,18 +34,21 @@ pub fn apply(root: &mut Value, args: &[String]) -> Result<Vec<Applied>, LoadErro
         if segs.is_empty() {
             return Err(bad("empty path".into()));
         }
-        let resolved = set(root, &segs, value).map_err(bad)?;
+        let (resolved, created) = set(root, &segs, value).map_err(bad)?;
         applied.push(Applied {
             path: path::format(&resolved),
             arg: arg.clone(),
+            created: created.map(|n| path::format(&resolved[..n])),
         });
     }
     Ok(applied)
 }
 
-/// Sets the value, creating missing mapping keys; returns the path with step names resolved.
-fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<Vec<Seg>, String> {
+/// Sets the value, creating missing mapping keys; returns the path with step names resolved and
+/// how many of its segments lead to the first key it created (if it created one).
+fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<(Vec<Seg>, Option<usize>), String> {
     let mut resolved = Vec::new();
+    let mut created = None;
     let mut cur = root;
     for (i, seg) in segs.iter().enumerate() {
         let last = i + 1 == segs.len();
@@ -62,6 +68,7 @@ fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<Vec<Seg>, String>
         cur = match (seg, cur) {
             (Seg::Key(k), Value::Mapping(m)) => {
                 if !m.contains_key(k.as_str()) {
+                    created.get_or_insert(resolved.len());
                     let fill = if last {
                         Value::Null
                     } else {
@@ -76,17 +83,21 @@ fn set(root: &mut Value, segs: &[Seg], value: Value) -> Result<Vec<Seg>, String>
                 s.get_mut(idx)
                     .ok_or_else(|| format!("index {idx} is out of range (the list has {n})"))?
             }
-            (s, _) => {
+            (_, other) => {
+                let what = match other {
+                    Value::Mapping(_) => "a mapping (name a field, not an index)",
+                    Value::Sequence(_) => "a list (name an index or a step name)",
+                    _ => "a single value, not a mapping or list",
+                };
                 return Err(format!(
-                    "`{}` does not lead into a mapping or list at {:?}",
-                    path::format(&resolved),
-                    s
+                    "`{}` is {what}",
+                    path::format(&resolved[..resolved.len() - 1])
                 ));
             }
         };
     }
     *cur = value;
-    Ok(resolved)
+    Ok((resolved, created))
 }
 
 #[cfg(test)]

@@ -107,23 +107,40 @@ pub fn get<'a>(root: &'a Value, segs: &[Seg]) -> Option<&'a Value> {
 }
 
 /// Line and column (1-based) of the deepest node on `segs` that exists in the marked tree.
-/// A key that exists points at its value; a missing key points at its parent.
+/// A key that exists points at its value (an empty value at its key); a missing key points at
+/// the key of the mapping it is missing from (`geometry:` for `geometry.die_width_um`), at the
+/// list item it is missing from, or at 1:1 for a missing top-level section.
 pub fn locate(root: &marked_yaml::Node, segs: &[Seg]) -> Option<(usize, usize)> {
+    let at = |m: &marked_yaml::Marker| (m.line(), m.column());
     let mut cur = root;
     let mut best = cur.span().start().copied();
+    // Where a missing key of `cur` is reported.
+    let mut missing_here = Some((1, 1));
     for seg in segs {
         let next = match (seg, cur) {
             (Seg::Key(k), marked_yaml::Node::Mapping(m)) => {
                 match m.iter().find(|(key, _)| key.as_str() == k) {
                     Some((key, v)) => {
-                        // Empty values have no useful span: fall back to the key.
+                        // Empty values (`geometry:` with nothing under it) have no useful span:
+                        // theirs is wherever the next token is. Point at the key.
+                        let empty = v
+                            .as_scalar()
+                            .is_some_and(|s| s.as_str().is_empty() && s.may_coerce());
+                        if empty {
+                            return key.span().start().map(at);
+                        }
+                        missing_here = key.span().start().map(at);
                         best = v.span().start().or(key.span().start()).copied();
                         Some(v)
                     }
-                    None => None,
+                    None => return missing_here.or(best.as_ref().map(at)),
                 }
             }
-            (Seg::Index(i), marked_yaml::Node::Sequence(s)) => s.get(*i),
+            (Seg::Index(i), marked_yaml::Node::Sequence(s)) => {
+                let item = s.get(*i);
+                missing_here = item.and_then(|n| n.span().start()).map(at);
+                item
+            }
             _ => None,
         };
         match next {
@@ -136,7 +153,7 @@ pub fn locate(root: &marked_yaml::Node, segs: &[Seg]) -> Option<(usize, usize)> 
             None => break,
         }
     }
-    best.map(|m| (m.line(), m.column()))
+    best.map(|m| at(&m))
 }
 
 /// Location of a mapping key itself (for unknown fields).

@@ -1,14 +1,47 @@
 //! Range and cross-field rules: non-physical values are input errors (exit 2), all reported at
 //! once. Process judgements (a time that gives the wrong depth, colliding compensators) are not
 //! here: they are checks of the etch plan.
+//!
+//! One function per section of the file, in file order; each pushes its problems into [`V`].
+
+use std::collections::BTreeSet;
 
 use super::schema::*;
 
+/// One range or cross-field problem, before its location is attached.
 pub struct Invalid {
     pub path: String,
     pub message: String,
     pub expected: String,
+    /// What to do about it; empty when the expected text says it all.
+    pub hint: String,
 }
+
+/// Narrowest plate between the two supports (`die_width_um - 2 support_width_um`): the plate is
+/// what the sensor measures, the middle electrodes sit on it and the FE mesh keeps lines at least
+/// 250 um apart. At zero width the FE mesh has no plate at all (it used to panic).
+pub const MIN_PLATE_SPAN_UM: f64 = 500.0;
+
+/// Most teeth on a die (`count_x * count_y`): each is a GDS placement, a DRC polygon and an FE
+/// thickness region. The papers' dies have 50.
+pub const MAX_TEETH: u64 = 10_000;
+
+/// Most dies on a wafer (wafer area over die pitch area): each is drawn and stepped. A 30 x 15 mm
+/// die gives 15 on a 100 mm wafer; tens of thousands mean a die size typed in mm, not um.
+pub const MAX_DIES_PER_WAFER: f64 = 10_000.0;
+
+/// Most masks in `masks`: each is a GDS layer, an SVG and a DRC pass. The device needs three.
+pub const MAX_MASKS: usize = 16;
+
+/// Most scenes in `checks.scenes`: each is a finite-element solve at several mesh levels.
+pub const MAX_SCENES: usize = 64;
+
+/// Most steps in `steps`: each is a traveler row and an etch-plan entry. The bundled files have
+/// about twenty.
+pub const MAX_STEPS: usize = 500;
+
+/// Most rows in the `etchants.tmah` rate table.
+pub const MAX_TMAH_RATES: usize = 100;
 
 /// Allowed bath temperatures per etchant [est: practical bath limits; TMAH 25 % boils near 100 C].
 pub fn etchant_temp_range_c(e: Etchant) -> (f64, f64) {
@@ -26,6 +59,7 @@ pub fn etchant_concentration_range_wt_pct(e: Etchant) -> (f64, f64) {
     }
 }
 
+/// The problems found so far.
 struct V {
     out: Vec<Invalid>,
 }
@@ -37,10 +71,20 @@ impl V {
         message: impl Into<String>,
         expected: impl Into<String>,
     ) {
+        self.push_hint(path, message, expected, "");
+    }
+    fn push_hint(
+        &mut self,
+        path: impl Into<String>,
+        message: impl Into<String>,
+        expected: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
         self.out.push(Invalid {
             path: path.into(),
             message: message.into(),
             expected: expected.into(),
+            hint: hint.into(),
         });
     }
     /// lo < x <= hi style checks with open/closed ends spelled out in the message.
@@ -60,29 +104,105 @@ impl V {
     }
 }
 
+/// Letters, digits, `-` and `_`, not empty: names that become file names or `--set` keys.
+fn safe(s: &str) -> bool {
+    !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+}
+
+/// Every range and cross-field rule of a deserialised process. `is_placeholder` says which paths
+/// hold a stand-in for a value already reported as malformed (their rules are skipped).
 pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Invalid> {
     let mut v = V { out: Vec::new() };
-    let safe = |s: &str| {
-        !s.is_empty()
-            && s.chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-    };
-    if !safe(&p.device.name) {
+    counts(&mut v, p);
+    device(&mut v, &p.device);
+    wafer(&mut v, &p.wafer);
+    geometry(&mut v, p);
+    materials(&mut v, &p.materials);
+    masks(&mut v, &p.masks);
+    etchants(&mut v, &p.etchants);
+    scenes(&mut v, p);
+    steps(&mut v, p, is_placeholder);
+    layout(&mut v, p);
+    drc(&mut v, p);
+    v.out
+}
+
+/// Lists that drive allocation later (masks, scenes, steps, rate rows) within their bounds, and
+/// at least one step.
+fn counts(v: &mut V, p: &Process) {
+    for (path, n, max, what, hint) in [
+        (
+            "masks",
+            p.masks.len(),
+            MAX_MASKS,
+            "masks",
+            "the device needs three (front Si, back Si, PVDF); each mask is drawn and checked",
+        ),
+        (
+            "checks.scenes",
+            p.checks.scenes.len(),
+            MAX_SCENES,
+            "scenes",
+            "each scene is a finite-element solve; keep the declared checks to the ones that \
+             decide the design",
+        ),
+        (
+            "steps",
+            p.steps.len(),
+            MAX_STEPS,
+            "steps",
+            "a process has tens of steps; is a list repeated?",
+        ),
+        (
+            "etchants.tmah",
+            p.etchants.tmah.len(),
+            MAX_TMAH_RATES,
+            "rate rows",
+            "the table is interpolated by concentration; a few measured rows suffice",
+        ),
+    ] {
+        if n > max {
+            v.push_hint(
+                path,
+                format!("{n} {what} is too many"),
+                format!("at most {max} {what}"),
+                hint,
+            );
+        }
+    }
+    if p.steps.is_empty() {
+        v.push_hint(
+            "steps",
+            "the process has no steps",
+            "at least one process step",
+            "the etch plan, the plate thickness and the traveler come from the steps; list them \
+             in the order the cleanroom runs them",
+        );
+    }
+}
+
+/// `device`: a file-name-safe name and a revision label.
+fn device(v: &mut V, d: &Device) {
+    if !safe(&d.name) {
         v.push(
             "device.name",
-            format!("`{}` is not a file-name-safe name", p.device.name),
+            format!("`{}` is not a file-name-safe name", d.name),
             "letters, digits, `-` and `_`",
         );
     }
-    if p.device.revision.is_empty() {
+    if d.revision.is_empty() {
         v.push(
             "device.revision",
             "empty revision",
             "a revision label such as `A`",
         );
     }
+}
 
-    let w = &p.wafer;
+/// `wafer`: (100) only, thickness, tolerance and diameter in range.
+fn wafer(v: &mut V, w: &Wafer) {
     if w.orientation != CrystalPlane::P100 {
         v.push(
             "wafer.orientation",
@@ -107,8 +227,11 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         "um",
     );
     v.range("wafer.diameter_mm", w.diameter_mm, 25.0, 450.0, false, "mm");
+}
 
-    let g = &p.geometry;
+/// `geometry`: the die on the wafer, then its teeth and electrodes.
+fn geometry(v: &mut V, p: &Process) {
+    let (g, w) = (&p.geometry, &p.wafer);
     let wafer_um = w.thickness_um;
     let diam_um = w.diameter_mm * 1000.0;
     v.positive("geometry.die_length_um", g.die_length_um, diam_um, "um");
@@ -131,90 +254,159 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         wafer_um,
         "um",
     );
+    plate_span(v, g);
+    let street = g.dicing_street_um;
+    if !(street > 0.0 && street <= 5000.0) {
+        v.push_hint(
+            "geometry.dicing_street_um",
+            format!("{street} um is out of range"),
+            "a number in (0, 5000] um",
+            "the saw needs a street between dies; at 0 the supports of neighbouring dies touch, \
+             which the DRC (STREET_TOO_NARROW) does not report as a street",
+        );
+    }
+    die_count(v, g, w);
+    teeth(v, g, wafer_um);
+    electrodes(v, g);
+}
+
+/// The plate between the supports at least [`MIN_PLATE_SPAN_UM`] wide (supports already in
+/// (0, die_width / 2]).
+fn plate_span(v: &mut V, g: &Geometry) {
+    let (s, w) = (g.support_width_um, g.die_width_um);
+    let span = w - 2.0 * s;
+    if s > 0.0 && s <= w / 2.0 && span < MIN_PLATE_SPAN_UM {
+        v.push_hint(
+            "geometry.support_width_um",
+            format!("two {s} um supports leave a {span} um plate on the {w} um die"),
+            format!(
+                "support_width_um <= (die_width_um - {MIN_PLATE_SPAN_UM}) / 2 = {} um",
+                (w - MIN_PLATE_SPAN_UM) / 2.0
+            ),
+            format!(
+                "the plate between the supports is the sensor; it needs at least \
+                 {MIN_PLATE_SPAN_UM} um (MIN_PLATE_SPAN_UM) for its electrodes and FE mesh"
+            ),
+        );
+    }
+}
+
+/// About how many dies the wafer holds: at most [`MAX_DIES_PER_WAFER`] (checked only for a valid
+/// die size and wafer diameter).
+fn die_count(v: &mut V, g: &Geometry, w: &Wafer) {
+    let (l, wd, st) = (g.die_length_um, g.die_width_um, g.dicing_street_um);
+    let r_um = w.diameter_mm * 500.0;
+    let valid = l > 0.0 && wd > 0.0 && st >= 0.0 && (25.0..=450.0).contains(&w.diameter_mm);
+    if !valid {
+        return;
+    }
+    let dies = std::f64::consts::PI * r_um * r_um / ((l + st) * (wd + st));
+    if dies > MAX_DIES_PER_WAFER {
+        v.push_hint(
+            "geometry.die_length_um",
+            format!(
+                "a {l} x {wd} um die at a {st} um street gives about {dies:.0} dies on the {} mm \
+                 wafer",
+                w.diameter_mm
+            ),
+            format!("at most {MAX_DIES_PER_WAFER} dies per wafer"),
+            "die sizes are in um (30 mm is 30000); every die of the wafer is drawn",
+        );
+    }
+}
+
+/// `geometry.teeth`: sizes, counts and a grid that stays on the die (skipped for `pattern: none`).
+fn teeth(v: &mut V, g: &Geometry, wafer_um: f64) {
+    let t = &g.teeth;
+    if t.pattern == TeethPattern::None {
+        return;
+    }
+    v.positive("geometry.teeth.height_um", t.height_um, wafer_um, "um");
+    v.positive(
+        "geometry.teeth.top_um",
+        t.top_um,
+        t.pitch_x_um.min(t.pitch_y_um),
+        "um (at most the smaller pitch)",
+    );
+    v.positive(
+        "geometry.teeth.pitch_x_um",
+        t.pitch_x_um,
+        g.die_length_um,
+        "um",
+    );
+    v.positive(
+        "geometry.teeth.pitch_y_um",
+        t.pitch_y_um,
+        g.die_width_um,
+        "um",
+    );
     v.range(
-        "geometry.dicing_street_um",
-        g.dicing_street_um,
+        "geometry.teeth.count_x",
+        t.count_x as f64,
+        1.0,
+        1000.0,
+        false,
+        "",
+    );
+    v.range(
+        "geometry.teeth.count_y",
+        t.count_y as f64,
+        1.0,
+        1000.0,
+        false,
+        "",
+    );
+    v.range(
+        "geometry.teeth.origin_x_um",
+        t.origin_x_um,
         0.0,
-        5000.0,
+        g.die_length_um,
         false,
         "um",
     );
-    let t = &g.teeth;
-    if t.pattern != TeethPattern::None {
-        v.positive("geometry.teeth.height_um", t.height_um, wafer_um, "um");
-        v.positive(
-            "geometry.teeth.top_um",
-            t.top_um,
-            t.pitch_x_um.min(t.pitch_y_um),
-            "um (at most the smaller pitch)",
+    v.range(
+        "geometry.teeth.origin_y_um",
+        t.origin_y_um,
+        0.0,
+        g.die_width_um,
+        false,
+        "um",
+    );
+    let n = u64::from(t.count_x) * u64::from(t.count_y);
+    if n > MAX_TEETH {
+        v.push_hint(
+            "geometry.teeth",
+            format!("{} x {} = {n} teeth", t.count_x, t.count_y),
+            format!("at most {MAX_TEETH} teeth (count_x * count_y)"),
+            "each tooth is drawn, checked and meshed; use a coarser pitch or `pattern: none`",
         );
-        v.positive(
-            "geometry.teeth.pitch_x_um",
-            t.pitch_x_um,
-            g.die_length_um,
-            "um",
-        );
-        v.positive(
-            "geometry.teeth.pitch_y_um",
-            t.pitch_y_um,
-            g.die_width_um,
-            "um",
-        );
-        v.range(
-            "geometry.teeth.count_x",
-            t.count_x as f64,
-            1.0,
-            1000.0,
-            false,
-            "",
-        );
-        v.range(
-            "geometry.teeth.count_y",
-            t.count_y as f64,
-            1.0,
-            1000.0,
-            false,
-            "",
-        );
-        v.range(
-            "geometry.teeth.origin_x_um",
-            t.origin_x_um,
-            0.0,
-            g.die_length_um,
-            false,
-            "um",
-        );
-        v.range(
-            "geometry.teeth.origin_y_um",
-            t.origin_y_um,
-            0.0,
-            g.die_width_um,
-            false,
-            "um",
-        );
-        let end_x = t.origin_x_um + t.count_x as f64 * t.pitch_x_um;
-        let end_y = t.origin_y_um + t.count_y as f64 * t.pitch_y_um;
-        if end_x > g.die_length_um + 1e-6 {
-            v.push(
-                "geometry.teeth.count_x",
-                format!("the tooth grid ends at x = {end_x} um, beyond the die"),
-                format!(
-                    "origin_x_um + count_x * pitch_x_um <= {} um",
-                    g.die_length_um
-                ),
-            );
-        }
-        if end_y > g.die_width_um + 1e-6 {
-            v.push(
-                "geometry.teeth.count_y",
-                format!("the tooth grid ends at y = {end_y} um, beyond the die"),
-                format!(
-                    "origin_y_um + count_y * pitch_y_um <= {} um",
-                    g.die_width_um
-                ),
-            );
-        }
     }
+    let end_x = t.origin_x_um + t.count_x as f64 * t.pitch_x_um;
+    let end_y = t.origin_y_um + t.count_y as f64 * t.pitch_y_um;
+    if end_x > g.die_length_um + 1e-6 {
+        v.push(
+            "geometry.teeth.count_x",
+            format!("the tooth grid ends at x = {end_x} um, beyond the die"),
+            format!(
+                "origin_x_um + count_x * pitch_x_um <= {} um",
+                g.die_length_um
+            ),
+        );
+    }
+    if end_y > g.die_width_um + 1e-6 {
+        v.push(
+            "geometry.teeth.count_y",
+            format!("the tooth grid ends at y = {end_y} um, beyond the die"),
+            format!(
+                "origin_y_um + count_y * pitch_y_um <= {} um",
+                g.die_width_um
+            ),
+        );
+    }
+}
+
+/// `geometry.electrodes`: unit count and sizes relative to the supports.
+fn electrodes(v: &mut V, g: &Geometry) {
     let e = &g.electrodes;
     v.range(
         "geometry.electrodes.units",
@@ -244,8 +436,11 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         g.support_width_um,
         "um",
     );
+}
 
-    let si = &p.materials.silicon;
+/// `materials`: silicon stiffness and strength, PVDF film constants.
+fn materials(v: &mut V, m: &Materials) {
+    let si = &m.silicon;
     v.positive("materials.silicon.c11_gpa", si.c11_gpa, 1000.0, "GPa");
     v.positive(
         "materials.silicon.c12_gpa",
@@ -270,7 +465,7 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         false,
         "",
     );
-    let f = &p.materials.pvdf;
+    let f = &m.pvdf;
     v.positive("materials.pvdf.thickness_um", f.thickness_um, 1000.0, "um");
     v.positive("materials.pvdf.e_gpa", f.e_gpa, 100.0, "GPa");
     v.range("materials.pvdf.nu", f.nu, 0.0, 0.499, false, "");
@@ -295,9 +490,12 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             "pC/N",
         );
     }
+}
 
-    let mut names = std::collections::BTreeSet::new();
-    for (i, m) in p.masks.iter().enumerate() {
+/// `masks`: safe, unique names.
+fn masks(v: &mut V, masks: &[Mask]) {
+    let mut names = BTreeSet::new();
+    for (i, m) in masks.iter().enumerate() {
         if !safe(&m.name) {
             v.push(
                 format!("masks[{i}].name"),
@@ -313,8 +511,10 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             );
         }
     }
+}
 
-    let et = &p.etchants;
+/// `etchants`: the TMAH rate table and the rate ratios the etch model uses.
+fn etchants(v: &mut V, et: &Etchants) {
     if et.tmah.is_empty() {
         v.push(
             "etchants.tmah",
@@ -395,8 +595,11 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         10.0,
         "um/min",
     );
+}
 
-    let mut scene_names = std::collections::BTreeSet::new();
+/// `checks.scenes`: unique names, loads on the die, positive limits.
+fn scenes(v: &mut V, p: &Process) {
+    let mut scene_names = BTreeSet::new();
     for (i, sc) in p.checks.scenes.iter().enumerate() {
         let b = format!("checks.scenes[{i}]");
         if !safe(&sc.name) {
@@ -412,106 +615,7 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
                 "unique scene names",
             );
         }
-        let (l, w) = (g.die_length_um, g.die_width_um);
-        let force = |v: &mut V, f: f64| {
-            v.range(
-                &format!("{b}.load.force_n"),
-                f.abs(),
-                0.0,
-                1000.0,
-                true,
-                "N (magnitude)",
-            )
-        };
-        match &sc.load {
-            SceneLoad::Point {
-                x_um,
-                y_um,
-                force_n,
-                radius_um,
-            } => {
-                v.range(
-                    &format!("{b}.load.point.x_um"),
-                    *x_um,
-                    0.0,
-                    l,
-                    false,
-                    "um (on the die)",
-                );
-                v.range(
-                    &format!("{b}.load.point.y_um"),
-                    *y_um,
-                    0.0,
-                    w,
-                    false,
-                    "um (on the die)",
-                );
-                v.positive(
-                    &format!("{b}.load.point.radius_um"),
-                    *radius_um,
-                    w / 2.0,
-                    "um",
-                );
-                force(&mut v, *force_n);
-            }
-            SceneLoad::Pressure { force_n, region } => {
-                force(&mut v, *force_n);
-                if let Some(r) = region {
-                    if !(r.x0_um >= 0.0
-                        && r.x1_um <= l
-                        && r.y0_um >= 0.0
-                        && r.y1_um <= w
-                        && r.x0_um < r.x1_um
-                        && r.y0_um < r.y1_um)
-                    {
-                        v.push(
-                            format!("{b}.load.pressure.region"),
-                            "the region is empty or leaves the die",
-                            format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
-                        );
-                    }
-                }
-            }
-            SceneLoad::Probe {
-                x_um,
-                y_um,
-                width_um,
-                height_um,
-                force_n,
-                ..
-            } => {
-                v.range(
-                    &format!("{b}.load.probe.x_um"),
-                    *x_um,
-                    0.0,
-                    l,
-                    false,
-                    "um (on the die)",
-                );
-                v.range(
-                    &format!("{b}.load.probe.y_um"),
-                    *y_um,
-                    0.0,
-                    w,
-                    false,
-                    "um (on the die)",
-                );
-                v.positive(&format!("{b}.load.probe.width_um"), *width_um, 1e5, "um");
-                v.positive(&format!("{b}.load.probe.height_um"), *height_um, 1e5, "um");
-                force(&mut v, *force_n);
-            }
-            SceneLoad::Line { y_um, force_n } => {
-                v.range(
-                    &format!("{b}.load.line.y_um"),
-                    *y_um,
-                    0.0,
-                    w,
-                    false,
-                    "um (on the die)",
-                );
-                force(&mut v, *force_n);
-            }
-        }
+        scene_load(v, &b, &sc.load, &p.geometry);
         let lim = &sc.limits;
         for (name, x) in [
             ("min_sensitivity_mv_per_n", lim.min_sensitivity_mv_per_n),
@@ -524,8 +628,91 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             }
         }
     }
+}
 
-    let mut step_names = std::collections::BTreeSet::new();
+/// One scene's load (`b` is the scene's path): positions on the die, sizes and force in range.
+fn scene_load(v: &mut V, b: &str, load: &SceneLoad, g: &Geometry) {
+    let (l, w) = (g.die_length_um, g.die_width_um);
+    // The magnitude: a negative force pushes up (pulls), which is allowed.
+    let force = |v: &mut V, kind: &str, f: f64| {
+        v.range(
+            &format!("{b}.load.{kind}.force_n"),
+            f.abs(),
+            0.0,
+            1000.0,
+            true,
+            "N (magnitude)",
+        )
+    };
+    let on_die = |v: &mut V, kind: &str, axis: &str, x: f64, hi: f64| {
+        v.range(
+            &format!("{b}.load.{kind}.{axis}"),
+            x,
+            0.0,
+            hi,
+            false,
+            "um (on the die)",
+        )
+    };
+    match load {
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => {
+            on_die(v, "point", "x_um", *x_um, l);
+            on_die(v, "point", "y_um", *y_um, w);
+            v.positive(
+                &format!("{b}.load.point.radius_um"),
+                *radius_um,
+                w / 2.0,
+                "um",
+            );
+            force(v, "point", *force_n);
+        }
+        SceneLoad::Pressure { force_n, region } => {
+            force(v, "pressure", *force_n);
+            if let Some(r) = region {
+                if !(r.x0_um >= 0.0
+                    && r.x1_um <= l
+                    && r.y0_um >= 0.0
+                    && r.y1_um <= w
+                    && r.x0_um < r.x1_um
+                    && r.y0_um < r.y1_um)
+                {
+                    v.push(
+                        format!("{b}.load.pressure.region"),
+                        "the region is empty or leaves the die",
+                        format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
+                    );
+                }
+            }
+        }
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            force_n,
+            ..
+        } => {
+            on_die(v, "probe", "x_um", *x_um, l);
+            on_die(v, "probe", "y_um", *y_um, w);
+            v.positive(&format!("{b}.load.probe.width_um"), *width_um, 1e5, "um");
+            v.positive(&format!("{b}.load.probe.height_um"), *height_um, 1e5, "um");
+            force(v, "probe", *force_n);
+        }
+        SceneLoad::Line { y_um, force_n } => {
+            on_die(v, "line", "y_um", *y_um, w);
+            force(v, "line", *force_n);
+        }
+    }
+}
+
+/// `steps`: unique names, then each step's parameters by kind.
+fn steps(v: &mut V, p: &Process, is_placeholder: &dyn Fn(&str) -> bool) {
+    let mut step_names = BTreeSet::new();
     for (i, s) in p.steps.iter().enumerate() {
         let b = format!("steps[{i}]");
         if s.name.trim().is_empty() {
@@ -542,79 +729,13 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             );
         }
         match &s.params {
-            StepParams::Oxidation(o) => {
-                v.range(&format!("{b}.temp_c"), o.temp_c, 700.0, 1300.0, false, "C");
-                v.positive(&format!("{b}.time_h"), o.time_h, 200.0, "h");
-                v.range(
-                    &format!("{b}.initial_oxide_um"),
-                    o.initial_oxide_um,
-                    0.0,
-                    10.0,
-                    false,
-                    "um",
-                );
-                if let Some(x) = o.expected_thickness_um {
-                    v.positive(&format!("{b}.expected_thickness_um"), x, 20.0, "um");
-                }
-            }
-            StepParams::SpinCoat(c) => {
-                v.range(
-                    &format!("{b}.speed_rpm"),
-                    c.speed_rpm,
-                    300.0,
-                    10000.0,
-                    false,
-                    "rpm",
-                );
-                v.positive(&format!("{b}.time_s"), c.time_s, 600.0, "s");
-                v.positive(
-                    &format!("{b}.ref_thickness_um"),
-                    c.ref_thickness_um,
-                    200.0,
-                    "um",
-                );
-                v.range(
-                    &format!("{b}.ref_speed_rpm"),
-                    c.ref_speed_rpm,
-                    300.0,
-                    10000.0,
-                    false,
-                    "rpm",
-                );
-                v.range(
-                    &format!("{b}.spin_exponent"),
-                    c.spin_exponent,
-                    0.1,
-                    2.0,
-                    false,
-                    "",
-                );
-            }
+            StepParams::Oxidation(o) => oxidation(v, &b, o),
+            StepParams::SpinCoat(c) => spin_coat(v, &b, c),
             StepParams::Bake(k) => {
                 v.range(&format!("{b}.temp_c"), k.temp_c, 15.0, 400.0, false, "C");
                 v.positive(&format!("{b}.time_min"), k.time_min, 24.0 * 60.0, "min");
             }
-            StepParams::Expose(x) => {
-                v.positive(&format!("{b}.time_s"), x.time_s, 3600.0, "s");
-                if x.masks.is_empty() {
-                    v.push(
-                        format!("{b}.masks"),
-                        "no mask named",
-                        "one or more names from `masks`",
-                    );
-                }
-                for (j, m) in x.masks.iter().enumerate() {
-                    if !p.masks.iter().any(|k| &k.name == m) {
-                        let known: Vec<_> =
-                            p.masks.iter().map(|k| format!("`{}`", k.name)).collect();
-                        v.push(
-                            format!("{b}.masks[{j}]"),
-                            format!("unknown mask `{m}`"),
-                            format!("one of {}", known.join(", ")),
-                        );
-                    }
-                }
-            }
+            StepParams::Expose(x) if !is_placeholder("masks") => expose(v, &b, x, &p.masks),
             StepParams::Develop(d) => v.positive(&format!("{b}.time_s"), d.time_s, 3600.0, "s"),
             StepParams::OxideEtch(o) => v.range(
                 &format!("{b}.overetch_pct"),
@@ -625,78 +746,166 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
                 "%",
             ),
             StepParams::SiliconEtch(s) if !is_placeholder(&format!("{b}.etchant")) => {
-                let (tlo, thi) = etchant_temp_range_c(s.etchant);
-                v.range(
-                    &format!("{b}.temp_c"),
-                    s.temp_c,
-                    tlo,
-                    thi,
-                    false,
-                    &format!("C for {}", s.etchant.label()),
-                );
-                let (clo, chi) = etchant_concentration_range_wt_pct(s.etchant);
-                v.range(
-                    &format!("{b}.concentration_wt_pct"),
-                    s.concentration_wt_pct,
-                    clo,
-                    chi,
-                    false,
-                    &format!("wt % for {}", s.etchant.label()),
-                );
-                v.positive(&format!("{b}.depth_um"), s.depth_um, 1.0e4, "um");
-                if s.depth_um > 0.0 && s.depth_um >= wafer_um {
-                    v.push(
-                        format!("{b}.depth_um"),
-                        format!("{} um reaches through the {wafer_um} um wafer", s.depth_um),
-                        "a depth less than wafer.thickness_um",
-                    );
-                }
-                if let Some(t) = s.time_h {
-                    v.positive(&format!("{b}.time_h"), t, 200.0, "h");
-                }
-                if let Some(r) = s.measured_rate_um_per_h {
-                    v.positive(&format!("{b}.measured_rate_um_per_h"), r, 1000.0, "um/h");
-                }
-                if let Some(c) = &s.compensation {
-                    v.range(
-                        &format!("{b}.compensation.ratio"),
-                        c.ratio,
-                        0.05,
-                        5.0,
-                        false,
-                        "",
-                    );
-                }
+                silicon_etch(v, &b, s, p.wafer.thickness_um)
             }
             StepParams::MetalEtch(m) => {
                 v.range(&format!("{b}.temp_c"), m.temp_c, 10.0, 90.0, false, "C");
                 v.positive(&format!("{b}.time_min"), m.time_min, 600.0, "min");
             }
             StepParams::Clean(gn) | StepParams::Mount(gn) => {
-                if let Some(t) = gn.temp_c {
-                    v.range(&format!("{b}.temp_c"), t, 0.0, 400.0, false, "C");
-                }
-                if let Some(t) = gn.time_min {
-                    v.positive(&format!("{b}.time_min"), t, 24.0 * 60.0, "min");
-                }
+                optional_temp_time(v, &b, gn.temp_c, gn.time_min, 400.0)
             }
-            StepParams::Assemble(a) => {
-                if let Some(t) = a.temp_c {
-                    v.range(&format!("{b}.temp_c"), t, 0.0, 200.0, false, "C");
-                }
-                if let Some(t) = a.time_min {
-                    v.positive(&format!("{b}.time_min"), t, 24.0 * 60.0, "min");
-                }
-            }
-            StepParams::Strip(_) | StepParams::SiliconEtch(_) => {}
+            StepParams::Assemble(a) => optional_temp_time(v, &b, a.temp_c, a.time_min, 200.0),
+            StepParams::Strip(_) | StepParams::SiliconEtch(_) | StepParams::Expose(_) => {}
         }
     }
+}
+
+/// An oxidation step: furnace temperature, time, initial and claimed oxide.
+fn oxidation(v: &mut V, b: &str, o: &Oxidation) {
+    v.range(&format!("{b}.temp_c"), o.temp_c, 700.0, 1300.0, false, "C");
+    v.positive(&format!("{b}.time_h"), o.time_h, 200.0, "h");
+    v.range(
+        &format!("{b}.initial_oxide_um"),
+        o.initial_oxide_um,
+        0.0,
+        10.0,
+        false,
+        "um",
+    );
+    if let Some(x) = o.expected_thickness_um {
+        v.positive(&format!("{b}.expected_thickness_um"), x, 20.0, "um");
+    }
+}
+
+/// A spin-coat step: speed, time and the spin curve.
+fn spin_coat(v: &mut V, b: &str, c: &SpinCoat) {
+    v.range(
+        &format!("{b}.speed_rpm"),
+        c.speed_rpm,
+        300.0,
+        10000.0,
+        false,
+        "rpm",
+    );
+    v.positive(&format!("{b}.time_s"), c.time_s, 600.0, "s");
+    v.positive(
+        &format!("{b}.ref_thickness_um"),
+        c.ref_thickness_um,
+        200.0,
+        "um",
+    );
+    v.range(
+        &format!("{b}.ref_speed_rpm"),
+        c.ref_speed_rpm,
+        300.0,
+        10000.0,
+        false,
+        "rpm",
+    );
+    v.range(
+        &format!("{b}.spin_exponent"),
+        c.spin_exponent,
+        0.1,
+        2.0,
+        false,
+        "",
+    );
+}
+
+/// An expose step: a time and at least one mask, each defined in `masks`.
+fn expose(v: &mut V, b: &str, x: &Expose, masks: &[Mask]) {
+    v.positive(&format!("{b}.time_s"), x.time_s, 3600.0, "s");
+    if x.masks.is_empty() {
+        v.push(
+            format!("{b}.masks"),
+            "no mask named",
+            "one or more names from `masks`",
+        );
+    }
+    for (j, m) in x.masks.iter().enumerate() {
+        if !masks.iter().any(|k| &k.name == m) {
+            let known: Vec<_> = masks.iter().map(|k| format!("`{}`", k.name)).collect();
+            v.push(
+                format!("{b}.masks[{j}]"),
+                format!("unknown mask `{m}`"),
+                format!("one of {}", known.join(", ")),
+            );
+        }
+    }
+}
+
+/// A silicon etch: bath temperature and concentration for its etchant, a depth short of the
+/// wafer, time, measured rate and compensation ratio.
+fn silicon_etch(v: &mut V, b: &str, s: &SiliconEtch, wafer_um: f64) {
+    let (tlo, thi) = etchant_temp_range_c(s.etchant);
+    v.range(
+        &format!("{b}.temp_c"),
+        s.temp_c,
+        tlo,
+        thi,
+        false,
+        &format!("C for {}", s.etchant.label()),
+    );
+    let (clo, chi) = etchant_concentration_range_wt_pct(s.etchant);
+    v.range(
+        &format!("{b}.concentration_wt_pct"),
+        s.concentration_wt_pct,
+        clo,
+        chi,
+        false,
+        &format!("wt % for {}", s.etchant.label()),
+    );
+    v.positive(&format!("{b}.depth_um"), s.depth_um, 1.0e4, "um");
+    if s.depth_um > 0.0 && s.depth_um >= wafer_um {
+        v.push(
+            format!("{b}.depth_um"),
+            format!("{} um reaches through the {wafer_um} um wafer", s.depth_um),
+            "a depth less than wafer.thickness_um",
+        );
+    }
+    if let Some(t) = s.time_h {
+        v.positive(&format!("{b}.time_h"), t, 200.0, "h");
+    }
+    if let Some(r) = s.measured_rate_um_per_h {
+        v.positive(&format!("{b}.measured_rate_um_per_h"), r, 1000.0, "um/h");
+    }
+    if let Some(c) = &s.compensation {
+        v.range(
+            &format!("{b}.compensation.ratio"),
+            c.ratio,
+            0.05,
+            5.0,
+            false,
+            "",
+        );
+    }
+}
+
+/// The optional temperature (up to `max_temp_c`) and time of clean, mount and assemble steps.
+fn optional_temp_time(
+    v: &mut V,
+    b: &str,
+    temp_c: Option<f64>,
+    time_min: Option<f64>,
+    max_temp_c: f64,
+) {
+    if let Some(t) = temp_c {
+        v.range(&format!("{b}.temp_c"), t, 0.0, max_temp_c, false, "C");
+    }
+    if let Some(t) = time_min {
+        v.positive(&format!("{b}.time_min"), t, 24.0 * 60.0, "min");
+    }
+}
+
+/// `layout`: edge exclusion, label pixel, compensator overlap and a valid, distinct layer map.
+fn layout(v: &mut V, p: &Process) {
     let lay = &p.layout;
     v.range(
         "layout.edge_exclusion_mm",
         lay.edge_exclusion_mm,
         0.0,
-        w.diameter_mm / 4.0,
+        p.wafer.diameter_mm / 4.0,
         false,
         "mm",
     );
@@ -705,12 +914,12 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         "layout.compensation_overlap_um",
         lay.compensation_overlap_um,
         0.0,
-        t.top_um / 4.0,
+        p.geometry.teeth.top_um / 4.0,
         false,
         "um",
     );
     let l = &lay.layers;
-    let mut seen = std::collections::BTreeSet::new();
+    let mut seen = BTreeSet::new();
     for (name, g) in [
         ("front_si", l.front_si),
         ("back_si", l.back_si),
@@ -734,6 +943,10 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
             );
         }
     }
+}
+
+/// `drc`: positive widths and spaces, a vertex limit GDS can hold, an electrode gap on the die.
+fn drc(v: &mut V, p: &Process) {
     let d = &p.drc;
     v.positive("drc.min_width_um", d.min_width_um, 1000.0, "um");
     v.positive("drc.min_space_um", d.min_space_um, 1000.0, "um");
@@ -749,9 +962,8 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
         "drc.min_electrode_gap_um",
         d.min_electrode_gap_um,
         0.0,
-        g.die_width_um,
+        p.geometry.die_width_um,
         false,
         "um",
     );
-    v.out
 }
