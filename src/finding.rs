@@ -122,6 +122,8 @@ codes! {
         NoErrorEstimate = "NO_ERROR_ESTIMATE": "too few mesh levels for a three-mesh estimate",
         OrderUnknown = "ORDER_UNKNOWN":
             "the finest meshes do not converge monotonically; the estimate is the last change",
+        ProbeOverhang = "PROBE_OVERHANG":
+            "the probe is wider than the die: its force spreads over the part on the die",
     }
 }
 

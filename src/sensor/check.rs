@@ -3,8 +3,10 @@
 //! ad-hoc loads (`fe --point`, `--pressure`) pass this one check before anything is solved, so
 //! a load that reaches off the die is refused instead of losing part of its force.
 
+use crate::fe::clip::{clip_polygon, polygon_area};
 use crate::fe::loads::probe_polygon;
 use crate::fe::FeError;
+use crate::finding::{At, Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
 
 use super::geometry::SensorGeometry;
@@ -26,7 +28,7 @@ pub enum SensorError {
 const EDGE_SLACK_UM: f64 = 1e-6;
 
 /// The footprint of a load: the polygon whose force the sensor must receive in full.
-fn footprint(load: &SceneLoad, g: &SensorGeometry) -> Vec<(f64, f64)> {
+pub(super) fn footprint(load: &SceneLoad, g: &SensorGeometry) -> Vec<(f64, f64)> {
     match *load {
         SceneLoad::Point {
             x_um,
@@ -111,6 +113,27 @@ fn numbers(load: &SceneLoad) -> (Vec<(&'static str, f64)>, Vec<(&'static str, f6
     }
 }
 
+/// PROBE_OVERHANG when a probe reaches beyond the die (its force then spreads over the rest).
+pub fn overhang(scene: &Scene, g: &SensorGeometry) -> Option<Finding> {
+    let SceneLoad::Probe { .. } = scene.load else {
+        return None;
+    };
+    let poly = footprint(&scene.load, g);
+    let whole = polygon_area(&poly);
+    let on_die = polygon_area(&clip_polygon(&poly, 0.0, 0.0, g.length_um, g.width_um));
+    (on_die < whole * (1.0 - 1e-9)).then(|| {
+        Finding::warning(
+            SceneCode::ProbeOverhang,
+            format!(
+                "{:.1} % of the probe's footprint is off the die; its force is spread over the \
+                 part on the die",
+                100.0 * (1.0 - on_die / whole)
+            ),
+        )
+        .at(At::Scene(scene.name.clone()))
+    })
+}
+
 /// Checks that `scene` can be answered on `g`.
 pub fn check_scene(scene: &Scene, g: &SensorGeometry) -> Result<(), SensorError> {
     let err = |problem: String, hint| SensorError::Scene {
@@ -136,7 +159,20 @@ pub fn check_scene(scene: &Scene, g: &SensorGeometry) -> Result<(), SensorError>
         }
     }
     let (l, w) = (g.length_um, g.width_um);
-    let off = footprint(&scene.load, g).into_iter().find(|&(x, y)| {
+    let poly = footprint(&scene.load, g);
+    if let SceneLoad::Probe { .. } = scene.load {
+        // A rigid probe wider than the die touches the die only: its force spreads over the
+        // part on the die (reported as PROBE_OVERHANG), but some part must be there.
+        let on_die = clip_polygon(&poly, 0.0, 0.0, l, w);
+        if on_die.len() < 3 || polygon_area(&on_die) <= 0.0 {
+            return Err(err(
+                format!("the probe does not touch the {l} x {w} um die"),
+                "move the probe onto the die; coordinates are um from the die corner",
+            ));
+        }
+        return Ok(());
+    }
+    let off = poly.into_iter().find(|&(x, y)| {
         x < -EDGE_SLACK_UM || x > l + EDGE_SLACK_UM || y < -EDGE_SLACK_UM || y > w + EDGE_SLACK_UM
     });
     if let Some((x, y)) = off {

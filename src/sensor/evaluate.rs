@@ -14,8 +14,8 @@ use crate::fe::{
 use crate::finding::{Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
 
-use super::check::{check_scene, SensorError};
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
+use super::check::{check_scene, overhang, SensorError};
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::mesh_lines::{
@@ -444,7 +444,8 @@ fn scene_report(
         .zip(peak.as_ref())
         .map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
     let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
-    let warnings = scene_warnings(w_max, ratio, converged, estimate_k, order_k, &info, tol);
+    let mut warnings = scene_warnings(w_max, ratio, converged, estimate_k, order_k, &info, tol);
+    warnings.extend(overhang(scene, g));
     SceneReport {
         scene: scene.name.clone(),
         force_n: f,

@@ -18,8 +18,8 @@ mod readout;
 mod scene;
 mod symmetry;
 
-pub use check::{check_scene, SensorError};
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
+pub use check::{check_scene, SensorError};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{
     evaluate, evaluate_many, evaluate_many_with, Accuracy, LevelRecord, ModelInfo, ModelKind,

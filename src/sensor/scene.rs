@@ -167,10 +167,12 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
     }
 }
 
-/// Clips a loaded polygon (uniform pressure) against the plate and both supports.
+/// Clips a loaded polygon (uniform pressure) against the plate and both supports. The force is
+/// spread over the part on the die (a probe wider than the die touches only there), so the die
+/// receives all of it; [`super::check_scene`] refuses loads with no part on the die.
 fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> SceneLoads {
     let (py0, py1, l, w) = (g.plate_y0_um, g.plate_y1_um, g.length_um, g.width_um);
-    let area = polygon_area(poly);
+    let area = polygon_area(&clip_polygon(poly, 0.0, 0.0, l, w));
     let mut plate = Vec::new();
     let mut direct = Vec::new();
     for (side, y0, y1) in [

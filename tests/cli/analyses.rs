@@ -31,7 +31,7 @@ fn reduced() -> &'static (SensorGeometry, Calibration) {
         let g = geometry();
         let mut plan = CalibrationPlan::new(&g, 7500.0, 2500.0, 0, 250.0, Accuracy::new(0.05, 1));
         plan.force_table_n = vec![0.001, 1.0, 5.0];
-        plan.y_sweep_um = vec![221.0, 5074.0, 7500.0, 9926.0, 14779.0];
+        plan.y_sweep_um = vec![222.0, 5074.0, 7500.0, 9926.0, 14778.0];
         plan.x_sweep_um = vec![1000.0, 29000.0];
         plan.grid_x_um = vec![12000.0, 15000.0, 18000.0];
         plan.grid_y_um = vec![2722.0, 5074.0, 7500.0, 9926.0, 12278.0];

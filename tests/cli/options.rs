@@ -958,6 +958,15 @@ fn values_that_crashed_before_are_refused_naming_the_flag() {
             &["fe", "@FILE", "--max-levels", "1", "--point", "1e9,0,1"],
             "--point",
         ),
+        // Centres on the die, contact patches over its edge: part of the force would be lost.
+        (
+            &["fe", "@FILE", "--max-levels", "1", "--point", "30,7,1"],
+            "--point",
+        ),
+        (
+            &["fe", "@FILE", "--max-levels", "1", "--point", "15,14.9,1"],
+            "--point",
+        ),
     ];
     let mut failures = Vec::new();
     for (args, flag) in cases {
