@@ -394,9 +394,9 @@ pub struct LocateArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
     /// One voltage (mV) per electrode in the model's order (S11,S12,S13,M1,M2,M3,S21,S22,S23 on
-    /// mis-grasper).
+    /// mis-grasper), each within +/- 1e6 mV.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true,
-          value_parser = parse::finite)]
+          value_parser = parse::voltage_mv)]
     pub voltages: Vec<f64>,
     /// Directory written by `tactfab calibrate` (reads its grid.csv); without it the grid is
     /// solved now.

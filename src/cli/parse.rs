@@ -41,6 +41,22 @@ pub fn finite(s: &str) -> Parsed<f64> {
     number(s)
 }
 
+/// Largest electrode voltage `locate` reads (mV): a kilovolt is far beyond any PVDF charge
+/// amplifier's output, so a larger value is a typo or a unit slip.
+pub const MAX_VOLTAGE_MV: f64 = 1e6;
+
+/// An electrode voltage in mV, within +/- [`MAX_VOLTAGE_MV`].
+pub fn voltage_mv(s: &str) -> Parsed<f64> {
+    let v = number(s)?;
+    if v.abs() <= MAX_VOLTAGE_MV {
+        Ok(v)
+    } else {
+        Err(format!(
+            "expected a voltage in mV within +/- {MAX_VOLTAGE_MV:e}, got {v}"
+        ))
+    }
+}
+
 /// A relative tolerance in (0, 1).
 pub fn tolerance(s: &str) -> Parsed<f64> {
     let v = number(s)?;

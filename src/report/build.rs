@@ -170,6 +170,18 @@ pub fn build(
 
     let scenes = &p.checks.scenes;
     let (fe_reports, fe) = match opts.fe {
+        Some(o) if !scenes.is_empty() && plan.has_errors() => (
+            Vec::new(),
+            Some(super::fe::skipped(
+                o.tol_rel,
+                o.max_levels,
+                format!(
+                    "the {} declared scenes were not solved: the etch plan has errors (see the \
+                     checks), so the plate it describes cannot be made",
+                    scenes.len()
+                ),
+            )),
+        ),
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
             let reports = evaluate_many(&SensorGeometry::new(design), scenes, o)?;

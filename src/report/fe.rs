@@ -62,13 +62,17 @@ pub struct FeSummary {
     /// `--allow-unconverged`).
     pub require_convergence: bool,
     pub scenes: Vec<FeScene>,
+    /// Why the declared scenes were not solved (the etch plan has errors: the device it
+    /// describes cannot be made, so no reading of it is a pass).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
 }
 
 impl FeSummary {
     /// Failing limits, and scenes that did not reach the tolerance, as `scene `name`: what`
     /// lines: an answer of unknown accuracy is never a pass.
     pub fn failures(&self) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out: Vec<String> = self.skipped.iter().map(|s| format!("FE: {s}")).collect();
         for s in &self.scenes {
             if self.require_convergence && !s.converged {
                 out.push(format!(
@@ -196,6 +200,18 @@ pub fn summarise(
         max_levels,
         require_convergence,
         scenes,
+        skipped: None,
+    }
+}
+
+/// The summary of scenes that were not solved, and why.
+pub fn skipped(tol_rel: f64, max_levels: usize, why: String) -> FeSummary {
+    FeSummary {
+        tol_rel,
+        max_levels,
+        require_convergence: true,
+        scenes: Vec::new(),
+        skipped: Some(why),
     }
 }
 

@@ -309,6 +309,12 @@ fn fe(fe: Option<&FeSummary>) -> Section {
         ));
         return s;
     };
+    if let Some(why) = &fe.skipped {
+        s.push(Block::Para(
+            Rich(vec![Span::Fail("Not solved".into())]).plain(format!(": {why}.")),
+        ));
+        return s;
+    }
     s.push(Block::Para(Rich::text(format!(
         "Kirchhoff plate (BFS elements), each scene refined until the three-mesh estimate is \
          under {} (at most {} levels).",

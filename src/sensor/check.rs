@@ -61,8 +61,11 @@ pub(super) fn footprint(load: &SceneLoad, g: &SensorGeometry) -> Vec<(f64, f64)>
     }
 }
 
+/// Named values of a load.
+type Named = Vec<(&'static str, f64)>;
+
 /// Every number of the load that must be finite, and the sizes that must be positive.
-fn numbers(load: &SceneLoad) -> (Vec<(&'static str, f64)>, Vec<(&'static str, f64)>) {
+fn numbers(load: &SceneLoad) -> (Named, Named) {
     match *load {
         SceneLoad::Point {
             x_um,
@@ -141,6 +144,15 @@ pub fn check_scene(scene: &Scene, g: &SensorGeometry) -> Result<(), SensorError>
         problem,
         hint,
     };
+    if g.plate_thickness_um.is_nan() || g.plate_thickness_um <= 0.0 {
+        return Err(err(
+            format!(
+                "the recipe leaves a {:.1} um plate: it etches through the wafer",
+                g.plate_thickness_um
+            ),
+            "fix the etch depths or times (`tactfab check` lists DEPTH_EXCEEDS_WAFER)",
+        ));
+    }
     let (finite, sizes) = numbers(&scene.load);
     for (name, v) in finite.iter().chain(&sizes) {
         if !v.is_finite() {

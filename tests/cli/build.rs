@@ -469,3 +469,44 @@ fn outputs_spell_kinds_as_the_yaml_does() {
     });
     assert_eq!(camel, None, "a Rust Debug name in the output:\n{text}");
 }
+
+/// A recipe that etches through the wafer: the build fails as a check (exit 1) listing the plan's
+/// errors and that the scenes were not solved, never an internal FE error.
+#[test]
+fn etch_through_is_a_failed_check_not_an_fe_error() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("out");
+    let (code, stdout, stderr) = run(&[
+        "build",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--max-levels",
+        "1",
+        "--set",
+        "steps.tmah-etch.time_h=20",
+    ]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(stdout.contains("DEPTH_EXCEEDS_WAFER"), "{stdout}");
+    assert!(
+        stdout.contains("FAIL: FE: the 4 declared scenes were not solved"),
+        "{stdout}"
+    );
+    assert!(!stderr.contains("stiffness"), "{stderr}");
+    let md = std::fs::read_to_string(out.join("mis-grasper-traveler.md")).unwrap();
+    assert!(
+        md.contains("**Not solved**"),
+        "the traveler says why there is no FE"
+    );
+    // `fe` on the same recipe refuses with the reason, not a solver failure.
+    let (code, _, stderr) = run(&[
+        "fe",
+        REFERENCE,
+        "--max-levels",
+        "1",
+        "--set",
+        "steps.tmah-etch.time_h=20",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("etches through the wafer"), "{stderr}");
+}
