@@ -36,11 +36,6 @@ fn numbers(s: &str, n: std::ops::RangeInclusive<usize>, form: &str) -> Parsed<Ve
     }
 }
 
-/// Any finite number.
-pub fn finite(s: &str) -> Parsed<f64> {
-    number(s)
-}
-
 /// Largest electrode voltage `locate` reads (mV): a kilovolt is far beyond any PVDF charge
 /// amplifier's output, so a larger value is a typo or a unit slip.
 pub const MAX_VOLTAGE_MV: f64 = 1e6;
