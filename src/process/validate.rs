@@ -120,7 +120,7 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
     wafer(&mut v, &p.wafer);
     geometry(&mut v, p);
     materials(&mut v, &p.materials);
-    masks(&mut v, &p.masks);
+    masks(&mut v, &p.masks, p.geometry.teeth.pattern);
     etchants(&mut v, &p.etchants);
     scenes(&mut v, p);
     steps(&mut v, p, is_placeholder);
@@ -493,7 +493,38 @@ fn materials(v: &mut V, m: &Materials) {
 }
 
 /// `masks`: safe, unique names.
-fn masks(v: &mut V, masks: &[Mask]) {
+/// `masks`: names usable as file names, each purpose drawn by one mask, and the teeth the
+/// geometry asks for drawn by a front_si mask (else the FE would model teeth no mask makes).
+fn masks(v: &mut V, masks: &[Mask], teeth: TeethPattern) {
+    for purpose in [MaskPurpose::FrontSi, MaskPurpose::BackSi, MaskPurpose::Pvdf] {
+        let with: Vec<usize> = (0..masks.len())
+            .filter(|&i| masks[i].purpose == purpose)
+            .collect();
+        if let [_, second, ..] = with[..] {
+            v.push(
+                format!("masks[{second}].purpose"),
+                format!(
+                    "two masks have purpose `{}`: `{}` and `{}`",
+                    crate::spelling::yaml(&purpose),
+                    masks[with[0]].name,
+                    masks[second].name
+                ),
+                "one mask per purpose",
+            );
+        }
+    }
+    let has_front = masks.iter().any(|m| m.purpose == MaskPurpose::FrontSi);
+    if teeth != TeethPattern::None && !has_front && !masks.is_empty() {
+        v.push(
+            "masks",
+            format!(
+                "geometry.teeth.pattern is `{}` but no mask has purpose `front_si` to draw the \
+                 teeth",
+                crate::spelling::yaml(&teeth)
+            ),
+            "a mask with purpose front_si, or geometry.teeth.pattern: none",
+        );
+    }
     let mut names = BTreeSet::new();
     for (i, m) in masks.iter().enumerate() {
         if !safe(&m.name) {
