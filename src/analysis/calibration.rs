@@ -53,7 +53,8 @@ impl CalibrationPlan {
         let y_sweep_um: Vec<f64> = (0..=ny)
             .map(|j| h + (g.width_um - 2.0 * h) * j as f64 / ny as f64)
             .collect();
-        let nx = (g.length_um / x_step_um).round().max(1.0) as usize;
+        // At least two columns: the inverse interpolates between grid lines.
+        let nx = (g.length_um / x_step_um).round().max(2.0) as usize;
         let x_sweep_um: Vec<f64> = (0..nx)
             .map(|i| g.length_um * (i as f64 + 0.5) / nx as f64)
             .collect();

@@ -24,6 +24,11 @@ pub enum AnalysisError {
     },
     #[error("calibration: {reason}\n  hint: regenerate it with `tactfab calibrate FILE -o DIR`")]
     Calibration { reason: String },
+    #[error(
+        "the support voltages sum to zero: there is no load to locate\n  hint: give the nine \
+         voltages a loaded sensor reads (mV, in the electrode order of the model)"
+    )]
+    NoLoad,
     #[error("the sensor has no electrode `{name}` (known: {known})")]
     UnknownElectrode { name: String, known: String },
 }

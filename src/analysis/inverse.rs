@@ -173,9 +173,7 @@ impl Locator {
         }
         let (tx, ty) = (self.groups.u_x(v), self.groups.u_y(v));
         if !tx.is_finite() || !ty.is_finite() {
-            return Err(AnalysisError::Calibration {
-                reason: "the support voltages sum to zero: no load to locate".into(),
-            });
+            return Err(AnalysisError::NoLoad);
         }
         let (x0, x1, y0, y1) = self.domain_um();
         let (mut x, mut y) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
