@@ -193,9 +193,22 @@ fn range(s: &str, n_min: usize, n_max: usize, eg: &str) -> Parsed<Range> {
     Ok(Range { lo, hi, n })
 }
 
-/// Tissue modulus range (Pa, log spaced): 2-200 points, LO < HI.
+/// `r` with LO and HI in [`lo`, `hi`] (unit `unit`).
+fn bounded(r: Range, lo: f64, hi: f64, unit: &str) -> Parsed<Range> {
+    if r.lo >= lo && r.hi <= hi {
+        Ok(r)
+    } else {
+        Err(format!(
+            "expected LO and HI within [{lo:e}, {hi:e}] {unit}, got {:e},{:e}",
+            r.lo, r.hi
+        ))
+    }
+}
+
+/// Tissue modulus range (Pa, log spaced): 2-200 points, LO < HI, within 1 Pa - 1 TPa (gels to
+/// diamond).
 pub fn modulus_range_pa(s: &str) -> Parsed<Range> {
-    let r = range(s, 2, 200, "1e4,1e8,17")?;
+    let r = bounded(range(s, 2, 200, "1e4,1e8,17")?, 1.0, 1e12, "Pa")?;
     if r.hi > r.lo {
         Ok(r)
     } else {
@@ -206,9 +219,9 @@ pub fn modulus_range_pa(s: &str) -> Parsed<Range> {
 /// Most steps on one sweep axis; the whole sweep is bounded again by the library.
 pub const MAX_SWEEP_STEPS: usize = 1000;
 
-/// One sweep axis (um): 1-[`MAX_SWEEP_STEPS`] steps.
+/// One sweep axis (um): 1-[`MAX_SWEEP_STEPS`] steps, values within 1 um - 1 m.
 pub fn sweep_range_um(s: &str) -> Parsed<Range> {
-    range(s, 1, MAX_SWEEP_STEPS, "10000,40000,30")
+    bounded(range(s, 1, MAX_SWEEP_STEPS, "10000,40000,30")?, 1.0, 1e6, "um")
 }
 
 #[cfg(test)]
@@ -231,5 +244,7 @@ mod tests {
         assert_eq!(p.radius_mm, POINT_RADIUS_MM);
         assert!(voltage_and_force("3,0").is_err());
         assert!(modulus_range_pa("1e8,1e4,5").is_err());
+        assert!(modulus_range_pa("1e-300,1e300,2").is_err());
+        assert!(sweep_range_um("1e300,1e300,1").is_err());
     }
 }
