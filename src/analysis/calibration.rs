@@ -55,8 +55,10 @@ impl CalibrationPlan {
             .collect();
         // At least two columns: the inverse interpolates between grid lines.
         let nx = (g.length_um / x_step_um).round().max(2.0) as usize;
+        // Cell centres, without those whose contact would reach over the die's ends.
         let x_sweep_um: Vec<f64> = (0..nx)
             .map(|i| g.length_um * (i as f64 + 0.5) / nx as f64)
+            .filter(|&x| x >= h && x <= g.length_um - h)
             .collect();
         let (lo, hi) = (g.plate_y0_um + h, g.plate_y1_um - h);
         let mut grid_y_um = vec![lo];

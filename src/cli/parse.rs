@@ -221,7 +221,12 @@ pub const MAX_SWEEP_STEPS: usize = 1000;
 
 /// One sweep axis (um): 1-[`MAX_SWEEP_STEPS`] steps, values within 1 um - 1 m.
 pub fn sweep_range_um(s: &str) -> Parsed<Range> {
-    bounded(range(s, 1, MAX_SWEEP_STEPS, "10000,40000,30")?, 1.0, 1e6, "um")
+    bounded(
+        range(s, 1, MAX_SWEEP_STEPS, "10000,40000,30")?,
+        1.0,
+        1e6,
+        "um",
+    )
 }
 
 #[cfg(test)]

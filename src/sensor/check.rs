@@ -20,9 +20,24 @@ pub enum SensorError {
         problem: String,
         hint: &'static str,
     },
+    #[error(
+        "{loads} loads on a mesh of {dofs} dofs (level {level}) would hold {} solution values, \
+         above the limit of {MAX_SOLUTION_VALUES}\n  hint: solve fewer loads at once (coarser \
+         grid steps), or fewer mesh levels (--max-levels, a looser --tol)",
+        loads * dofs
+    )]
+    TooLarge {
+        loads: usize,
+        dofs: usize,
+        level: usize,
+    },
     #[error("finite-element solve failed: {0}")]
     Fe(#[from] FeError),
 }
+
+/// Most solution values (loads x dofs) one mesh level may hold: 1e8 doubles, 0.8 GB, refused
+/// before anything is allocated.
+pub const MAX_SOLUTION_VALUES: usize = 100_000_000;
 
 /// Slack on the die edges (um): a patch drawn exactly to the edge is on the die.
 const EDGE_SLACK_UM: f64 = 1e-6;

@@ -8,14 +8,13 @@ use serde::Serialize;
 use crate::fe::problem::Axis as FeAxis;
 use crate::fe::solution::LINEAR_RANGE_LIMIT;
 use crate::fe::{
-    Factorised, FeError, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion,
-    ThreeMesh,
+    Factorised, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion, ThreeMesh,
 };
 use crate::finding::{Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
 
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
-use super::check::{check_scene, overhang, SensorError};
+use super::check::{check_scene, overhang, SensorError, MAX_SOLUTION_VALUES};
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::mesh_lines::{
@@ -290,7 +289,7 @@ fn evaluate_plate(
     tol: f64,
     max_levels: usize,
     mesh: MeshOptions,
-) -> Result<Vec<SceneReport>, FeError> {
+) -> Result<Vec<SceneReport>, SensorError> {
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let levels = solve_levels(g, &loads, tol, max_levels, mesh)?;
     Ok(scenes
@@ -329,7 +328,7 @@ fn solve_levels(
     tol: f64,
     max_levels: usize,
     mesh: MeshOptions,
-) -> Result<Levels, FeError> {
+) -> Result<Levels, SensorError> {
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
     let sym = if mesh.symmetry {
@@ -355,6 +354,14 @@ fn solve_levels(
         let h = COARSE_ELEMENT_UM / sub as f64;
         let (sols, info) = if needs_plate {
             let problem = build_problem(g, &base, level, &sym);
+            let values = 4 * problem.mesh.n_nodes() * n;
+            if values > MAX_SOLUTION_VALUES {
+                return Err(SensorError::TooLarge {
+                    loads: n,
+                    dofs: 4 * problem.mesh.n_nodes(),
+                    level: level + 1,
+                });
+            }
             let solved = Factorised::new(&problem)?.solve(&part_cases)?;
             let sols: Vec<_> = solved
                 .into_iter()

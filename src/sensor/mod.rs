@@ -19,7 +19,7 @@ mod scene;
 mod symmetry;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
-pub use check::{check_scene, SensorError};
+pub use check::{check_scene, SensorError, MAX_SOLUTION_VALUES};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{
     evaluate, evaluate_many, evaluate_many_with, Accuracy, LevelRecord, ModelInfo, ModelKind,

@@ -510,3 +510,30 @@ fn etch_through_is_a_failed_check_not_an_fe_error() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("etches through the wafer"), "{stderr}");
 }
+
+/// Work is bounded before anything is allocated: a calibration grid of ~29,000 loads on a mesh
+/// with a line through each is refused at once (exit 2, naming the limit), not run out of memory.
+#[test]
+fn oversized_solves_are_refused_before_allocating() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("cal");
+    let (code, _, stderr) = run(&[
+        "calibrate",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--x-step-mm",
+        "0.1",
+        "--y-step-mm",
+        "0.1",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "above the limit of {}",
+            tactfab::sensor::MAX_SOLUTION_VALUES
+        )),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing written");
+}
