@@ -221,7 +221,6 @@ fn beam_report(
     let t0 = Instant::now();
     let b = beam_answer(g, y_um, force_n);
     let r = b.readout;
-    let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
     let stress = b.stress_at_load_pa;
     let (best, sens) = most_sensitive(&r, force_n);
     SceneReport {
@@ -243,16 +242,8 @@ fn beam_report(
         deflection_at_load_um: b.deflection_at_load_m * 1e6,
         max_deflection_um: b.max_deflection_m * 1e6,
         max_stress_mpa: stress * 1e-6,
-        safety_factor: if stress > 0.0 {
-            g.fracture_strength_mpa * 1e6 / stress
-        } else {
-            f64::INFINITY
-        },
-        max_permissible_load_n: if stress > 0.0 {
-            force_n.abs() * allowed_pa / stress
-        } else {
-            f64::INFINITY
-        },
+        safety_factor: safety_factor(g, stress),
+        max_permissible_load_n: permissible_load_n(g, stress, force_n),
         sensitivity_mv_per_n: sens,
         most_sensitive: best,
         reactions_n: Reactions {
@@ -262,6 +253,26 @@ fn beam_report(
         electrodes: r.electrodes,
         warnings: Vec::new(),
         convergence: Vec::new(),
+    }
+}
+
+/// Fracture strength over the stress (infinite when unstressed).
+fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
+    if stress_pa > 0.0 {
+        g.fracture_strength_mpa * 1e6 / stress_pa
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The load at which the stress reaches the fracture strength over the required safety factor
+/// (the model is linear in the load).
+fn permissible_load_n(g: &SensorGeometry, stress_pa: f64, force_n: f64) -> f64 {
+    let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
+    if stress_pa > 0.0 {
+        force_n.abs() * allowed_pa / stress_pa
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -445,7 +456,6 @@ fn scene_report(
         .and_then(|s| s.max_principal_stress(l.patch))
         .map_or(0.0, |p| p.sigma_pa);
     let f = l.total_force_n;
-    let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
     let (best, sens) = most_sensitive(&r, f);
     let ratio = sol
         .zip(peak.as_ref())
@@ -462,16 +472,8 @@ fn scene_report(
         deflection_at_load_um: w_load * 1e6,
         max_deflection_um: w_max * 1e6,
         max_stress_mpa: stress_pa * 1e-6,
-        safety_factor: if stress_pa > 0.0 {
-            g.fracture_strength_mpa * 1e6 / stress_pa
-        } else {
-            f64::INFINITY
-        },
-        max_permissible_load_n: if stress_pa > 0.0 {
-            f.abs() * allowed_pa / stress_pa
-        } else {
-            f64::INFINITY
-        },
+        safety_factor: safety_factor(g, stress_pa),
+        max_permissible_load_n: permissible_load_n(g, stress_pa, f),
         sensitivity_mv_per_n: sens,
         most_sensitive: best,
         reactions_n: Reactions {
