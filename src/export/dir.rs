@@ -182,6 +182,19 @@ fn exchange(_: &Path, _: &Path) -> std::io::Result<()> {
     Err(std::io::Error::from(std::io::ErrorKind::Unsupported))
 }
 
+/// `dir` as an absolute path without `.` or `..`: canonical when it exists, else its existing
+/// parent canonical with its name.
+fn resolve(dir: &Path) -> std::io::Result<PathBuf> {
+    if dir.exists() {
+        return dir.canonicalize();
+    }
+    let abs = std::path::absolute(dir)?;
+    match (abs.parent(), abs.file_name()) {
+        (Some(p), Some(n)) if p.exists() => Ok(p.canonicalize()?.join(n)),
+        _ => Ok(abs),
+    }
+}
+
 /// Writes `files` (plus the manifest) as the complete content of `dir`, replacing a previous
 /// output of tactfab; see the module documentation for what is refused.
 pub fn write_dir_atomic(
@@ -193,6 +206,10 @@ pub fn write_dir_atomic(
         let path = path.to_path_buf();
         move |cause| ExportError::Io { path, cause }
     };
+    // `.`, `..` and symlinks resolved, so `-o .` is the directory it names (and is refused when
+    // it holds the input), not a path without a name.
+    let resolved = resolve(dir).map_err(io(dir))?;
+    let dir = resolved.as_path();
     let parent: PathBuf = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
