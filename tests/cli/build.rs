@@ -537,3 +537,19 @@ fn oversized_solves_are_refused_before_allocating() {
     );
     assert!(!out.exists(), "nothing written");
 }
+
+/// `build f.yaml -o .` run inside the folder holding the input: refused, the input and the
+/// user's files untouched (a previous version deleted them when a `build.json` was there).
+#[test]
+fn output_dot_holding_the_input_is_refused() {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::copy(root().join(REFERENCE), t.path().join("f.yaml")).unwrap();
+    std::fs::write(t.path().join("build.json"), "{}").unwrap();
+    let r = super::harness::tactfab_in(
+        t.path(),
+        &["build", "f.yaml", "-o", ".", "--max-levels", "1"],
+    );
+    r.expect_code(2);
+    assert!(r.stderr.contains("lies inside it"), "{}", r.stderr);
+    assert_eq!(names(t.path()), ["build.json", "f.yaml"]);
+}
