@@ -57,6 +57,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         width_um: axis(&a.width_um),
         thickness_um: axis(&a.thickness_um),
     };
+    grid.check()?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     let loaded = load(process)?;
     let p = &loaded.process;

@@ -22,6 +22,15 @@ pub use shard::{merge_dir, Merged, Shard};
 /// Sweep errors; each carries a hint.
 #[derive(Debug, Error)]
 pub enum SweepError {
+    #[error(
+        "the sweep grid holds {} designs, above the limit of {}\n  hint: {hint}",
+        designs.map_or_else(|| "more than 2^64".to_string(), |n| n.to_string()),
+        design::MAX_DESIGNS
+    )]
+    TooLarge {
+        designs: Option<usize>,
+        hint: &'static str,
+    },
     #[error("bad shard '{text}'\n  hint: {hint}")]
     BadShard { text: String, hint: &'static str },
     #[error("merge failed: {detail}\n  hint: {hint}")]

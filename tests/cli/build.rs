@@ -536,6 +536,25 @@ fn oversized_solves_are_refused_before_allocating() {
         "{stderr}"
     );
     assert!(!out.exists(), "nothing written");
+    // A sweep of 1000^3 designs (every axis within its own range) is refused as a whole.
+    let (code, _, stderr) = run(&[
+        "sweep",
+        REFERENCE,
+        "-o",
+        out.to_str().unwrap(),
+        "--length-um",
+        "10000,40000,1000",
+        "--width-um",
+        "7500,20000,1000",
+        "--thickness-um",
+        "50,150,1000",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("1000000000 designs, above the limit"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing written");
 }
 
 /// `build f.yaml -o .` run inside the folder holding the input: refused, the input and the
