@@ -7,8 +7,7 @@ pub use super::sheet::Figures;
 use super::traveler::Traveler;
 use crate::export::xml::escape as esc;
 
-const CSS: &str = "@page { size: A4; margin: 12mm; }
-body { font-family: sans-serif; font-size: 9pt; margin: 0 auto; max-width: 186mm; color: #111; }
+const CSS: &str = "body { font-family: sans-serif; font-size: 9pt; margin: 0 auto; max-width: 186mm; color: #111; }
 h1 { font-size: 15pt; margin: 0 0 4pt; } h2 { font-size: 12pt; border-bottom: 1px solid #999; \
                    margin-top: 14pt; }
 h2 { break-after: avoid; } table { border-collapse: collapse; width: 100%; margin: 4pt 0; }
@@ -54,8 +53,28 @@ pub fn render(d: &Doc) -> String {
     }
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</\
-         title>\n<style>\n{CSS}\n</style>\n</head>\n<body>\n{b}</body>\n</html>\n",
-        esc(&d.title)
+         title>\n<style>\n{}\n{CSS}\n</style>\n</head>\n<body>\n{b}</body>\n</html>\n",
+        esc(&d.title),
+        page_css(&d.title)
+    )
+}
+
+/// The printed page: A4, and on every page the document, the lot and wafer to fill in, and
+/// "page x of y" (CSS paged-media margin boxes).
+fn page_css(title: &str) -> String {
+    // A CSS string: quotes and backslashes escaped, and `<` so the text cannot close the style.
+    let quoted: String = title
+        .chars()
+        .map(|c| match c {
+            '"' | '\\' | '<' => format!("\\{:x} ", c as u32),
+            c => c.to_string(),
+        })
+        .collect();
+    let font = "font: 8pt sans-serif; color: #333;";
+    format!(
+        "@page {{ size: A4; margin: 16mm 12mm 14mm;\n  @top-left {{ content: \"{quoted}\"; {font} \
+         }}\n  @top-right {{ content: \"Lot ________   Wafer ________\"; {font} }}\n  \
+         @bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); {font} }} }}"
     )
 }
 

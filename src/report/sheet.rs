@@ -226,19 +226,24 @@ fn cross_sections(t: &Traveler) -> Section {
         ]);
     }
     s.push(md(Block::Table(table)));
+    // Drawn once per step that changes the stack, two to a row.
+    let mut figures = Vec::new();
+    let mut last = None;
+    for (r, st) in t.steps.iter().zip(&t.stacks) {
+        if last == Some(st) {
+            continue;
+        }
+        last = Some(st);
+        figures.push(Figure {
+            svg: section_svg(&t.cut, st, &format!("after step {} {}", r.number, r.name)),
+            caption: format!("after step {} {}: {}", r.number, r.name, st.describe()),
+        });
+    }
     s.push(Block::Only(
         Format::Html,
         Box::new(Block::Figures {
-            figures: t
-                .steps
-                .iter()
-                .zip(&t.stacks)
-                .map(|(r, st)| Figure {
-                    svg: section_svg(&t.cut, st, &format!("after step {} {}", r.number, r.name)),
-                    caption: st.describe(),
-                })
-                .collect(),
-            grid: false,
+            figures,
+            grid: true,
             max_width_mm: None,
         }),
     ));
