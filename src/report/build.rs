@@ -95,20 +95,7 @@ impl Built {
     /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations,
     /// declared FE limits.
     pub fn failures(&self) -> Vec<String> {
-        let mut v: Vec<String> = self
-            .plan
-            .warnings
-            .iter()
-            .filter(|c| c.is_error())
-            .map(|c| format!("etch plan: {c}"))
-            .collect();
-        for x in self.drc.violations.iter().filter(|x| x.is_error()) {
-            v.push(format!("DRC: {}", crate::drc::line(x)));
-        }
-        if let Some(fe) = &self.fe {
-            v.extend(fe.failures());
-        }
-        v
+        super::sheet::failures(&self.traveler)
     }
 
     /// File names of the traveler.

@@ -154,5 +154,7 @@ pub struct Doc {
     pub title: String,
     pub heading: String,
     pub intro: Rich,
+    /// When the document records a failed build: why, one line each (shown first, as a banner).
+    pub verdict: Option<Vec<String>>,
     pub sections: Vec<Section>,
 }

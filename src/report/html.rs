@@ -20,7 +20,8 @@ code, .hash { font-family: monospace; font-size: 7.5pt; word-break: break-all; }
 figure { margin: 4pt 0; break-inside: avoid; } figure svg { width: 100%; height: auto; }
 .masks { display: grid; grid-template-columns: 1fr 1fr; gap: 6pt; }
 .pass { color: #1a7f37; font-weight: bold; } .fail { color: #b00020; font-weight: bold; }
-.error { color: #b00020; } pre { font-size: 7.5pt; white-space: pre-wrap; }
+.error { color: #b00020; } .banner { border: 2pt solid #b00020; color: #b00020; padding: 4pt; \
+                   margin: 6pt 0; font-size: 11pt; } pre { font-size: 7.5pt; white-space: pre-wrap; }
 @media print { .section-steps { break-before: page; } }";
 
 /// The traveler as an HTML page.
@@ -35,6 +36,13 @@ pub fn render(d: &Doc) -> String {
         esc(&d.heading),
         inline(&d.intro)
     );
+    if let Some(why) = &d.verdict {
+        let items: String = why.iter().map(|w| format!("<li>{}</li>", esc(w))).collect();
+        b.push_str(&format!(
+            "<div class=\"banner\"><b>BUILD FAILED: do not process wafers with this \
+             traveler</b><ul>{items}</ul></div>\n"
+        ));
+    }
     for sec in &d.sections {
         let class = if sec.page_break {
             format!(" class=\"section-{}\"", sec.id)

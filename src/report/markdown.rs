@@ -16,6 +16,13 @@ pub fn markdown(t: &Traveler) -> String {
 /// A document as Markdown.
 pub fn render(d: &Doc) -> String {
     let mut s = format!("# {}\n\n{}\n\n", d.heading, inline(&d.intro));
+    if let Some(why) = &d.verdict {
+        s.push_str("> **BUILD FAILED: do not process wafers with this traveler**\n>\n");
+        for w in why {
+            s.push_str(&format!("> - {w}\n"));
+        }
+        s.push('\n');
+    }
     for sec in &d.sections {
         s.push_str(&format!("## {}\n\n", sec.title));
         for b in &sec.blocks {

@@ -15,9 +15,34 @@ pub struct Figures {
     pub tooth: Option<String>,
 }
 
+/// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations, declared
+/// FE limits and unconverged scenes.
+pub fn failures(t: &Traveler) -> Vec<String> {
+    let mut v: Vec<String> = t
+        .checks
+        .iter()
+        .filter(|c| c.is_error())
+        .map(|c| format!("etch plan: {c}"))
+        .collect();
+    for x in t.drc.violations.iter().filter(|x| x.is_error()) {
+        v.push(format!("DRC: {}", crate::drc::line(x)));
+    }
+    if let Some(fe) = &t.fe {
+        v.extend(fe.failures());
+    }
+    v
+}
+
 /// The traveler's document.
 pub fn document(t: &Traveler, fig: &Figures) -> Doc {
+    let failures = failures(t);
+    let verdict = if failures.is_empty() {
+        None
+    } else {
+        Some(failures)
+    };
     Doc {
+        verdict,
         title: format!("Traveler {} rev {}", t.device, t.revision),
         heading: format!("Process traveler: {} rev {}", t.device, t.revision),
         intro: Rich::text(format!(

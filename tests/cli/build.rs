@@ -470,6 +470,10 @@ fn failed_limit_exits_1_and_lists_it() {
         md.contains("**FAIL** stress"),
         "the traveler shows the failed limit"
     );
+    assert!(
+        md.contains("> **BUILD FAILED") && md.contains(&format!("> - {}", listed[0])),
+        "the traveler opens with the failures"
+    );
 }
 
 #[test]
