@@ -158,3 +158,37 @@ pub struct Doc {
     pub verdict: Option<Vec<String>>,
     pub sections: Vec<Section>,
 }
+
+/// Unit typography for people: the ASCII `um` (a whole word, so `depth_um` and `medium` stay)
+/// becomes `µm`, `um2`/`um3` become `µm²`/`µm³`, and `+/-` becomes `±`. Code and digests are
+/// never typeset: they are what the user types.
+///
+/// ```
+/// use tactfab::report::doc::typeset;
+/// assert_eq!(typeset("200 um +/- 1 % at 0.5 um/h; B = 0.53 um2/h"), "200 µm ± 1 % at 0.5 µm/h; B = 0.53 µm²/h");
+/// assert_eq!(typeset("depth_um in a medium"), "depth_um in a medium");
+/// ```
+pub fn typeset(s: &str) -> String {
+    let s = s.replace("+/-", "±");
+    let mut out = String::with_capacity(s.len());
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        out.push_str(match word.as_str() {
+            "um" => "µm",
+            "um2" => "µm²",
+            "um3" => "µm³",
+            w => w,
+        });
+        word.clear();
+    };
+    for c in s.chars() {
+        if c.is_alphanumeric() || c == '_' {
+            word.push(c);
+        } else {
+            flush(&mut word, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}

@@ -1,11 +1,11 @@
 //! A [`Doc`] as one self-contained HTML page (inline CSS, figures as inline SVG, no scripts and no
 //! external resources; laid out for A4 print), and the traveler in it.
 
-use super::doc::{Block, Doc, Figure, Format, Rich, Span, Table};
+use super::doc::{typeset, Block, Doc, Figure, Format, Rich, Span, Table};
 use super::sheet::document;
 pub use super::sheet::Figures;
 use super::traveler::Traveler;
-use crate::export::xml::escape as esc;
+use crate::export::xml::escape;
 
 const CSS: &str = "body { font-family: sans-serif; font-size: 9pt; margin: 0 auto; max-width: 186mm; color: #111; }
 h1 { font-size: 15pt; margin: 0 0 4pt; } h2 { font-size: 12pt; border-bottom: 1px solid #999; \
@@ -84,6 +84,11 @@ fn page_css(title: &str) -> String {
          }}\n  @top-right {{ content: \"Lot ________   Wafer ________\"; {font} }}\n  \
          @bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); {font} }} }}"
     )
+}
+
+/// Text for people: units typeset, then escaped.
+fn esc(s: &str) -> String {
+    escape(&typeset(s))
 }
 
 const BLANK_CELL: &str = "<td class=\"blank\"></td>";
@@ -175,14 +180,32 @@ fn table(b: &mut String, t: &Table) {
     b.push_str("</tbody></table>\n");
 }
 
+/// Text that may quote code in Markdown backticks (messages are written once, for both
+/// formats): the quoted parts as `<code>`, never literal backticks.
+fn text(s: &str) -> String {
+    if s.matches('`').count() % 2 != 0 {
+        return esc(s);
+    }
+    s.split('`')
+        .enumerate()
+        .map(|(i, part)| {
+            if i % 2 == 1 {
+                format!("<code>{}</code>", escape(part))
+            } else {
+                esc(part)
+            }
+        })
+        .collect()
+}
+
 fn inline(r: &Rich) -> String {
     r.0.iter()
         .map(|sp| match sp {
-            Span::Text(x) => esc(x),
-            Span::Code(x) => format!("<code>{}</code>", esc(x)),
-            Span::Hash(x) => format!("<span class=\"hash\">{}</span>", esc(x)),
-            Span::Value(x) => format!("<b>{}</b>", esc(x)),
-            Span::Note(x) => format!("<span class=\"prov\">{}</span>", esc(x)),
+            Span::Text(x) => text(x),
+            Span::Code(x) => format!("<code>{}</code>", escape(x)),
+            Span::Hash(x) => format!("<span class=\"hash\">{}</span>", escape(x)),
+            Span::Value(x) => format!("<b>{}</b>", text(x)),
+            Span::Note(x) => format!("<span class=\"prov\">{}</span>", text(x)),
             Span::Pass(x) => format!("<span class=\"pass\">{}</span>", esc(x)),
             Span::Fail(x) => format!("<span class=\"fail\">{}</span>", esc(x)),
             Span::Break => "<br>".into(),

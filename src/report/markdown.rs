@@ -1,7 +1,7 @@
 //! A [`Doc`] as Markdown (GitHub tables; `<br>` inside cells), and the traveler in it.
 //! Deterministic: fixed decimals, the model's order, no dates or timings.
 
-use super::doc::{Block, Doc, Format, Rich, Span, Table};
+use super::doc::{typeset as ts, Block, Doc, Format, Rich, Span, Table};
 use super::sheet::{document, Figures};
 use super::traveler::Traveler;
 
@@ -15,16 +15,16 @@ pub fn markdown(t: &Traveler) -> String {
 
 /// A document as Markdown.
 pub fn render(d: &Doc) -> String {
-    let mut s = format!("# {}\n\n{}\n\n", d.heading, inline(&d.intro));
+    let mut s = format!("# {}\n\n{}\n\n", ts(&d.heading), inline(&d.intro));
     if let Some(why) = &d.verdict {
         s.push_str("> **BUILD FAILED: do not process wafers with this traveler**\n>\n");
         for w in why {
-            s.push_str(&format!("> - {w}\n"));
+            s.push_str(&format!("> - {}\n", ts(w)));
         }
         s.push('\n');
     }
     for sec in &d.sections {
-        s.push_str(&format!("## {}\n\n", sec.title));
+        s.push_str(&format!("## {}\n\n", ts(sec.title)));
         for b in &sec.blocks {
             block(&mut s, b);
         }
@@ -39,13 +39,13 @@ pub fn render(d: &Doc) -> String {
 fn block(s: &mut String, b: &Block) {
     match b {
         Block::Para(r) => s.push_str(&format!("{}\n\n", inline(r))),
-        Block::Subheading(h) => s.push_str(&format!("### {h}\n\n")),
+        Block::Subheading(h) => s.push_str(&format!("### {}\n\n", ts(h))),
         Block::Form(rows) => {
             s.push_str(&head(&["field", "value"]));
             for (k, v) in rows {
                 s.push_str(&row(&[
-                    k.clone(),
-                    v.clone().unwrap_or_else(|| BLANK.into()),
+                    ts(k),
+                    v.as_deref().map_or_else(|| BLANK.into(), ts),
                 ]));
             }
             s.push('\n');
@@ -59,7 +59,7 @@ fn block(s: &mut String, b: &Block) {
                 s.push('\n');
             }
         }
-        Block::Pre(text) => s.push_str(&format!("```text\n{text}```\n\n")),
+        Block::Pre(text) => s.push_str(&format!("```text\n{}```\n\n", ts(text))),
         Block::Figures { .. } => {}
         Block::Only(Format::Markdown, b) => block(s, b),
         Block::Only(Format::Html, _) => {}
@@ -81,9 +81,9 @@ fn table(s: &mut String, t: &Table) {
 fn inline(r: &Rich) -> String {
     r.0.iter()
         .map(|sp| match sp {
-            Span::Text(x) | Span::Value(x) | Span::Note(x) | Span::Pass(x) => x.clone(),
+            Span::Text(x) | Span::Value(x) | Span::Note(x) | Span::Pass(x) => ts(x),
             Span::Code(x) | Span::Hash(x) => format!("`{x}`"),
-            Span::Fail(x) => format!("**{x}**"),
+            Span::Fail(x) => format!("**{}**", ts(x)),
             Span::Break => "\n".into(),
         })
         .collect()
@@ -106,7 +106,7 @@ fn row(cells: &[String]) -> String {
 }
 
 fn head<S: AsRef<str>>(cols: &[S]) -> String {
-    let cols: Vec<&str> = cols.iter().map(AsRef::as_ref).collect();
+    let cols: Vec<String> = cols.iter().map(|c| ts(c.as_ref())).collect();
     format!(
         "| {} |\n|{}\n",
         cols.join(" | "),

@@ -636,3 +636,37 @@ fn output_dot_holding_the_input_is_refused() {
     assert!(r.stderr.contains("lies inside it"), "{}", r.stderr);
     assert_eq!(names(t.path()), ["build.json", "f.yaml"]);
 }
+
+/// The traveler reads as typeset text: µm and ±, never `um` or `+/-`, and code quoted in messages
+/// is `<code>` in HTML, never literal Markdown backticks.
+#[test]
+fn traveler_text_is_typeset() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("t");
+    let (code, _, stderr) = run(&[
+        "traveler",
+        REFERENCE,
+        "--no-fe",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let html = std::fs::read_to_string(out.join("mis-grasper-traveler.html")).unwrap();
+    // Text outside the inline SVG figures.
+    let mut text = String::new();
+    for part in html.split("<svg") {
+        text.push_str(part.split_once("</svg>").map_or(part, |(_, after)| after));
+    }
+    assert!(text.contains(" µm") && text.contains(" ± "));
+    assert!(!text.contains('`'), "literal backticks in the HTML");
+    assert!(!text.contains("+/-"));
+    let words: Vec<&str> = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .filter(|w| *w == "um")
+        .collect();
+    assert!(
+        words.is_empty(),
+        "{} bare `um` in the HTML text",
+        words.len()
+    );
+}
