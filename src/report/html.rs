@@ -183,7 +183,7 @@ fn table(b: &mut String, t: &Table) {
 /// Text that may quote code in Markdown backticks (messages are written once, for both
 /// formats): the quoted parts as `<code>`, never literal backticks.
 fn text(s: &str) -> String {
-    if s.matches('`').count() % 2 != 0 {
+    if !s.matches('`').count().is_multiple_of(2) {
         return esc(s);
     }
     s.split('`')
