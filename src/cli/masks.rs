@@ -30,7 +30,15 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
             })?,
         ));
         files.push((format!("{}.lyp", set.device), set.to_lyp().into_bytes()));
+        files.push((
+            format!("{}-drc.lyrdb", set.device),
+            tactfab::export::lyrdb::to_lyrdb(&drc, set).into_bytes(),
+        ));
     }
+    files.push((
+        format!("{}-drc.txt", set.device),
+        drc.summary(usize::MAX).into_bytes(),
+    ));
     if formats.contains(&Format::Svg) {
         for m in &set.masks {
             files.push((
@@ -53,6 +61,12 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
         ));
     }
     out.push_str(&drc.summary(10));
+    if !drc.violations.is_empty() {
+        out.push_str(&format!(
+            "  (every violation: {d}-drc.txt; in KLayout: klayout {d}.gds -m {d}-drc.lyrdb)\n",
+            d = set.device
+        ));
+    }
     let verdict = if drc.passed() {
         "DRC passed\n".to_string()
     } else {

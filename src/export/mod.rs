@@ -5,6 +5,7 @@
 pub mod dir;
 pub mod gds;
 pub mod lyp;
+pub mod lyrdb;
 pub mod svg;
 pub mod xml;
 

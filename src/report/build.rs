@@ -118,6 +118,10 @@ impl Built {
             format!("{d}-drc.txt"),
             self.drc.summary(usize::MAX).into_bytes(),
         ));
+        files.push((
+            format!("{d}-drc.lyrdb"),
+            crate::export::lyrdb::to_lyrdb(&self.drc, &self.set).into_bytes(),
+        ));
         let (md, html) = self.traveler_names();
         files.push((md, self.markdown.clone().into_bytes()));
         files.push((html, self.html.clone().into_bytes()));

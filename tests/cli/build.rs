@@ -113,6 +113,7 @@ fn build_writes_everything_and_the_html_renders() {
         [
             "build.json",
             "mis-grasper-back-si.svg",
+            "mis-grasper-drc.lyrdb",
             "mis-grasper-drc.txt",
             "mis-grasper-etch-plan.json",
             "mis-grasper-front-si.svg",

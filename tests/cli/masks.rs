@@ -7,10 +7,12 @@ use std::path::Path;
 use super::harness::{root, run, run_env};
 
 const PROCESS: &str = "process/mis-grasper.yaml";
-const FILES: [&str; 6] = [
+const FILES: [&str; 8] = [
     "tactfab.sha256",
     "mis-grasper.gds",
     "mis-grasper.lyp",
+    "mis-grasper-drc.lyrdb",
+    "mis-grasper-drc.txt",
     "mis-grasper-front-si.svg",
     "mis-grasper-back-si.svg",
     "mis-grasper-pvdf.svg",
@@ -323,6 +325,51 @@ fn drc_violation_exits_1_and_waivers_release_it() {
     let (code, stdout, _) = generate(&t.path().join("w"), &args, &[]);
     assert_eq!(code, 0, "{stdout}");
     assert!(stdout.contains("(waived)"), "{stdout}");
+    // Every violation is in the text report and, read by KLayout, in the marker database at its
+    // place; waived ones carry the `waived` tag.
+    for (dir, waived) in [(&out, false), (&t.path().join("w"), true)] {
+        let txt = std::fs::read_to_string(dir.join("mis-grasper-drc.txt")).unwrap();
+        let n: usize = txt
+            .strip_prefix("DRC: ")
+            .and_then(|r| r.split_once(' '))
+            .and_then(|(n, _)| n.parse().ok())
+            .unwrap_or_else(|| panic!("{txt}"));
+        assert_eq!(
+            txt.matches(" um: ").count(),
+            n,
+            "every violation listed:\n{txt}"
+        );
+        let py = std::process::Command::new("python3")
+            .arg("-c")
+            .arg(
+                "import sys, klayout.rdb as rdb\n\
+                 r = rdb.ReportDatabase('drc'); r.load(sys.argv[1])\n\
+                 items = list(r.each_item())\n\
+                 cats = {c.rdb_id(): c.name() for c in r.each_category()}\n\
+                 print(len(items), sum('waived' in i.tags_str for i in items), r.top_cell_name,\n\
+                       sorted(set(cats[i.category_id()] for i in items)))\n\
+                 print(next(iter(items[0].each_value())).to_s())",
+            )
+            .arg(dir.join("mis-grasper-drc.lyrdb"))
+            .output()
+            .unwrap();
+        let so = String::from_utf8_lossy(&py.stdout);
+        assert!(
+            py.status.success(),
+            "{}",
+            String::from_utf8_lossy(&py.stderr)
+        );
+        let first: Vec<&str> = so.lines().next().unwrap().split(' ').collect();
+        assert_eq!(first[0], n.to_string(), "{so}");
+        assert_eq!(
+            first[1],
+            if waived { n.to_string() } else { "0".into() },
+            "{so}"
+        );
+        assert_eq!(first[2], "MIS_GRASPER_DIE", "{so}");
+        assert!(so.contains("COMPENSATORS_COLLIDE"), "{so}");
+        assert!(so.lines().nth(1).unwrap().starts_with("box: ("), "{so}");
+    }
 }
 
 #[test]
