@@ -584,6 +584,26 @@ fn compensation(
 
 /// Cross-checks of geometry against the etch steps: depths, teeth spacing, compensators.
 fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>) {
+    depth_checks(p, steps, warnings);
+    let t = &p.geometry.teeth;
+    if t.pattern == TeethPattern::None {
+        return;
+    }
+    let Some(front) = steps
+        .iter()
+        .find(|s| matches!(s.side, Side::Front | Side::Both))
+    else {
+        return;
+    };
+    street_check(t, front, warnings);
+    if let Some(c) = &front.compensation {
+        compensator_checks(&p.geometry, c, warnings);
+    }
+}
+
+/// Wafer - teeth - channel must be the plate, and the etch depths per face the teeth height and
+/// the channel depth.
+fn depth_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>) {
     let g = &p.geometry;
     let t = &g.teeth;
     let w = p.wafer.thickness_um;
@@ -629,17 +649,12 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>)
             ),
         ));
     }
-    if t.pattern == TeethPattern::None {
-        return;
-    }
-    let gx = t.pitch_x_um - t.top_um;
-    let gy = t.pitch_y_um - t.top_um;
-    let Some(front) = steps
-        .iter()
-        .find(|s| matches!(s.side, Side::Front | Side::Both))
-    else {
-        return;
-    };
+}
+
+/// The narrowest street between facing parallel tooth edges must exceed the V-groove self-stop
+/// width of the front etch.
+fn street_check(t: &crate::process::Teeth, front: &EtchStep, warnings: &mut Vec<Finding>) {
+    let (gx, gy) = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
     // Narrowest street between facing parallel tooth edges.
     let street = match t.pattern {
         TeethPattern::Matrix => gx.min(gy),
@@ -657,7 +672,17 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>)
             ),
         ));
     }
-    let Some(c) = &front.compensation else { return };
+}
+
+/// Compensators of facing tooth corners must not merge, and those of the outer teeth must stay
+/// on the die.
+fn compensator_checks(
+    g: &crate::process::Geometry,
+    c: &CompensationDesign,
+    warnings: &mut Vec<Finding>,
+) {
+    let t = &g.teeth;
+    let (gx, gy) = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
     // Facing corners: orthogonal neighbours (matrix) across gx or gy; diagonal neighbours
     // (checkered) across gx and gy at once.
     let collide = match t.pattern {
