@@ -201,6 +201,8 @@ pub fn invert_angle(fit: &Fit, scale: f64, charge: f64, lo: f64, hi: f64) -> Opt
     Some(0.5 * (a + b))
 }
 
+/// The whole study: the angle sweep at the reference force (and the check solves at the other
+/// forces), fits per electrode, the inverse angle checked by FE re-runs, and the bivariate fits.
 pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, AnalysisError> {
     let fref = plan.reference_force_n;
     let others: Vec<f64> = plan
@@ -209,126 +211,23 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         .copied()
         .filter(|f| (f - fref).abs() > 1e-12)
         .collect();
-    let mut scenes: Vec<Scene> = plan
-        .angles_deg
-        .iter()
-        .map(|&a| probe(plan, format!("probe-{a}deg-{fref}N"), a, fref))
-        .collect();
-    for &f in &others {
-        for &a in &plan.check_angles_deg {
-            scenes.push(probe(plan, format!("probe-{a}deg-{f}N"), a, f));
-        }
-    }
+    let scenes = sweep_scenes(plan, &others);
     let t0 = Instant::now();
     let reports = evaluate_many(g, &scenes, plan.accuracy)?;
     let cost = cost_of(&reports, t0.elapsed().as_secs_f64() * 1e3);
-    let charges =
-        |r: &SceneReport| -> Vec<f64> { r.electrodes.iter().map(|e| e.charge_pc).collect() };
     let na = plan.angles_deg.len();
     let reference: Vec<Vec<f64>> = reports[..na].iter().map(charges).collect();
     let cmax = reference.iter().flatten().fold(0f64, |a, c| a.max(c.abs()));
-    // Linearity: real solves at the other forces against the scaled reference.
-    let mut linearity_deviation: f64 = 0.0;
-    for (k, r) in reports[na..].iter().enumerate() {
-        let (fi, ai) = (
-            k / plan.check_angles_deg.len(),
-            k % plan.check_angles_deg.len(),
-        );
-        let f = others[fi];
-        let Some(ia) = plan
-            .angles_deg
-            .iter()
-            .position(|a| (a - plan.check_angles_deg[ai]).abs() < 1e-9)
-        else {
-            continue;
-        };
-        for (c, c1) in charges(r).iter().zip(&reference[ia]) {
-            linearity_deviation =
-                linearity_deviation.max((c - c1 * f / fref).abs() / (cmax * f / fref));
-        }
-    }
-    let charge_pc: Vec<Vec<Vec<f64>>> = plan
-        .forces_n
-        .iter()
-        .map(|&f| {
-            reference
-                .iter()
-                .map(|row| row.iter().map(|c| c * f / fref).collect())
-                .collect()
-        })
-        .collect();
+    let linearity_deviation = linearity_deviation(plan, &others, &reports[na..], &reference, cmax);
+    let charge_pc = scaled_charges(plan, &reference);
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     let (lo, hi) = (plan.angles_deg[0], plan.angles_deg[na - 1]);
-    let cheb = Basis {
-        kind: BasisKind::Chebyshev,
-        degree: plan.degree,
-        lo_deg: lo,
-        hi_deg: hi,
-    };
-    let four = Basis {
-        kind: BasisKind::Fourier2Theta,
-        degree: plan.fourier_degree,
-        lo_deg: lo,
-        hi_deg: hi,
-    };
-    let mut fits = Vec::new();
-    for (e, name) in names.iter().enumerate() {
-        let y: Vec<f64> = reference.iter().map(|row| row[e]).collect();
-        let (mn, mx) = y
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
-        let mean = y.iter().map(|v| v.abs()).sum::<f64>() / na as f64;
-        fits.push(ElectrodeFits {
-            electrode: name.clone(),
-            chebyshev: fit(cheb, &plan.angles_deg, &y)?,
-            fourier: fit(four, &plan.angles_deg, &y)?,
-            range_pc: mx - mn,
-            relative_variation: if mean > 0.0 { (mx - mn) / mean } else { 0.0 },
-        });
-    }
-    let ie =
-        match &plan.electrode {
-            Some(n) => names.iter().position(|x| x == n).ok_or_else(|| {
-                AnalysisError::UnknownElectrode {
-                    name: n.clone(),
-                    known: names.join(", "),
-                }
-            })?,
-            // The paper's error is relative to the charge: pick among electrodes whose charge keeps
-            // its sign over the angles (else the relative error is undefined near the zero
-            // crossing).
-            None => (0..names.len())
-                .filter(|&e| {
-                    let s = reference[0][e].signum();
-                    s != 0.0 && reference.iter().all(|row| row[e].signum() == s)
-                })
-                .max_by(|&a, &b| {
-                    fits[a]
-                        .relative_variation
-                        .total_cmp(&fits[b].relative_variation)
-                })
-                .ok_or_else(|| AnalysisError::Fit {
-                    reason: "every electrode's charge changes sign with angle: name one with \
-                             --electrode"
-                        .into(),
-                })?,
-        };
+    let (cheb, four) = bases(plan, lo, hi);
+    let fits = electrode_fits(plan, &names, &reference, cheb, four)?;
+    let ie = inverse_electrode(plan, &names, &reference, &fits)?;
     let f_ie = &fits[ie].chebyshev;
     let branch_deg = monotone_branch(&|a| f_ie.eval(a), lo, hi);
-    // Inverse at the reference force and the smallest other force (Tables 2 and 3: 1 N, 0.5 N).
-    let mut table_forces = vec![fref];
-    table_forces.extend(others.iter().copied().min_by(f64::total_cmp));
-    let (c0, c1) = (f_ie.eval(branch_deg.0), f_ie.eval(branch_deg.1));
-    let mut tries = Vec::new();
-    for &f in &table_forces {
-        let s = f / fref;
-        for &q in &plan.inverse_fractions {
-            let assumed = s * (c0 + q * (c1 - c0));
-            let angle = invert_angle(f_ie, s, assumed, branch_deg.0, branch_deg.1)
-                .expect("inside the branch by construction");
-            tries.push((f, assumed, angle));
-        }
-    }
+    let tries = inverse_tries(plan, &others, f_ie, branch_deg);
     let rescenes: Vec<Scene> = tries
         .iter()
         .enumerate()
@@ -337,26 +236,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
     let t1 = Instant::now();
     let rerun = evaluate_many(g, &rescenes, plan.accuracy)?;
     let inverse_cost = cost_of(&rerun, t1.elapsed().as_secs_f64() * 1e3);
-    let inverse = tries
-        .iter()
-        .zip(&rerun)
-        .map(|(&(f, assumed, angle), r)| {
-            let fe = r.electrodes[ie].charge_pc;
-            let slope = (f / fref) * (f_ie.eval(angle + 0.01) - f_ie.eval(angle - 0.01)) / 0.02;
-            InverseRow {
-                force_n: f,
-                assumed_charge_pc: assumed,
-                estimated_angle_deg: angle,
-                fe_charge_pc: fe,
-                charge_error_pct: 100.0 * (fe - assumed).abs() / assumed.abs(),
-                angle_error_deg: if slope != 0.0 {
-                    (fe - assumed) / slope
-                } else {
-                    f64::NAN
-                },
-            }
-        })
-        .collect();
+    let inverse = inverse_rows(fref, &tries, &rerun, ie, f_ie);
     let bivariate = names
         .iter()
         .enumerate()
@@ -378,6 +258,213 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         cost,
         inverse_cost,
     })
+}
+
+/// Every electrode's charge in one report (pC).
+fn charges(r: &SceneReport) -> Vec<f64> {
+    r.electrodes.iter().map(|e| e.charge_pc).collect()
+}
+
+/// The scenes solved at once: every angle at the reference force, then the check angles at each
+/// other force.
+fn sweep_scenes(plan: &OrientationPlan, others: &[f64]) -> Vec<Scene> {
+    let fref = plan.reference_force_n;
+    let mut scenes: Vec<Scene> = plan
+        .angles_deg
+        .iter()
+        .map(|&a| probe(plan, format!("probe-{a}deg-{fref}N"), a, fref))
+        .collect();
+    for &f in others {
+        for &a in &plan.check_angles_deg {
+            scenes.push(probe(plan, format!("probe-{a}deg-{f}N"), a, f));
+        }
+    }
+    scenes
+}
+
+/// Linearity: real solves at the other forces against the scaled reference, max |c - c_ref F /
+/// F_ref| / (max |c_ref| F / F_ref).
+fn linearity_deviation(
+    plan: &OrientationPlan,
+    others: &[f64],
+    checks: &[SceneReport],
+    reference: &[Vec<f64>],
+    cmax: f64,
+) -> f64 {
+    let fref = plan.reference_force_n;
+    let mut linearity_deviation: f64 = 0.0;
+    for (k, r) in checks.iter().enumerate() {
+        let (fi, ai) = (
+            k / plan.check_angles_deg.len(),
+            k % plan.check_angles_deg.len(),
+        );
+        let f = others[fi];
+        let Some(ia) = plan
+            .angles_deg
+            .iter()
+            .position(|a| (a - plan.check_angles_deg[ai]).abs() < 1e-9)
+        else {
+            continue;
+        };
+        for (c, c1) in charges(r).iter().zip(&reference[ia]) {
+            linearity_deviation =
+                linearity_deviation.max((c - c1 * f / fref).abs() / (cmax * f / fref));
+        }
+    }
+    linearity_deviation
+}
+
+/// charge_pc[f][a][e]: the reference sweep scaled to every force (the model is linear).
+fn scaled_charges(plan: &OrientationPlan, reference: &[Vec<f64>]) -> Vec<Vec<Vec<f64>>> {
+    let fref = plan.reference_force_n;
+    plan.forces_n
+        .iter()
+        .map(|&f| {
+            reference
+                .iter()
+                .map(|row| row.iter().map(|c| c * f / fref).collect())
+                .collect()
+        })
+        .collect()
+}
+
+/// The Chebyshev and Fourier-in-2-theta bases over the swept angles.
+fn bases(plan: &OrientationPlan, lo: f64, hi: f64) -> (Basis, Basis) {
+    let cheb = Basis {
+        kind: BasisKind::Chebyshev,
+        degree: plan.degree,
+        lo_deg: lo,
+        hi_deg: hi,
+    };
+    let four = Basis {
+        kind: BasisKind::Fourier2Theta,
+        degree: plan.fourier_degree,
+        lo_deg: lo,
+        hi_deg: hi,
+    };
+    (cheb, four)
+}
+
+/// Both fits of each electrode's charge against angle, its range and (max - min) / mean |charge|.
+fn electrode_fits(
+    plan: &OrientationPlan,
+    names: &[String],
+    reference: &[Vec<f64>],
+    cheb: Basis,
+    four: Basis,
+) -> Result<Vec<ElectrodeFits>, AnalysisError> {
+    let na = plan.angles_deg.len();
+    let mut fits = Vec::new();
+    for (e, name) in names.iter().enumerate() {
+        let y: Vec<f64> = reference.iter().map(|row| row[e]).collect();
+        let (mn, mx) = y
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+        let mean = y.iter().map(|v| v.abs()).sum::<f64>() / na as f64;
+        fits.push(ElectrodeFits {
+            electrode: name.clone(),
+            chebyshev: fit(cheb, &plan.angles_deg, &y)?,
+            fourier: fit(four, &plan.angles_deg, &y)?,
+            range_pc: mx - mn,
+            relative_variation: if mean > 0.0 { (mx - mn) / mean } else { 0.0 },
+        });
+    }
+    Ok(fits)
+}
+
+/// The electrode for the inverse angle: the one named, else of those whose charge keeps its sign
+/// the one whose charge varies most with angle.
+fn inverse_electrode(
+    plan: &OrientationPlan,
+    names: &[String],
+    reference: &[Vec<f64>],
+    fits: &[ElectrodeFits],
+) -> Result<usize, AnalysisError> {
+    match &plan.electrode {
+        Some(n) => {
+            names
+                .iter()
+                .position(|x| x == n)
+                .ok_or_else(|| AnalysisError::UnknownElectrode {
+                    name: n.clone(),
+                    known: names.join(", "),
+                })
+        }
+        // The paper's error is relative to the charge: pick among electrodes whose charge keeps
+        // its sign over the angles (else the relative error is undefined near the zero
+        // crossing).
+        None => (0..names.len())
+            .filter(|&e| {
+                let s = reference[0][e].signum();
+                s != 0.0 && reference.iter().all(|row| row[e].signum() == s)
+            })
+            .max_by(|&a, &b| {
+                fits[a]
+                    .relative_variation
+                    .total_cmp(&fits[b].relative_variation)
+            })
+            .ok_or_else(|| AnalysisError::Fit {
+                reason: "every electrode's charge changes sign with angle: name one with \
+                         --electrode"
+                    .into(),
+            }),
+    }
+}
+
+/// The inverse tries (force, assumed charge, fitted angle): at the reference force and the
+/// smallest other force (Tables 2 and 3: 1 N, 0.5 N), at fractions of the branch's charge range.
+fn inverse_tries(
+    plan: &OrientationPlan,
+    others: &[f64],
+    f_ie: &Fit,
+    branch_deg: (f64, f64),
+) -> Vec<(f64, f64, f64)> {
+    let fref = plan.reference_force_n;
+    let mut table_forces = vec![fref];
+    table_forces.extend(others.iter().copied().min_by(f64::total_cmp));
+    let (c0, c1) = (f_ie.eval(branch_deg.0), f_ie.eval(branch_deg.1));
+    let mut tries = Vec::new();
+    for &f in &table_forces {
+        let s = f / fref;
+        for &q in &plan.inverse_fractions {
+            let assumed = s * (c0 + q * (c1 - c0));
+            let angle = invert_angle(f_ie, s, assumed, branch_deg.0, branch_deg.1)
+                .expect("inside the branch by construction");
+            tries.push((f, assumed, angle));
+        }
+    }
+    tries
+}
+
+/// The inverse table: each try's FE charge at the estimated angle, the charge error in per cent
+/// and the angle error (fe - assumed) / (dc/dangle).
+fn inverse_rows(
+    fref: f64,
+    tries: &[(f64, f64, f64)],
+    rerun: &[SceneReport],
+    ie: usize,
+    f_ie: &Fit,
+) -> Vec<InverseRow> {
+    tries
+        .iter()
+        .zip(rerun)
+        .map(|(&(f, assumed, angle), r)| {
+            let fe = r.electrodes[ie].charge_pc;
+            let slope = (f / fref) * (f_ie.eval(angle + 0.01) - f_ie.eval(angle - 0.01)) / 0.02;
+            InverseRow {
+                force_n: f,
+                assumed_charge_pc: assumed,
+                estimated_angle_deg: angle,
+                fe_charge_pc: fe,
+                charge_error_pct: 100.0 * (fe - assumed).abs() / assumed.abs(),
+                angle_error_deg: if slope != 0.0 {
+                    (fe - assumed) / slope
+                } else {
+                    f64::NAN
+                },
+            }
+        })
+        .collect()
 }
 
 /// Eq. 12-13: normalise each force's curve by its value at the first angle, fit N to all of them

@@ -12,10 +12,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use tactfab::export::write_atomic;
 use tactfab::sweep::{
     estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Mode, Range,
-    Shard,
+    Row, Shard,
 };
 
-use super::args::SweepArgs;
+use super::args::{ProcessArgs, SweepArgs};
 use super::{load, write_dir, Outcome};
 
 /// A flag's range as the sweep's axis.
@@ -32,22 +32,10 @@ fn ensure_dir(dir: &Path) -> anyhow::Result<()> {
         .with_context(|| format!("cannot create output directory {}", dir.display()))
 }
 
+/// `tactfab sweep`: merge shards, or run the whole sweep or one shard and print its summary.
 pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     if let Some(dir) = &a.merge {
-        let merged = tactfab::sweep::merge_dir(dir, a.tol)?;
-        write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
-        write_atomic(
-            &dir.join("family.svg"),
-            tactfab::sweep::plot::family_svg(&merged.family, Some(a.tol)).as_bytes(),
-        )?;
-        println!(
-            "merged {} designs into {}; family {} designs -> {}",
-            merged.total,
-            dir.join(shard::UNSHARDED).display(),
-            merged.family.len(),
-            dir.join("family.svg").display()
-        );
-        return Ok(Outcome::Ok);
+        return merge(dir, a.tol);
     }
     let (Some(process), Some(out)) = (&a.process, &a.out) else {
         bail!("sweep needs FILE and -o DIR (or --merge DIR)")
@@ -63,14 +51,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     let p = &loaded.process;
     let contact_radius_um = a.contact_radius_mm * 1e3;
     let model = DesignModel::from_process(p, a.force_n, contact_radius_um);
-    let g = &p.geometry;
-    // The prototype: the process file's die (paper 001: 30 x 15 mm, 100 um).
-    let proto = Design {
-        index: usize::MAX,
-        length_um: g.die_length_um,
-        width_um: g.die_width_um,
-        thickness_um: g.plate_thickness_um,
-    };
+    let proto = prototype(p);
     let si = &p.materials.silicon;
     let matching = Matching::new(
         proto,
@@ -83,15 +64,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         ensure_dir(out)?;
     }
 
-    let bar = if std::io::stderr().is_terminal() {
-        ProgressBar::new(range.len() as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} designs, {per_sec}, eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar(range.len());
     let t = Instant::now();
     let mode = if a.direct {
         Mode::Direct
@@ -105,20 +78,99 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     let secs = t.elapsed().as_secs_f64();
 
     let family = shard::family(&rows);
+    write_rows(a, out, process, shard, &rows, &family)?;
+    print_prototype(a, &matching, contact_radius_um);
+    println!(
+        "designs {}..{} of {}: {} in the family (elongation within {} %), {} within strength; {} \
+         in {:.1} s",
+        range.start,
+        range.end,
+        grid.len(),
+        family.len(),
+        100.0 * a.tol,
+        rows.iter().filter(|r| r.within_strength).count(),
+        out.join(shard.map_or(shard::UNSHARDED.to_string(), |s| s.file_name()))
+            .display(),
+        secs
+    );
+    if !a.no_error_estimate {
+        print_error_estimate(&model, &grid, proto)?;
+    }
+    Ok(Outcome::Ok)
+}
+
+/// `--merge DIR`: the shards into `sweep.csv` (the unsharded bytes) and `family.svg`.
+fn merge(dir: &Path, tol: f64) -> anyhow::Result<Outcome> {
+    let merged = tactfab::sweep::merge_dir(dir, tol)?;
+    write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
+    write_atomic(
+        &dir.join("family.svg"),
+        tactfab::sweep::plot::family_svg(&merged.family, Some(tol)).as_bytes(),
+    )?;
+    println!(
+        "merged {} designs into {}; family {} designs -> {}",
+        merged.total,
+        dir.join(shard::UNSHARDED).display(),
+        merged.family.len(),
+        dir.join("family.svg").display()
+    );
+    Ok(Outcome::Ok)
+}
+
+/// The prototype: the process file's die (paper 001: 30 x 15 mm, 100 um).
+fn prototype(p: &tactfab::process::Process) -> Design {
+    let g = &p.geometry;
+    Design {
+        index: usize::MAX,
+        length_um: g.die_length_um,
+        width_um: g.die_width_um,
+        thickness_um: g.plate_thickness_um,
+    }
+}
+
+/// A progress bar on a terminal, hidden otherwise.
+fn progress_bar(len: usize) -> ProgressBar {
+    let bar = if std::io::stderr().is_terminal() {
+        ProgressBar::new(len as u64)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} designs, {per_sec}, eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// A shard writes one file into the directory its siblings share; a whole sweep writes
+/// `sweep.csv` and `family.svg` as one directory.
+fn write_rows(
+    a: &SweepArgs,
+    out: &Path,
+    process: &ProcessArgs,
+    shard: Option<Shard>,
+    rows: &[Row],
+    family: &[Design],
+) -> anyhow::Result<()> {
     match shard {
-        // A shard writes one file into the directory its siblings share.
-        Some(s) => write_atomic(&out.join(s.file_name()), shard::csv(&rows).as_bytes())?,
+        Some(s) => write_atomic(&out.join(s.file_name()), shard::csv(rows).as_bytes())?,
         None => {
             let files = [
-                (shard::UNSHARDED.to_string(), shard::csv(&rows).into_bytes()),
+                (shard::UNSHARDED.to_string(), shard::csv(rows).into_bytes()),
                 (
                     "family.svg".to_string(),
-                    tactfab::sweep::plot::family_svg(&family, Some(a.tol)).into_bytes(),
+                    tactfab::sweep::plot::family_svg(family, Some(a.tol)).into_bytes(),
                 ),
             ];
             write_dir(out, &files, a.replace, process)?;
         }
     }
+    Ok(())
+}
+
+/// The prototype's response, and a note when its deflection leaves the linear plate model.
+fn print_prototype(a: &SweepArgs, matching: &Matching, contact_radius_um: f64) {
+    let proto = &matching.prototype;
     let pr = &matching.prototype_response;
     println!(
         "prototype {} x {} mm, {} um, {} N over r = {} um: deflection {:.3} um, elongation {:.4} \
@@ -140,32 +192,21 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
             pr.deflection_um / proto.thickness_um
         );
     }
+}
+
+/// The sweep mesh's worst estimated error over the grid corners and the prototype (3 nested
+/// meshes).
+fn print_error_estimate(model: &DesignModel, grid: &Grid, proto: Design) -> anyhow::Result<()> {
+    let mut sample = corner_designs(grid);
+    sample.push(proto);
+    let errs = estimate_error(model, &sample)?;
+    let worst = |f: fn(&tactfab::sweep::DesignError) -> f64| errs.iter().map(f).fold(0.0, f64::max);
     println!(
-        "designs {}..{} of {}: {} in the family (elongation within {} %), {} within strength; {} \
-         in {:.1} s",
-        range.start,
-        range.end,
-        grid.len(),
-        family.len(),
-        100.0 * a.tol,
-        rows.iter().filter(|r| r.within_strength).count(),
-        out.join(shard.map_or(shard::UNSHARDED.to_string(), |s| s.file_name()))
-            .display(),
-        secs
+        "estimated error of the sweep mesh (grid corners + prototype, 3 nested meshes): \
+         deflection {:.3} %, elongation {:.3} %, max stress {:.3} %",
+        100.0 * worst(|e| e.deflection_rel),
+        100.0 * worst(|e| e.elongation_rel),
+        100.0 * worst(|e| e.max_stress_rel)
     );
-    if !a.no_error_estimate {
-        let mut sample = corner_designs(&grid);
-        sample.push(proto);
-        let errs = estimate_error(&model, &sample)?;
-        let worst =
-            |f: fn(&tactfab::sweep::DesignError) -> f64| errs.iter().map(f).fold(0.0, f64::max);
-        println!(
-            "estimated error of the sweep mesh (grid corners + prototype, 3 nested meshes): \
-             deflection {:.3} %, elongation {:.3} %, max stress {:.3} %",
-            100.0 * worst(|e| e.deflection_rel),
-            100.0 * worst(|e| e.elongation_rel),
-            100.0 * worst(|e| e.max_stress_rel)
-        );
-    }
-    Ok(Outcome::Ok)
+    Ok(())
 }

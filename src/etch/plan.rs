@@ -117,148 +117,184 @@ pub struct OxideEtchResult {
     pub time_min: f64,
 }
 
-pub(super) fn build(p: &Process) -> EtchPlan {
-    let mut warnings = Vec::new();
-    let wafer = p.wafer.thickness_um;
-    let g = &p.geometry;
-    let mut oxide_um = 0.0;
-    let mut oxidations = Vec::new();
-    let mut resists = Vec::new();
-    let mut oxide_etches = Vec::new();
-    let mut steps = Vec::new();
-    let (mut front, mut back) = (0.0, 0.0);
+/// What the steps have computed so far, and the wafer state (oxide, etched depths) they carry.
+#[derive(Default)]
+struct PlanState {
+    /// Oxide on the wafer now, per face.
+    oxide_um: f64,
+    front: f64,
+    back: f64,
+    oxidations: Vec<OxidationResult>,
+    resists: Vec<ResistResult>,
+    oxide_etches: Vec<OxideEtchResult>,
+    steps: Vec<EtchStep>,
+    warnings: Vec<Finding>,
+}
 
+/// The plan: each step's results in order, then the plate, geometry and piezo checks.
+pub(super) fn build(p: &Process) -> EtchPlan {
+    let mut st = PlanState::default();
     for s in &p.steps {
         match &s.params {
-            StepParams::Oxidation(o) => {
-                let dg = DealGrove::new(o.ambient, p.wafer.orientation, o.temp_c);
-                let initial = o.initial_oxide_um.max(oxide_um);
-                let x = dg.thickness_um(o.time_h, initial);
-                let time_for_expected_h =
-                    o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
-                if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
-                    if (x - e).abs() / e > OXIDE_CLAIM_REL {
-                        warnings.push(Finding::warning(
-                            EtchCode::OxideClaim,
-                            format!(
-                                "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, \
-                                 not the {e} um stated; {e} um needs {t:.2} h",
-                                s.name, o.time_h, o.temp_c
-                            ),
-                        ));
-                    }
-                }
-                oxidations.push(OxidationResult {
-                    name: s.name.clone(),
-                    thickness_um: x,
-                    time_h: o.time_h,
-                    temp_c: o.temp_c,
-                    b_um2_per_h: dg.b_um2_per_h,
-                    b_over_a_um_per_h: dg.b_over_a_um_per_h,
-                    silicon_consumed_um: SI_CONSUMED_PER_OXIDE * (x - initial),
-                    time_for_expected_h,
-                    expected_thickness_um: o.expected_thickness_um,
-                });
-                oxide_um = x;
-            }
-            StepParams::SpinCoat(c) => resists.push(ResistResult {
-                name: s.name.clone(),
-                resist: c.resist.clone(),
-                side: c.side,
-                speed_rpm: c.speed_rpm,
-                thickness_um: spin_thickness_um(
-                    c.ref_thickness_um,
-                    c.ref_speed_rpm,
-                    c.spin_exponent,
-                    c.speed_rpm,
-                ),
-            }),
+            StepParams::Oxidation(o) => oxidation(p, &s.name, o, &mut st),
+            StepParams::SpinCoat(c) => st.resists.push(spin_coat(&s.name, c)),
             StepParams::OxideEtch(e) => {
-                let rate = p.etchants.boe_rate_um_per_min;
-                oxide_etches.push(OxideEtchResult {
-                    name: s.name.clone(),
-                    oxide_um,
-                    rate_um_per_min: rate,
-                    time_min: oxide_um / rate * (1.0 + e.overetch_pct / 100.0),
-                });
+                let r = oxide_etch(p, &s.name, e, st.oxide_um);
+                st.oxide_etches.push(r);
             }
-            StepParams::Strip(st) if st.target == crate::process::StripTarget::Oxide => {
-                oxide_um = 0.0
+            StepParams::Strip(strip) if strip.target == crate::process::StripTarget::Oxide => {
+                st.oxide_um = 0.0
             }
             StepParams::SiliconEtch(e) => {
-                let step = silicon_etch(p, &s.name, e, oxide_um, &mut warnings);
+                let step = silicon_etch(p, &s.name, e, st.oxide_um, &mut st.warnings);
                 if matches!(e.side, Side::Front | Side::Both) {
-                    front += step.achieved_depth_um;
+                    st.front += step.achieved_depth_um;
                 }
                 if matches!(e.side, Side::Back | Side::Both) {
-                    back += step.achieved_depth_um;
+                    st.back += step.achieved_depth_um;
                 }
-                oxide_um = step.mask_remaining_um.max(0.0);
-                steps.push(step);
+                st.oxide_um = step.mask_remaining_um.max(0.0);
+                st.steps.push(step);
             }
             _ => {}
         }
     }
 
+    let wafer = p.wafer.thickness_um;
+    let (front, back) = (st.front, st.back);
     let plate = wafer - front - back;
     let tol = p.wafer.thickness_tolerance_um;
-    if !steps.is_empty() {
-        if front + back >= wafer {
-            warnings.push(Finding::error(
-                EtchCode::DepthExceedsWafer,
-                format!(
-                    "front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"
-                ),
-            ));
-        } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
-            let severity = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um
-                > PLATE_MISMATCH_ERROR_REL
-            {
-                Severity::Error
-            } else {
-                Severity::Warning
-            };
-            warnings.push(Finding::new(
-                severity,
-                EtchCode::PlateThicknessMismatch,
-                format!(
-                    "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), \
-                     not the {} um of geometry.plate_thickness_um",
-                    g.plate_thickness_um
-                ),
-            ));
-        }
-        if tol / g.plate_thickness_um > PLATE_TOLERANCE_REL {
-            warnings.push(Finding::warning(
-                EtchCode::PlateTolerance,
-                format!(
-                    "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} \
-                     um; etch to 90 % of the time, measure the depth, then finish",
-                    plate - tol,
-                    plate + tol
-                ),
-            ));
-        }
+    if !st.steps.is_empty() {
+        plate_checks(p, front, back, &mut st.warnings);
     }
-    geometry_checks(p, &steps, &mut warnings);
-    piezo_check(p, &mut warnings);
+    geometry_checks(p, &st.steps, &mut st.warnings);
+    piezo_check(p, &mut st.warnings);
 
     EtchPlan {
         wafer_thickness_um: wafer,
         plate_thickness_um: plate,
-        plate_target_um: g.plate_thickness_um,
+        plate_target_um: p.geometry.plate_thickness_um,
         plate_range_um: [plate - tol, plate + tol],
-        oxide_thickness_um: oxidations.last().map(|o| o.thickness_um).unwrap_or(0.0),
+        oxide_thickness_um: st.oxidations.last().map(|o| o.thickness_um).unwrap_or(0.0),
         front_depth_um: front,
         back_depth_um: back,
-        steps,
-        oxidations,
-        resists,
-        oxide_etches,
-        warnings,
+        steps: st.steps,
+        oxidations: st.oxidations,
+        resists: st.resists,
+        oxide_etches: st.oxide_etches,
+        warnings: st.warnings,
     }
 }
 
+/// An oxidation: Deal-Grove growth from the oxide already there, checked against the thickness
+/// the source claims; the grown oxide becomes the wafer's.
+fn oxidation(p: &Process, name: &str, o: &crate::process::Oxidation, st: &mut PlanState) {
+    let dg = DealGrove::new(o.ambient, p.wafer.orientation, o.temp_c);
+    let initial = o.initial_oxide_um.max(st.oxide_um);
+    let x = dg.thickness_um(o.time_h, initial);
+    let time_for_expected_h = o.expected_thickness_um.map(|e| dg.time_for_h(e, initial));
+    if let (Some(e), Some(t)) = (o.expected_thickness_um, time_for_expected_h) {
+        if (x - e).abs() / e > OXIDE_CLAIM_REL {
+            st.warnings.push(Finding::warning(
+                EtchCode::OxideClaim,
+                format!(
+                    "step `{}`: Deal-Grove gives {x:.3} um of oxide in {} h at {} C, \
+                     not the {e} um stated; {e} um needs {t:.2} h",
+                    name, o.time_h, o.temp_c
+                ),
+            ));
+        }
+    }
+    st.oxidations.push(OxidationResult {
+        name: name.to_string(),
+        thickness_um: x,
+        time_h: o.time_h,
+        temp_c: o.temp_c,
+        b_um2_per_h: dg.b_um2_per_h,
+        b_over_a_um_per_h: dg.b_over_a_um_per_h,
+        silicon_consumed_um: SI_CONSUMED_PER_OXIDE * (x - initial),
+        time_for_expected_h,
+        expected_thickness_um: o.expected_thickness_um,
+    });
+    st.oxide_um = x;
+}
+
+/// A spin coat: resist thickness from the spin curve.
+fn spin_coat(name: &str, c: &crate::process::SpinCoat) -> ResistResult {
+    ResistResult {
+        name: name.to_string(),
+        resist: c.resist.clone(),
+        side: c.side,
+        speed_rpm: c.speed_rpm,
+        thickness_um: spin_thickness_um(
+            c.ref_thickness_um,
+            c.ref_speed_rpm,
+            c.spin_exponent,
+            c.speed_rpm,
+        ),
+    }
+}
+
+/// An oxide etch: time = oxide / BOE rate x (1 + over-etch).
+fn oxide_etch(
+    p: &Process,
+    name: &str,
+    e: &crate::process::OxideEtch,
+    oxide_um: f64,
+) -> OxideEtchResult {
+    let rate = p.etchants.boe_rate_um_per_min;
+    OxideEtchResult {
+        name: name.to_string(),
+        oxide_um,
+        rate_um_per_min: rate,
+        time_min: oxide_um / rate * (1.0 + e.overetch_pct / 100.0),
+    }
+}
+
+/// The plate the etches leave (wafer - front - back) against the wafer, the geometry's target
+/// and the wafer tolerance.
+fn plate_checks(p: &Process, front: f64, back: f64, warnings: &mut Vec<Finding>) {
+    let g = &p.geometry;
+    let wafer = p.wafer.thickness_um;
+    let plate = wafer - front - back;
+    let tol = p.wafer.thickness_tolerance_um;
+    if front + back >= wafer {
+        warnings.push(Finding::error(
+            EtchCode::DepthExceedsWafer,
+            format!("front {front:.1} um + back {back:.1} um etch through the {wafer} um wafer"),
+        ));
+    } else if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um > MISMATCH_REL {
+        let severity = if (plate - g.plate_thickness_um).abs() / g.plate_thickness_um
+            > PLATE_MISMATCH_ERROR_REL
+        {
+            Severity::Error
+        } else {
+            Severity::Warning
+        };
+        warnings.push(Finding::new(
+            severity,
+            EtchCode::PlateThicknessMismatch,
+            format!(
+                "the recipe leaves a {plate:.1} um plate ({wafer} - {front:.1} - {back:.1}), \
+                 not the {} um of geometry.plate_thickness_um",
+                g.plate_thickness_um
+            ),
+        ));
+    }
+    if tol / g.plate_thickness_um > PLATE_TOLERANCE_REL {
+        warnings.push(Finding::warning(
+            EtchCode::PlateTolerance,
+            format!(
+                "the wafer tolerance +/-{tol} um goes straight into the plate: {:.0}-{:.0} \
+                 um; etch to 90 % of the time, measure the depth, then finish",
+                plate - tol,
+                plate + tol
+            ),
+        ));
+    }
+}
+
+/// One anisotropic silicon etch: rates, time and depth, mask budget, compensation.
 fn silicon_etch(
     p: &Process,
     name: &str,
@@ -266,58 +302,143 @@ fn silicon_etch(
     oxide_um: f64,
     warnings: &mut Vec<Finding>,
 ) -> EtchStep {
-    let et = &p.etchants;
-    let (model_100, r110, r100_over_r111, oxide_rate) = match e.etchant {
-        Etchant::Tmah => {
-            let table: Vec<_> = et
-                .tmah
-                .iter()
-                .map(|r| (r.concentration_wt_pct, r.rate_100_um_per_h, r.temp_c))
-                .collect();
-            let (r, extrapolated) =
-                tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
-            if extrapolated && e.measured_rate_um_per_h.is_none() {
-                warnings.push(Finding::warning(
-                    EtchCode::RateExtrapolated,
-                    format!(
-                        "step `{name}`: no TMAH rate measured near {} wt %; the nearest table row \
-                         is used",
-                        e.concentration_wt_pct
-                    ),
-                ));
-            }
-            if e.concentration_wt_pct < TMAH_HILLOCK_WT_PCT {
-                warnings.push(Finding::warning(
-                    EtchCode::HillockRisk,
-                    format!(
-                        "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~{TMAH_HILLOCK_WT_PCT} wt %",
-                        e.concentration_wt_pct
-                    ),
-                ));
-            }
-            (
-                r,
-                r * et.tmah_r110_over_r100,
-                et.tmah_r100_over_r111,
-                et.tmah_oxide_rate_um_per_h,
-            )
-        }
-        Etchant::Koh => {
-            let r = koh_rate_100(e.concentration_wt_pct, e.temp_c);
-            (
-                r,
-                koh_rate_110(e.concentration_wt_pct, e.temp_c),
-                et.koh_r100_over_r111,
-                et.koh_oxide_rate_um_per_h,
-            )
-        }
+    let bath = bath_rates(p, name, e, warnings);
+    let (rate, rate_source) = used_rate(p, name, e, bath.model_100, warnings);
+    let scale = rate / bath.model_100;
+    let r111 = rate / bath.r100_over_r111;
+    let time_for_depth_h = e.depth_um / rate;
+    let time_h = e.time_h.unwrap_or(time_for_depth_h);
+    let achieved = rate * time_h;
+    time_depth_check(name, e, rate, time_h, time_for_depth_h, achieved, warnings);
+    let mask = mask_budget(name, e, bath.oxide_rate, oxide_um, time_h, warnings);
+    let front_side = matches!(e.side, Side::Front | Side::Both);
+    let teeth = &p.geometry.teeth;
+    let compensation = if teeth.pattern != TeethPattern::None && front_side {
+        compensation(name, e, warnings)
+    } else {
+        None
     };
+    EtchStep {
+        name: name.to_string(),
+        etchant: e.etchant,
+        concentration_wt_pct: e.concentration_wt_pct,
+        temp_c: e.temp_c,
+        side: e.side,
+        depth_um: e.depth_um,
+        rate_um_per_h: rate,
+        rate_source,
+        model_rate_um_per_h: bath.model_100,
+        rate_110_um_per_h: bath.r110 * scale,
+        rate_111_um_per_h: r111,
+        time_h,
+        time_for_depth_h,
+        achieved_depth_um: achieved,
+        sidewall_run_out_um: sidewall_run_out_um(achieved),
+        undercut_um: undercut_um(r111, time_h),
+        min_street_um: min_street_um(e.depth_um),
+        mesa_base_um: (front_side && teeth.pattern != TeethPattern::None)
+            .then(|| mesa_base_um(teeth.top_um, achieved)),
+        mask: e.mask,
+        mask_consumed_um: if mask.consumed.is_finite() {
+            mask.consumed
+        } else {
+            0.0
+        },
+        mask_remaining_um: if mask.remaining.is_finite() {
+            mask.remaining
+        } else {
+            0.0
+        },
+        compensation,
+    }
+}
+
+/// The model rates of a bath: (100) and (110) rates, R100/R111 and the oxide mask's rate.
+struct BathRates {
+    model_100: f64,
+    r110: f64,
+    r100_over_r111: f64,
+    oxide_rate: f64,
+}
+
+/// The bath's model rates: TMAH from the table with Arrhenius, KOH from Seidel 1990.
+fn bath_rates(
+    p: &Process,
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    warnings: &mut Vec<Finding>,
+) -> BathRates {
+    let et = &p.etchants;
+    match e.etchant {
+        Etchant::Tmah => {
+            let r = tmah_model_rate(p, name, e, warnings);
+            BathRates {
+                model_100: r,
+                r110: r * et.tmah_r110_over_r100,
+                r100_over_r111: et.tmah_r100_over_r111,
+                oxide_rate: et.tmah_oxide_rate_um_per_h,
+            }
+        }
+        Etchant::Koh => BathRates {
+            model_100: koh_rate_100(e.concentration_wt_pct, e.temp_c),
+            r110: koh_rate_110(e.concentration_wt_pct, e.temp_c),
+            r100_over_r111: et.koh_r100_over_r111,
+            oxide_rate: et.koh_oxide_rate_um_per_h,
+        },
+    }
+}
+
+/// The TMAH (100) model rate (table + Arrhenius), warning on extrapolation and hillocks.
+fn tmah_model_rate(
+    p: &Process,
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    warnings: &mut Vec<Finding>,
+) -> f64 {
+    let et = &p.etchants;
+    let table: Vec<_> = et
+        .tmah
+        .iter()
+        .map(|r| (r.concentration_wt_pct, r.rate_100_um_per_h, r.temp_c))
+        .collect();
+    let (r, extrapolated) = tmah_rate_100(&table, e.concentration_wt_pct, e.temp_c, et.tmah_ea_ev);
+    if extrapolated && e.measured_rate_um_per_h.is_none() {
+        warnings.push(Finding::warning(
+            EtchCode::RateExtrapolated,
+            format!(
+                "step `{name}`: no TMAH rate measured near {} wt %; the nearest table row \
+                 is used",
+                e.concentration_wt_pct
+            ),
+        ));
+    }
+    if e.concentration_wt_pct < TMAH_HILLOCK_WT_PCT {
+        warnings.push(Finding::warning(
+            EtchCode::HillockRisk,
+            format!(
+                "step `{name}`: TMAH at {} wt % forms hillocks on (100) below ~{TMAH_HILLOCK_WT_PCT} wt %",
+                e.concentration_wt_pct
+            ),
+        ));
+    }
+    r
+}
+
+/// The (100) rate used and its source: the measured override when given (warning when it
+/// disagrees with the model), else the model.
+fn used_rate(
+    p: &Process,
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    model_100: f64,
+    warnings: &mut Vec<Finding>,
+) -> (f64, String) {
     let (rate, rate_source) = match e.measured_rate_um_per_h {
         Some(m) => (m, "measured (process file)".to_string()),
         None => match e.etchant {
             Etchant::Tmah => (
                 model_100,
-                format!("TMAH table + Arrhenius, Ea = {} eV", et.tmah_ea_ev),
+                format!("TMAH table + Arrhenius, Ea = {} eV", p.etchants.tmah_ea_ev),
             ),
             Etchant::Koh => (model_100, "Seidel 1990 KOH model".to_string()),
         },
@@ -333,11 +454,19 @@ fn silicon_etch(
             ));
         }
     }
-    let scale = rate / model_100;
-    let r111 = rate / r100_over_r111;
-    let time_for_depth_h = e.depth_um / rate;
-    let time_h = e.time_h.unwrap_or(time_for_depth_h);
-    let achieved = rate * time_h;
+    (rate, rate_source)
+}
+
+/// Depth reached in the recipe's time (rate x time) against the target depth.
+fn time_depth_check(
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    rate: f64,
+    time_h: f64,
+    time_for_depth_h: f64,
+    achieved: f64,
+    warnings: &mut Vec<Finding>,
+) {
     if (achieved - e.depth_um).abs() / e.depth_um > MISMATCH_REL {
         warnings.push(Finding::warning(
             EtchCode::EtchTimeDepthMismatch,
@@ -348,7 +477,24 @@ fn silicon_etch(
             ),
         ));
     }
+}
 
+/// Mask consumed and left after a silicon etch (infinite for nitride and resist).
+struct MaskBudget {
+    consumed: f64,
+    remaining: f64,
+}
+
+/// The mask budget: erosion = mask rate x time against the mask there, with the errors of a
+/// resist mask, no oxide, a consumed oxide and the warning of a low margin.
+fn mask_budget(
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    oxide_rate: f64,
+    oxide_um: f64,
+    time_h: f64,
+    warnings: &mut Vec<Finding>,
+) -> MaskBudget {
     let mask_rate = match e.mask {
         EtchMask::Oxide => oxide_rate,
         EtchMask::Nitride => 0.0,
@@ -395,77 +541,69 @@ fn silicon_etch(
         )),
         _ => {}
     }
-
-    let front_side = matches!(e.side, Side::Front | Side::Both);
-    let teeth = &p.geometry.teeth;
-    let has_teeth = teeth.pattern != TeethPattern::None && front_side;
-    let compensation = if has_teeth {
-        match &e.compensation {
-            Some(c) => {
-                if e.etchant == Etchant::Tmah && KOH_RULE_RATIO.contains(&c.ratio) {
-                    let a = e.depth_um / c.ratio;
-                    warnings.push(Finding::warning(
-                        EtchCode::CompRatioFromKoh,
-                        format!(
-                            "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = \
-                             0.548); it is unvalidated for TMAH, whose convex corners undercut \
-                             along near-{{110}} planes: add a test die with a from {:.0} to {:.0} \
-                             um",
-                            c.ratio,
-                            0.8 * a,
-                            1.5 * a
-                        ),
-                    ));
-                }
-                Some(design(e.depth_um, c.ratio, c.geometry))
-            }
-            None => {
-                warnings.push(Finding::warning(
-                    EtchCode::NoCompensation,
-                    format!(
-                        "step `{name}`: the tooth corners are convex and will be undercut without \
-                         compensation"
-                    ),
-                ));
-                None
-            }
-        }
-    } else {
-        None
-    };
-    EtchStep {
-        name: name.to_string(),
-        etchant: e.etchant,
-        concentration_wt_pct: e.concentration_wt_pct,
-        temp_c: e.temp_c,
-        side: e.side,
-        depth_um: e.depth_um,
-        rate_um_per_h: rate,
-        rate_source,
-        model_rate_um_per_h: model_100,
-        rate_110_um_per_h: r110 * scale,
-        rate_111_um_per_h: r111,
-        time_h,
-        time_for_depth_h,
-        achieved_depth_um: achieved,
-        sidewall_run_out_um: sidewall_run_out_um(achieved),
-        undercut_um: undercut_um(r111, time_h),
-        min_street_um: min_street_um(e.depth_um),
-        mesa_base_um: (front_side && teeth.pattern != TeethPattern::None)
-            .then(|| mesa_base_um(teeth.top_um, achieved)),
-        mask: e.mask,
-        mask_consumed_um: if consumed.is_finite() { consumed } else { 0.0 },
-        mask_remaining_um: if remaining.is_finite() {
-            remaining
-        } else {
-            0.0
-        },
-        compensation,
+    MaskBudget {
+        consumed,
+        remaining,
     }
+}
+
+/// The corner compensation of an etch that shapes teeth: a = h / ratio, warning when the ratio is
+/// the KOH rule used with TMAH or when there is none.
+fn compensation(
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    warnings: &mut Vec<Finding>,
+) -> Option<CompensationDesign> {
+    let Some(c) = &e.compensation else {
+        warnings.push(Finding::warning(
+            EtchCode::NoCompensation,
+            format!(
+                "step `{name}`: the tooth corners are convex and will be undercut without \
+                 compensation"
+            ),
+        ));
+        return None;
+    };
+    if e.etchant == Etchant::Tmah && KOH_RULE_RATIO.contains(&c.ratio) {
+        let a = e.depth_um / c.ratio;
+        warnings.push(Finding::warning(
+            EtchCode::CompRatioFromKoh,
+            format!(
+                "step `{name}`: a = h/{} comes from KOH rate ratios (R100/R110 = \
+                 0.548); it is unvalidated for TMAH, whose convex corners undercut \
+                 along near-{{110}} planes: add a test die with a from {:.0} to {:.0} \
+                 um",
+                c.ratio,
+                0.8 * a,
+                1.5 * a
+            ),
+        ));
+    }
+    Some(design(e.depth_um, c.ratio, c.geometry))
 }
 
 /// Cross-checks of geometry against the etch steps: depths, teeth spacing, compensators.
 fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>) {
+    depth_checks(p, steps, warnings);
+    let t = &p.geometry.teeth;
+    if t.pattern == TeethPattern::None {
+        return;
+    }
+    let Some(front) = steps
+        .iter()
+        .find(|s| matches!(s.side, Side::Front | Side::Both))
+    else {
+        return;
+    };
+    street_check(t, front, warnings);
+    if let Some(c) = &front.compensation {
+        compensator_checks(&p.geometry, c, warnings);
+    }
+}
+
+/// Wafer - teeth - channel must be the plate, and the etch depths per face the teeth height and
+/// the channel depth.
+fn depth_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>) {
     let g = &p.geometry;
     let t = &g.teeth;
     let w = p.wafer.thickness_um;
@@ -511,17 +649,12 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>)
             ),
         ));
     }
-    if t.pattern == TeethPattern::None {
-        return;
-    }
-    let gx = t.pitch_x_um - t.top_um;
-    let gy = t.pitch_y_um - t.top_um;
-    let Some(front) = steps
-        .iter()
-        .find(|s| matches!(s.side, Side::Front | Side::Both))
-    else {
-        return;
-    };
+}
+
+/// The narrowest street between facing parallel tooth edges must exceed the V-groove self-stop
+/// width of the front etch.
+fn street_check(t: &crate::process::Teeth, front: &EtchStep, warnings: &mut Vec<Finding>) {
+    let (gx, gy) = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
     // Narrowest street between facing parallel tooth edges.
     let street = match t.pattern {
         TeethPattern::Matrix => gx.min(gy),
@@ -539,7 +672,17 @@ fn geometry_checks(p: &Process, steps: &[EtchStep], warnings: &mut Vec<Finding>)
             ),
         ));
     }
-    let Some(c) = &front.compensation else { return };
+}
+
+/// Compensators of facing tooth corners must not merge, and those of the outer teeth must stay
+/// on the die.
+fn compensator_checks(
+    g: &crate::process::Geometry,
+    c: &CompensationDesign,
+    warnings: &mut Vec<Finding>,
+) {
+    let t = &g.teeth;
+    let (gx, gy) = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
     // Facing corners: orthogonal neighbours (matrix) across gx or gy; diagonal neighbours
     // (checkered) across gx and gy at once.
     let collide = match t.pattern {

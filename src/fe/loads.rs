@@ -71,148 +71,186 @@ pub fn probe_polygon(
 /// Consistent global load vector (all dofs) of one load case. Forces are positive in +w.
 pub fn load_vector(mesh: &RectMesh, loads: &[Load], case: usize) -> FeResult<Vec<f64>> {
     let mut f = vec![0.0; 4 * mesh.n_nodes()];
-    let (px0, py0, px1, py1) = mesh.bounds_um();
-    let rel = 1e-9;
     for (index, load) in loads.iter().enumerate() {
-        let outside = || FeError::LoadOutsidePlate {
+        add_load(&mut f, mesh, load).ok_or(FeError::LoadOutsidePlate {
             case,
             index,
             hint: "loads must lie inside the plate outline and have positive size",
-        };
-        let inside_rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
-            mesh.contains_um(x0, y0) && mesh.contains_um(x1, y1)
-        };
-        match *load {
-            Load::Point {
-                x_um,
-                y_um,
-                force_n,
-                radius_um,
-            } => {
-                if !(radius_um >= 0.0 && x_um.is_finite() && y_um.is_finite()) {
-                    return Err(outside());
-                }
-                if radius_um == 0.0 {
-                    let (e, lx, ly) = mesh.locate(x_um, y_um).ok_or_else(outside)?;
-                    let (x0, y0, x1, y1) = mesh.element_bounds_um(e);
-                    scatter(
-                        &mut f,
-                        mesh,
-                        e,
-                        &bfs::point_load(lx, ly, (x1 - x0) * 1e-6, (y1 - y0) * 1e-6, force_n),
-                    );
-                } else {
-                    let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
-                    if !inside_rect(x_um - h, y_um - h, x_um + h, y_um + h) {
-                        return Err(outside());
-                    }
-                    add_rect(
-                        &mut f,
-                        mesh,
-                        x_um - h,
-                        y_um - h,
-                        x_um + h,
-                        y_um + h,
-                        force_n / (4.0 * h * h * 1e-12),
-                    );
-                }
-            }
-            Load::Pressure {
-                region,
-                total_force_n,
-            } => {
-                let r = region.map(|r| r.normalised()).unwrap_or(RectUm {
-                    x0_um: px0,
-                    y0_um: py0,
-                    x1_um: px1,
-                    y1_um: py1,
-                });
-                if r.area_m2().is_nan()
-                    || r.area_m2() <= 0.0
-                    || !inside_rect(r.x0_um, r.y0_um, r.x1_um, r.y1_um)
-                {
-                    return Err(outside());
-                }
-                add_rect(
-                    &mut f,
-                    mesh,
-                    r.x0_um,
-                    r.y0_um,
-                    r.x1_um,
-                    r.y1_um,
-                    total_force_n / r.area_m2(),
-                );
-            }
-            Load::Line {
-                x0_um,
-                y0_um,
-                x1_um,
-                y1_um,
-                total_force_n,
-            } => {
-                let len_um = ((x1_um - x0_um).powi(2) + (y1_um - y0_um).powi(2)).sqrt();
-                if len_um.is_nan() || len_um <= 0.0 || !inside_rect(x0_um, y0_um, x1_um, y1_um) {
-                    return Err(outside());
-                }
-                let q = total_force_n / (len_um * 1e-6);
-                // Split at every mesh line crossed; each piece goes to the element containing its
-                // midpoint.
-                let mut ts = vec![0.0, 1.0];
-                for (axis, s0, s1) in [(&mesh.x_um, x0_um, x1_um), (&mesh.y_um, y0_um, y1_um)] {
-                    if (s1 - s0).abs() > 0.0 {
-                        ts.extend(
-                            axis.iter()
-                                .map(|&c| (c - s0) / (s1 - s0))
-                                .filter(|t| *t > 0.0 && *t < 1.0),
-                        );
-                    }
-                }
-                ts.sort_by(|a, b| a.partial_cmp(b).unwrap());
-                for w in ts.windows(2) {
-                    if w[1] - w[0] <= rel {
-                        continue;
-                    }
-                    let at = |t: f64| (x0_um + t * (x1_um - x0_um), y0_um + t * (y1_um - y0_um));
-                    let mid = at(0.5 * (w[0] + w[1]));
-                    let (e, _, _) = mesh.locate(mid.0, mid.1).ok_or_else(outside)?;
-                    let (ex0, ey0, ex1, ey1) = mesh.element_bounds_um(e);
-                    let loc = |p: (f64, f64)| ((p.0 - ex0) * 1e-6, (p.1 - ey0) * 1e-6);
-                    let fe = bfs::line_load(
-                        loc(at(w[0])),
-                        loc(at(w[1])),
-                        (ex1 - ex0) * 1e-6,
-                        (ey1 - ey0) * 1e-6,
-                        q,
-                    );
-                    scatter(&mut f, mesh, e, &fe);
-                }
-            }
-            Load::Probe {
-                x_um,
-                y_um,
-                width_um,
-                height_um,
-                angle_deg,
-                total_force_n,
-            } => {
-                if !(width_um > 0.0 && height_um > 0.0) {
-                    return Err(outside());
-                }
-                let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
-                add_polygon(&mut f, mesh, &poly, total_force_n).ok_or_else(outside)?;
-            }
-            Load::Polygon {
-                ref points_um,
-                total_force_n,
-            } => {
-                if points_um.len() < 3 || polygon_area(points_um).abs() <= 0.0 {
-                    return Err(outside());
-                }
-                add_polygon(&mut f, mesh, points_um, total_force_n).ok_or_else(outside)?;
-            }
-        }
+        })?;
     }
     Ok(f)
+}
+
+/// Adds one load's consistent nodal forces to `f`; `None` when it lies outside the plate or has
+/// no positive size.
+fn add_load(f: &mut [f64], mesh: &RectMesh, load: &Load) -> Option<()> {
+    match *load {
+        Load::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => add_point(f, mesh, (x_um, y_um), force_n, radius_um),
+        Load::Pressure {
+            region,
+            total_force_n,
+        } => add_pressure(f, mesh, region, total_force_n),
+        Load::Line {
+            x0_um,
+            y0_um,
+            x1_um,
+            y1_um,
+            total_force_n,
+        } => add_line(f, mesh, (x0_um, y0_um), (x1_um, y1_um), total_force_n),
+        Load::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            total_force_n,
+        } => {
+            if !(width_um > 0.0 && height_um > 0.0) {
+                return None;
+            }
+            let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
+            add_polygon(f, mesh, &poly, total_force_n)
+        }
+        Load::Polygon {
+            ref points_um,
+            total_force_n,
+        } => {
+            if points_um.len() < 3 || polygon_area(points_um).abs() <= 0.0 {
+                return None;
+            }
+            add_polygon(f, mesh, points_um, total_force_n)
+        }
+    }
+}
+
+/// Both corners of a rectangle (um) lie on the mesh.
+fn inside_rect(mesh: &RectMesh, x0: f64, y0: f64, x1: f64, y1: f64) -> bool {
+    mesh.contains_um(x0, y0) && mesh.contains_um(x1, y1)
+}
+
+/// A point force: exact at a point (radius 0), else spread uniformly over the square of the same
+/// area as the contact disc (side sqrt(pi) r).
+fn add_point(
+    f: &mut [f64],
+    mesh: &RectMesh,
+    (x_um, y_um): (f64, f64),
+    force_n: f64,
+    radius_um: f64,
+) -> Option<()> {
+    if !(radius_um >= 0.0 && x_um.is_finite() && y_um.is_finite()) {
+        return None;
+    }
+    if radius_um == 0.0 {
+        let (e, lx, ly) = mesh.locate(x_um, y_um)?;
+        let (x0, y0, x1, y1) = mesh.element_bounds_um(e);
+        scatter(
+            f,
+            mesh,
+            e,
+            &bfs::point_load(lx, ly, (x1 - x0) * 1e-6, (y1 - y0) * 1e-6, force_n),
+        );
+    } else {
+        let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
+        if !inside_rect(mesh, x_um - h, y_um - h, x_um + h, y_um + h) {
+            return None;
+        }
+        add_rect(
+            f,
+            mesh,
+            x_um - h,
+            y_um - h,
+            x_um + h,
+            y_um + h,
+            force_n / (4.0 * h * h * 1e-12),
+        );
+    }
+    Some(())
+}
+
+/// Uniform pressure total / area over a region, or the whole plate when none is given.
+fn add_pressure(
+    f: &mut [f64],
+    mesh: &RectMesh,
+    region: Option<RectUm>,
+    total_force_n: f64,
+) -> Option<()> {
+    let (px0, py0, px1, py1) = mesh.bounds_um();
+    let r = region.map(|r| r.normalised()).unwrap_or(RectUm {
+        x0_um: px0,
+        y0_um: py0,
+        x1_um: px1,
+        y1_um: py1,
+    });
+    if r.area_m2().is_nan()
+        || r.area_m2() <= 0.0
+        || !inside_rect(mesh, r.x0_um, r.y0_um, r.x1_um, r.y1_um)
+    {
+        return None;
+    }
+    add_rect(
+        f,
+        mesh,
+        r.x0_um,
+        r.y0_um,
+        r.x1_um,
+        r.y1_um,
+        total_force_n / r.area_m2(),
+    );
+    Some(())
+}
+
+/// A uniform line load q = total / length, split at every mesh line crossed; each piece goes to
+/// the element containing its midpoint.
+fn add_line(
+    f: &mut [f64],
+    mesh: &RectMesh,
+    (x0_um, y0_um): (f64, f64),
+    (x1_um, y1_um): (f64, f64),
+    total_force_n: f64,
+) -> Option<()> {
+    let rel = 1e-9;
+    let len_um = ((x1_um - x0_um).powi(2) + (y1_um - y0_um).powi(2)).sqrt();
+    if len_um.is_nan() || len_um <= 0.0 || !inside_rect(mesh, x0_um, y0_um, x1_um, y1_um) {
+        return None;
+    }
+    let q = total_force_n / (len_um * 1e-6);
+    // Split at every mesh line crossed; each piece goes to the element containing its
+    // midpoint.
+    let mut ts = vec![0.0, 1.0];
+    for (axis, s0, s1) in [(&mesh.x_um, x0_um, x1_um), (&mesh.y_um, y0_um, y1_um)] {
+        if (s1 - s0).abs() > 0.0 {
+            ts.extend(
+                axis.iter()
+                    .map(|&c| (c - s0) / (s1 - s0))
+                    .filter(|t| *t > 0.0 && *t < 1.0),
+            );
+        }
+    }
+    ts.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    for w in ts.windows(2) {
+        if w[1] - w[0] <= rel {
+            continue;
+        }
+        let at = |t: f64| (x0_um + t * (x1_um - x0_um), y0_um + t * (y1_um - y0_um));
+        let mid = at(0.5 * (w[0] + w[1]));
+        let (e, _, _) = mesh.locate(mid.0, mid.1)?;
+        let (ex0, ey0, ex1, ey1) = mesh.element_bounds_um(e);
+        let loc = |p: (f64, f64)| ((p.0 - ex0) * 1e-6, (p.1 - ey0) * 1e-6);
+        let fe = bfs::line_load(
+            loc(at(w[0])),
+            loc(at(w[1])),
+            (ex1 - ex0) * 1e-6,
+            (ey1 - ey0) * 1e-6,
+            q,
+        );
+        scatter(f, mesh, e, &fe);
+    }
+    Some(())
 }
 
 /// Uniform pressure over a polygon, clipped exactly against every element it overlaps; `None` when

@@ -80,66 +80,128 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
     let g = &p.geometry;
     let lay = &p.layout;
     let (l, w) = (g.die_length_um, g.die_width_um);
-    let mut warnings = Vec::new();
     let mut cells = std::collections::BTreeMap::new();
 
-    // Front: tooth cell and its instances.
     let comp = front_compensation(plan);
-    if let Some(c) = comp
-        .as_ref()
-        .filter(|c| c.kind == CompensationGeometry::CornerAttached)
-    {
-        if lay.compensation_overlap_um >= c.side_um {
-            return Err(LayoutError::CompensationOverlap {
-                overlap_um: lay.compensation_overlap_um,
-                side_um: c.side_um,
-            });
-        }
-    }
+    check_compensation_overlap(lay.compensation_overlap_um, comp.as_ref())?;
     let teeth = teeth::teeth(&g.teeth);
     let tooth_name = cell_name(&p.device.name, "TOOTH");
     let die_name = cell_name(&p.device.name, "DIE");
     let wafer_name = cell_name(&p.device.name, "WAFER");
     let mut die = Cell::default();
-    let tooth_cell = if g.teeth.pattern != TeethPattern::None && !teeth.is_empty() {
-        let mut c = Cell::default();
-        c.add(
-            LayerKind::FrontSi,
-            teeth::tooth_cell(g.teeth.top_um, comp.as_ref(), lay.compensation_overlap_um),
-        );
+    let tooth_cell = tooth_cell(p, comp.as_ref(), &teeth).map(|c| {
         cells.insert(tooth_name.clone(), c);
-        for t in &teeth {
-            die.placements
-                .push(Placement::single(&tooth_name, t.x_um, t.y_um));
-        }
-        Some(tooth_name.clone())
-    } else {
-        None
-    };
+        place_teeth(&mut die, &tooth_name, &teeth);
+        tooth_name.clone()
+    });
     if let Some(c) = &comp {
-        die.note(
-            format!(
-                "TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
-                yaml(&g.teeth.pattern),
-                g.teeth.top_um,
-                g.teeth.top_um,
-                yaml(&c.kind),
-                c.side_um
-            )
-            .to_uppercase(),
-            l / 2.0,
-            w / 2.0,
-        );
+        teeth_note(&mut die, p, c);
     }
+    add_supports(&mut die, p);
+    let electrodes = add_electrodes(&mut die, p)?;
+    die.add(LayerKind::Outline, [rect(0.0, 0.0, l, w)]);
 
-    // Back: supports; the U-channel is what is not drawn.
+    let masks = mask_entries(p);
+    let front_obstacles = front_obstacles(&cells, tooth_cell.as_deref(), &teeth);
+    let warnings = add_labels(&mut die, p, plan, &masks, &front_obstacles);
+    cells.insert(die_name.clone(), die);
+
+    let (px, py) = (l + g.dicing_street_um, w + g.dicing_street_um);
+    let (wafer_cell, origins) = wafer_cell(p, &masks, &die_name)?;
+    cells.insert(wafer_name.clone(), wafer_cell);
+
+    Ok(MaskSet {
+        device: p.device.name.clone(),
+        revision: p.device.revision.clone(),
+        layers: lay.layers.clone(),
+        cells,
+        tooth_cell,
+        die_cell: die_name,
+        wafer_cell: wafer_name,
+        die_length_um: l,
+        die_width_um: w,
+        pitch_x_um: px,
+        pitch_y_um: py,
+        wafer_diameter_um: p.wafer.diameter_mm * 1000.0,
+        edge_exclusion_um: lay.edge_exclusion_mm * 1000.0,
+        die_origins: origins,
+        teeth,
+        tooth_top_um: g.teeth.top_um,
+        electrodes,
+        masks,
+        warnings,
+    })
+}
+
+/// A corner-attached square pulled in by its whole side lies inside the tooth: refuse it.
+fn check_compensation_overlap(
+    overlap_um: f64,
+    comp: Option<&CompensationDesign>,
+) -> Result<(), LayoutError> {
+    match comp.filter(|c| c.kind == CompensationGeometry::CornerAttached) {
+        Some(c) if overlap_um >= c.side_um => Err(LayoutError::CompensationOverlap {
+            overlap_um,
+            side_um: c.side_um,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The tooth cell (top square plus compensators on the front Si layer), when there are teeth.
+fn tooth_cell(p: &Process, comp: Option<&CompensationDesign>, teeth: &[Tooth]) -> Option<Cell> {
+    let g = &p.geometry;
+    if g.teeth.pattern == TeethPattern::None || teeth.is_empty() {
+        return None;
+    }
+    let mut c = Cell::default();
+    c.add(
+        LayerKind::FrontSi,
+        teeth::tooth_cell(g.teeth.top_um, comp, p.layout.compensation_overlap_um),
+    );
+    Some(c)
+}
+
+/// One placement of the tooth cell per tooth.
+fn place_teeth(die: &mut Cell, tooth_name: &str, teeth: &[Tooth]) {
+    for t in teeth {
+        die.placements
+            .push(Placement::single(tooth_name, t.x_um, t.y_um));
+    }
+}
+
+/// The die note naming the tooth pattern, size and compensation.
+fn teeth_note(die: &mut Cell, p: &Process, c: &CompensationDesign) {
+    let g = &p.geometry;
+    die.note(
+        format!(
+            "TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
+            yaml(&g.teeth.pattern),
+            g.teeth.top_um,
+            g.teeth.top_um,
+            yaml(&c.kind),
+            c.side_um
+        )
+        .to_uppercase(),
+        g.die_length_um / 2.0,
+        g.die_width_um / 2.0,
+    );
+}
+
+/// Back: the supports; the U-channel is what is not drawn.
+fn add_supports(die: &mut Cell, p: &Process) {
+    let g = &p.geometry;
+    let (l, w) = (g.die_length_um, g.die_width_um);
     die.add(
         LayerKind::BackSi,
         supports::supports(l, w, g.support_width_um),
     );
     die.note("U-CHANNEL (BACK, ETCHED)", l / 2.0, w / 2.0 - 500.0);
+}
 
-    // PVDF electrodes.
+/// The PVDF electrode islands with their names and wire pads, after checking a pad fits on each.
+fn add_electrodes(die: &mut Cell, p: &Process) -> Result<Vec<Electrode>, LayoutError> {
+    let g = &p.geometry;
+    let (l, w) = (g.die_length_um, g.die_width_um);
     let e = &g.electrodes;
     let unit_w = (l - 2.0 * e.edge_margin_um - f64::from(e.units.saturating_sub(1)) * e.gap_um)
         / f64::from(e.units.max(1));
@@ -173,13 +235,12 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         l / 2.0,
         w / 2.0 + 500.0,
     );
+    Ok(electrodes)
+}
 
-    // Die outline.
-    die.add(LayerKind::Outline, [rect(0.0, 0.0, l, w)]);
-
-    // Labels on every printing layer.
-    let masks: Vec<MaskEntry> = p
-        .masks
+/// The mask inventory of the process: layer, GDS layer/datatype and chrome tone per mask.
+fn mask_entries(p: &Process) -> Vec<MaskEntry> {
+    p.masks
         .iter()
         .map(|m| MaskEntry {
             name: m.name.clone(),
@@ -187,18 +248,24 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
             side: m.side,
             tone: m.tone,
             layer: layer_of(m.purpose),
-            gds: layer_of(m.purpose).gds(&lay.layers),
+            gds: layer_of(m.purpose).gds(&p.layout.layers),
             mirrored: m.mirrored,
             chrome: match m.tone {
                 Tone::LightField => "chrome = drawn shape (light field)".into(),
                 Tone::DarkField => "chrome = outside the drawn shape (dark field)".into(),
             },
         })
-        .collect();
-    let pixel = lay.label_pixel_um;
-    let clearance = (p.drc.min_space_um * 2.0).max(150.0);
+        .collect()
+}
+
+/// Every tooth's front Si shapes in die coordinates: what a front label must avoid.
+fn front_obstacles(
+    cells: &std::collections::BTreeMap<String, Cell>,
+    tooth_cell: Option<&str>,
+    teeth: &[Tooth],
+) -> Vec<Polygon> {
     let mut front_obstacles = Vec::new();
-    if let Some(t) = &tooth_cell {
+    if let Some(t) = tooth_cell {
         let tc = cells
             .get(t)
             .expect("tooth cell")
@@ -206,14 +273,31 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
             .get(&LayerKind::FrontSi)
             .cloned()
             .unwrap_or_default();
-        for tooth in &teeth {
+        for tooth in teeth {
             front_obstacles.extend(translate(&tc, tooth.x_um, tooth.y_um));
         }
     }
-    for m in &masks {
+    front_obstacles
+}
+
+/// A label (device, mask name, revision) on every printing layer where it finds room; returns
+/// the warnings for labels not drawn or undercut away by the etch.
+fn add_labels(
+    die: &mut Cell,
+    p: &Process,
+    plan: &EtchPlan,
+    masks: &[MaskEntry],
+    front_obstacles: &[Polygon],
+) -> Vec<Finding> {
+    let g = &p.geometry;
+    let (l, w) = (g.die_length_um, g.die_width_um);
+    let pixel = p.layout.label_pixel_um;
+    let clearance = (p.drc.min_space_um * 2.0).max(150.0);
+    let mut warnings = Vec::new();
+    for m in masks {
         let layer = m.layer;
         let obstacles = match layer {
-            LayerKind::FrontSi => front_obstacles.clone(),
+            LayerKind::FrontSi => front_obstacles.to_vec(),
             _ => die.shapes.get(&layer).cloned().unwrap_or_default(),
         };
         let device = text::printable(&p.device.name);
@@ -229,23 +313,7 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         match spot {
             Some((lines, (x, y))) => {
                 die.add(layer, text::text_polygons(lines, x, y, pixel));
-                if matches!(layer, LayerKind::FrontSi | LayerKind::BackSi) {
-                    let depth = plan.steps.iter().map(|s| s.depth_um).fold(0.0, f64::max);
-                    if pixel < 2.0 * depth {
-                        warnings.push(
-                            Finding::warning(
-                                LayoutCode::LabelOnDeepEtch,
-                                format!(
-                                "mask `{}`: label strokes of {pixel} um are undercut away by the \
-                                 {depth} um etch: the label identifies the mask plate, not the \
-                                 etched die",
-                                m.name
-                            ),
-                            )
-                            .at(At::Mask(m.name.clone())),
-                        );
-                    }
-                }
+                warnings.extend(label_undercut(plan, m, pixel));
             }
             None => warnings.push(
                 Finding::warning(
@@ -260,9 +328,38 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
             ),
         }
     }
-    cells.insert(die_name.clone(), die);
+    warnings
+}
 
-    // Wafer: stepped dies, alignment marks on the x axis, wafer and usable edge outlines.
+/// A silicon mask's label strokes narrower than twice the deepest etch are undercut away.
+fn label_undercut(plan: &EtchPlan, m: &MaskEntry, pixel: f64) -> Option<Finding> {
+    if !matches!(m.layer, LayerKind::FrontSi | LayerKind::BackSi) {
+        return None;
+    }
+    let depth = plan.steps.iter().map(|s| s.depth_um).fold(0.0, f64::max);
+    (pixel < 2.0 * depth).then(|| {
+        Finding::warning(
+            LayoutCode::LabelOnDeepEtch,
+            format!(
+                "mask `{}`: label strokes of {pixel} um are undercut away by the {depth} um etch: \
+                 the label identifies the mask plate, not the etched die",
+                m.name
+            ),
+        )
+        .at(At::Mask(m.name.clone()))
+    })
+}
+
+/// The wafer cell: stepped dies, alignment marks on the x axis, wafer and usable edge outlines;
+/// also returns the snapped die origins.
+fn wafer_cell(
+    p: &Process,
+    masks: &[MaskEntry],
+    die_name: &str,
+) -> Result<(Cell, Vec<Coord>), LayoutError> {
+    let g = &p.geometry;
+    let lay = &p.layout;
+    let (l, w) = (g.die_length_um, g.die_width_um);
     let r_usable = p.wafer.diameter_mm * 500.0 - lay.edge_exclusion_mm * 1000.0;
     let stepping = wafer::step(l, w, g.dicing_street_um, r_usable, MARK_KEEPOUT_HALF_UM);
     if stepping.origins.is_empty() {
@@ -281,27 +378,11 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         .collect();
     let (px, py) = (l + g.dicing_street_um, w + g.dicing_street_um);
     let mut wafer_cell = Cell {
-        placements: wafer::arrays(&die_name, &origins, px, py),
+        placements: wafer::arrays(die_name, &origins, px, py),
         ..Cell::default()
     };
     for site in stepping.mark_sites {
-        let (x, y) = (snap(site.x), snap(site.y));
-        let front = mark(MarkKind::Front, x, y);
-        let back = mark(MarkKind::Back, x, y);
-        for m in &masks {
-            let kind = if m.side == Side::Back { &back } else { &front };
-            wafer_cell.add(m.layer, kind.iter().cloned());
-        }
-        // Overlaid but not merged: front and back ticks meet at single points.
-        wafer_cell.add(
-            LayerKind::Marks,
-            front.iter().cloned().chain(back.iter().cloned()),
-        );
-        wafer_cell.note(
-            "ALIGNMENT MARK: FRONT CROSS 50 UM VERNIER, BACK CROSS 52 UM VERNIER",
-            x,
-            y + MARK_KEEPOUT_HALF_UM,
-        );
+        add_alignment_marks(&mut wafer_cell, masks, snap(site.x), snap(site.y));
     }
     wafer_cell.add(
         LayerKind::Outline,
@@ -317,29 +398,28 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         0.0,
         -r_usable,
     );
-    cells.insert(wafer_name.clone(), wafer_cell);
+    Ok((wafer_cell, origins))
+}
 
-    Ok(MaskSet {
-        device: p.device.name.clone(),
-        revision: p.device.revision.clone(),
-        layers: lay.layers.clone(),
-        cells,
-        tooth_cell,
-        die_cell: die_name,
-        wafer_cell: wafer_name,
-        die_length_um: l,
-        die_width_um: w,
-        pitch_x_um: px,
-        pitch_y_um: py,
-        wafer_diameter_um: p.wafer.diameter_mm * 1000.0,
-        edge_exclusion_um: lay.edge_exclusion_mm * 1000.0,
-        die_origins: origins,
-        teeth,
-        tooth_top_um: g.teeth.top_um,
-        electrodes,
-        masks,
-        warnings,
-    })
+/// Front and back alignment marks at one site: on each mask's layer by its side, and overlaid on
+/// the reference marks layer.
+fn add_alignment_marks(wafer_cell: &mut Cell, masks: &[MaskEntry], x: f64, y: f64) {
+    let front = mark(MarkKind::Front, x, y);
+    let back = mark(MarkKind::Back, x, y);
+    for m in masks {
+        let kind = if m.side == Side::Back { &back } else { &front };
+        wafer_cell.add(m.layer, kind.iter().cloned());
+    }
+    // Overlaid but not merged: front and back ticks meet at single points.
+    wafer_cell.add(
+        LayerKind::Marks,
+        front.iter().cloned().chain(back.iter().cloned()),
+    );
+    wafer_cell.note(
+        "ALIGNMENT MARK: FRONT CROSS 50 UM VERNIER, BACK CROSS 52 UM VERNIER",
+        x,
+        y + MARK_KEEPOUT_HALF_UM,
+    );
 }
 
 /// A 720-gon circle centred on the origin (non-printing outline).

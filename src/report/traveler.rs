@@ -6,10 +6,13 @@
 use serde::Serialize;
 
 use crate::drc::DrcReport;
-use crate::etch::{limits, EtchPlan, EtchStep};
+use crate::etch::{limits, EtchPlan, EtchStep, OxidationResult, OxideEtchResult, ResistResult};
 use crate::finding::{Code, EtchCode, Finding};
 use crate::layout::MaskSet;
-use crate::process::{Etchant, Process, Provenance, Side, StepParams};
+use crate::process::{
+    Assemble, Etchant, Expose, Generic, MetalEtch, Oxidation, OxideEtch, Process, Provenance, Side,
+    SiliconEtch, SpinCoat, Step, StepParams,
+};
 
 use super::fe::FeSummary;
 use super::inventory::Inventory;
@@ -188,365 +191,51 @@ fn side(s: Side) -> &'static str {
 pub fn traveler(input: TravelerInput<'_>) -> Traveler {
     let p = input.process;
     let plan = input.plan;
-    let prov = |path: &str| -> String {
-        input
-            .defaults_used
-            .iter()
-            .find(|d| d.path == path)
-            .map(|d| format!("default: {}", d.source))
-            .unwrap_or_else(|| "process file".into())
-    };
-    let mut holds: Vec<HoldPoint> = Vec::new();
+    let mut holds = vec![start_hold(p, plan)];
+    let mut steps = step_rows(&input, &mut holds);
+    plate_hold(plan, &mut steps, &mut holds);
+    Traveler {
+        device: p.device.name.clone(),
+        revision: p.device.revision.clone(),
+        description: p.device.description.clone(),
+        process_file: input.process_file.to_string(),
+        header_fields: header_fields(),
+        material: material(p, plan),
+        inventory: input.inventory,
+        steps,
+        holds,
+        cut: Cut::new(p, input.set),
+        stacks: stacks(p, plan),
+        checks: sorted_checks(plan),
+        drc: input.drc.clone(),
+        layout_warnings: input.set.warnings.clone(),
+        discrepancies: discrepancies(p, plan),
+        compensation: compensation(p, plan),
+        defaults_used: input.defaults_used.to_vec(),
+        overrides: input.overrides.to_vec(),
+        fe: input.fe,
+    }
+}
+
+/// The header fields the fab fills in by hand.
+fn header_fields() -> Vec<String> {
+    [
+        "Lot ID",
+        "Wafer ID(s)",
+        "Start date",
+        "End date",
+        "Engineer",
+        "Operator(s)",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect()
+}
+
+/// The starting material: wafer, die edges, die, PVDF film and plate.
+fn material(p: &Process, plan: &EtchPlan) -> Vec<(String, String)> {
     let w = &p.wafer;
-    let two_sided = plan.steps.iter().any(|s| s.side == Side::Both)
-        || (plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0);
-    holds.push(HoldPoint {
-        id: "H1".into(),
-        step: "start".into(),
-        when: "before the first step".into(),
-        measure: "wafer thickness w at the centre and 4 points 10 mm from the edge (um)".into(),
-        accept: format!(
-            "{} +/- {} um (supplier tolerance)",
-            w.thickness_um, w.thickness_tolerance_um
-        ),
-        then: format!(
-            "the tolerance goes straight into the plate ({:.0}-{:.0} um with the recipe as \
-             written); record w: the etch hold points finish to the plate target",
-            plan.plate_range_um[0], plan.plate_range_um[1]
-        ),
-    });
-
-    let (mut ox, mut rs, mut oe, mut si) = (
-        plan.oxidations.iter(),
-        plan.resists.iter(),
-        plan.oxide_etches.iter(),
-        plan.steps.iter(),
-    );
-    let mut steps = Vec::new();
-    for (i, s) in p.steps.iter().enumerate() {
-        let mut computed = Vec::new();
-        let mut target = None;
-        let mut step_holds = Vec::new();
-        let (process, parameters) = match &s.params {
-            StepParams::Clean(g) | StepParams::Mount(g) => {
-                let kind = if matches!(s.params, StepParams::Clean(_)) {
-                    "clean"
-                } else {
-                    "mount on carrier"
-                };
-                let mut v = Vec::new();
-                if let Some(t) = g.temp_c {
-                    v.push(format!("{t} C"));
-                }
-                if let Some(t) = g.time_min {
-                    v.push(format!("{t} min"));
-                }
-                (kind.to_string(), v.join(", "))
-            }
-            StepParams::Oxidation(o) => {
-                let params = format!(
-                    "{} ambient, {} C, {} h",
-                    label(&o.ambient),
-                    o.temp_c,
-                    o.time_h
-                );
-                if let Some(r) = ox.next() {
-                    computed.push(Computed {
-                        what: "oxide per face".into(),
-                        value: format!("{:.3} um", r.thickness_um),
-                        provenance: format!(
-                            "Deal-Grove x^2 + A x = B (t + tau), B = {:.4} um2/h, B/A = {:.3} \
-                             um/h (Plummer, Deal & Griffin Table 6-2)",
-                            r.b_um2_per_h, r.b_over_a_um_per_h
-                        ),
-                    });
-                    computed.push(Computed {
-                        what: "Si consumed".into(),
-                        value: format!("{:.3} um", r.silicon_consumed_um),
-                        provenance: "0.44-0.46 x oxide (process-physics.md)".into(),
-                    });
-                    target = Some(Target {
-                        quantity: "oxide thickness (ellipsometer), each face".into(),
-                        value: format!(
-                            "{:.3} um +/- {:.3} um",
-                            r.thickness_um,
-                            OXIDE_TOL_REL * r.thickness_um
-                        ),
-                        basis: "Deal-Grove; 5 % as the OXIDE_CLAIM check".into(),
-                    });
-                    // The oxide must outlive the next silicon etch it masks.
-                    if let Some(e) = plan.steps.iter().find(|e| {
-                        e.mask == crate::process::EtchMask::Oxide && e.mask_consumed_um > 0.0
-                    }) {
-                        let need = e.mask_consumed_um / (1.0 - MASK_MARGIN_REL);
-                        let id = format!("H{}", holds.len() + 1);
-                        holds.push(HoldPoint {
-                            id: id.clone(),
-                            step: s.name.clone(),
-                            when: "after oxidation, before lithography".into(),
-                            measure: "oxide thickness on both faces (ellipsometer, 5 points)"
-                                .into(),
-                            accept: format!(
-                                ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and \
-                                 {:.0} % must be left",
-                                e.name,
-                                e.mask_consumed_um,
-                                e.time_h,
-                                if e.etchant == Etchant::Tmah {
-                                    p.etchants.tmah_oxide_rate_um_per_h
-                                } else {
-                                    p.etchants.koh_oxide_rate_um_per_h
-                                },
-                                MASK_MARGIN_REL * 100.0
-                            ),
-                            then: "below: oxidise longer (re-run the plan with the measured \
-                                   thickness as initial_oxide_um)"
-                                .into(),
-                        });
-                        step_holds.push(id);
-                    }
-                }
-                (format!("thermal oxidation ({})", label(&o.ambient)), params)
-            }
-            StepParams::SpinCoat(c) => {
-                let params = format!(
-                    "{}, {} rpm, {} s, {}, on {}",
-                    c.resist,
-                    c.speed_rpm,
-                    c.time_s,
-                    side(c.side),
-                    label(&c.substrate)
-                );
-                if let Some(r) = rs.next() {
-                    computed.push(Computed {
-                        what: "resist".into(),
-                        value: format!("{:.2} um", r.thickness_um),
-                        provenance: format!(
-                            "spin curve t = t_ref (rpm / rpm_ref)^-n: {} um at {} rpm ({}), n = \
-                             {:.3} ({})",
-                            c.ref_thickness_um,
-                            c.ref_speed_rpm,
-                            prov(&format!("steps[{i}].ref_thickness_um")),
-                            c.spin_exponent,
-                            prov(&format!("steps[{i}].spin_exponent"))
-                        ),
-                    });
-                    target = Some(Target {
-                        quantity: "resist thickness".into(),
-                        value: format!(
-                            "{:.2} um +/- {:.2} um",
-                            r.thickness_um,
-                            RESIST_TOL_REL * r.thickness_um
-                        ),
-                        basis: "[choice] 10 %: a larger error means a wrong speed or resist".into(),
-                    });
-                }
-                ("spin coat".into(), params)
-            }
-            StepParams::Bake(b) => ("bake".into(), format!("{} C, {} min", b.temp_c, b.time_min)),
-            StepParams::Expose(e) => {
-                for name in &e.masks {
-                    if let Some(m) = input.inventory.masks.iter().find(|m| &m.name == name) {
-                        computed.push(Computed {
-                            what: format!("mask {name}"),
-                            value: format!(
-                                "{}, {}, {} side{}",
-                                m.svg_file,
-                                m.tone,
-                                side(m.side),
-                                if m.mirrored { ", MIRRORED" } else { "" }
-                            ),
-                            provenance: format!(
-                                "GDS layer {} of {}",
-                                m.gds_layer, input.inventory.gds_file
-                            ),
-                        });
-                    }
-                }
-                (
-                    "UV exposure".into(),
-                    format!("masks {}; {} s", e.masks.join(", "), e.time_s),
-                )
-            }
-            StepParams::Develop(d) => {
-                ("develop".into(), format!("{}, {} s", d.developer, d.time_s))
-            }
-            StepParams::OxideEtch(e) => {
-                if let Some(r) = oe.next() {
-                    computed.push(Computed {
-                        what: "etch time".into(),
-                        value: format!("{:.1} min", r.time_min),
-                        provenance: format!(
-                            "{:.3} um oxide at {} um/min ({}) + {} % over-etch",
-                            r.oxide_um,
-                            r.rate_um_per_min,
-                            prov("etchants.boe_rate_um_per_min"),
-                            e.overetch_pct
-                        ),
-                    });
-                    target = Some(Target {
-                        quantity: "openings clear".into(),
-                        value: "0 um oxide in the openings (the surface dewets)".into(),
-                        basis: "a hard mask needs bare Si in every opening".into(),
-                    });
-                }
-                (
-                    "oxide etch".into(),
-                    format!(
-                        "{}, {}, over-etch {} %",
-                        e.etchant,
-                        side(e.side),
-                        e.overetch_pct
-                    ),
-                )
-            }
-            StepParams::SiliconEtch(e) => {
-                let params = format!(
-                    "{} {} wt %, {} C, {}, {} mask{}",
-                    e.etchant.label(),
-                    e.concentration_wt_pct,
-                    e.temp_c,
-                    side(e.side),
-                    label(&e.mask),
-                    e.time_h
-                        .map(|t| format!(", recipe time {t} h"))
-                        .unwrap_or_default()
-                );
-                if let Some(r) = si.next() {
-                    silicon_rows(r, &mut computed);
-                    let tol = DEPTH_TOL_REL * r.depth_um;
-                    target = Some(Target {
-                        quantity: format!("etch depth per face ({})", side(r.side)),
-                        value: format!("{:.1} um +/- {:.1} um", r.depth_um, tol),
-                        basis: "1 %, as the ETCH_TIME_DEPTH_MISMATCH check".into(),
-                    });
-                    let id = format!("H{}", holds.len() + 1);
-                    let t_hold = HOLD_FRACTION * r.time_for_depth_h;
-                    let finish = if two_sided && plan.steps.len() == 1 {
-                        format!(
-                            "for the {} um plate finish to depth D = (w - {})/2 per face (w from \
-                             H1), remaining time = {:.3} h x (D / d - 1)",
-                            plan.plate_target_um, plan.plate_target_um, t_hold
-                        )
-                    } else {
-                        format!(
-                            "remaining time = {t_hold:.3} h x ({} um / d - 1)",
-                            r.depth_um
-                        )
-                    };
-                    holds.push(HoldPoint {
-                        id: id.clone(),
-                        step: r.name.clone(),
-                        when: format!(
-                            "at {:.0} % of the computed time: {:.3} h = {:.0} min (not the \
-                             recipe's {} h)",
-                            HOLD_FRACTION * 100.0,
-                            t_hold,
-                            t_hold * 60.0,
-                            r.time_h
-                        ),
-                        measure: format!(
-                            "etch depth d on each etched face (microscope focus or profilometer), \
-                             expected {:.1} um",
-                            HOLD_FRACTION * r.depth_um
-                        ),
-                        accept: format!(
-                            "d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h",
-                            HOLD_FRACTION * r.depth_um,
-                            HOLD_FRACTION * tol
-                        ),
-                        then: finish,
-                    });
-                    step_holds.push(id);
-                }
-                ("anisotropic Si etch".into(), params)
-            }
-            StepParams::Strip(st) => (format!("strip {}", label(&st.target)), st.chemistry.clone()),
-            StepParams::MetalEtch(m) => {
-                let n = input.set.electrodes.len();
-                target = Some(Target {
-                    quantity: "electrode islands".into(),
-                    value: format!(
-                        "{n} isolated islands ({})",
-                        input
-                            .set
-                            .electrodes
-                            .iter()
-                            .map(|e| e.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                    basis: "PVDF mask; check no continuity between neighbours".into(),
-                });
-                (
-                    "metal etch".into(),
-                    format!("{}, {} C, {} min", m.etchant, m.temp_c, m.time_min),
-                )
-            }
-            StepParams::Assemble(a) => {
-                let mut v = Vec::new();
-                if let Some(t) = a.temp_c {
-                    v.push(format!("{t} C"));
-                }
-                if let Some(t) = a.time_min {
-                    v.push(format!("{t} min"));
-                }
-                if a.wires > 0 {
-                    v.push(format!("{} wires", a.wires));
-                }
-                ("assemble".into(), v.join(", "))
-            }
-        };
-        let parameters = match (parameters.is_empty(), s.notes.is_empty()) {
-            (_, true) => parameters,
-            (true, false) => s.notes.clone(),
-            (false, false) => format!("{parameters}; {}", s.notes),
-        };
-        steps.push(StepRow {
-            number: i + 1,
-            name: s.name.clone(),
-            process,
-            equipment: s.equipment.clone(),
-            parameters,
-            computed,
-            target,
-            holds: step_holds,
-        });
-    }
-
-    if plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0 {
-        let id = format!("H{}", holds.len() + 1);
-        let last_si = plan
-            .steps
-            .last()
-            .map(|s| s.name.clone())
-            .unwrap_or_default();
-        holds.push(HoldPoint {
-            id: id.clone(),
-            step: last_si.clone(),
-            when: "after the last silicon etch, before stripping the oxide".into(),
-            measure: "plate thickness = w - front depth - back depth (um)".into(),
-            accept: format!(
-                "{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)",
-                plan.plate_target_um,
-                PLATE_TOL_REL * plan.plate_target_um
-            ),
-            then: "thicker: etch on (both faces); thinner: record, the FE sensitivity scales with \
-                   the plate"
-                .into(),
-        });
-        if let Some(row) = steps.iter_mut().rev().find(|r| r.name == last_si) {
-            row.holds.push(id);
-        }
-    }
-
-    let mut checks = plan.warnings.clone();
-    checks.sort_by(|a, b| {
-        b.severity
-            .cmp(&a.severity)
-            .then(a.code.as_str().cmp(b.code.as_str()))
-    });
-    let material = vec![
+    vec![
         (
             "wafer".to_string(),
             format!(
@@ -588,38 +277,466 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
                 plan.plate_range_um[1]
             ),
         ),
-    ];
-    Traveler {
-        device: p.device.name.clone(),
-        revision: p.device.revision.clone(),
-        description: p.device.description.clone(),
-        process_file: input.process_file.to_string(),
-        header_fields: [
-            "Lot ID",
-            "Wafer ID(s)",
-            "Start date",
-            "End date",
-            "Engineer",
-            "Operator(s)",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect(),
-        material,
-        inventory: input.inventory,
-        steps,
-        holds,
-        cut: Cut::new(p, input.set),
-        stacks: stacks(p, plan),
-        checks,
-        drc: input.drc.clone(),
-        layout_warnings: input.set.warnings.clone(),
-        discrepancies: discrepancies(p, plan),
-        compensation: compensation(p, plan),
-        defaults_used: input.defaults_used.to_vec(),
-        overrides: input.overrides.to_vec(),
-        fe: input.fe,
+    ]
+}
+
+/// The etch-plan checks, errors first, then by code (a stable sort keeps the plan's order).
+fn sorted_checks(plan: &EtchPlan) -> Vec<Finding> {
+    let mut checks = plan.warnings.clone();
+    checks.sort_by(|a, b| {
+        b.severity
+            .cmp(&a.severity)
+            .then(a.code.as_str().cmp(b.code.as_str()))
+    });
+    checks
+}
+
+/// Hold point H1: measure the wafer thickness before the first step.
+fn start_hold(p: &Process, plan: &EtchPlan) -> HoldPoint {
+    let w = &p.wafer;
+    HoldPoint {
+        id: "H1".into(),
+        step: "start".into(),
+        when: "before the first step".into(),
+        measure: "wafer thickness w at the centre and 4 points 10 mm from the edge (um)".into(),
+        accept: format!(
+            "{} +/- {} um (supplier tolerance)",
+            w.thickness_um, w.thickness_tolerance_um
+        ),
+        then: format!(
+            "the tolerance goes straight into the plate ({:.0}-{:.0} um with the recipe as \
+             written); record w: the etch hold points finish to the plate target",
+            plan.plate_range_um[0], plan.plate_range_um[1]
+        ),
     }
+}
+
+/// The last hold point of a two-sided etch: measure the plate after the last silicon etch.
+fn plate_hold(plan: &EtchPlan, steps: &mut [StepRow], holds: &mut Vec<HoldPoint>) {
+    if !(plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0) {
+        return;
+    }
+    let id = format!("H{}", holds.len() + 1);
+    let last_si = plan
+        .steps
+        .last()
+        .map(|s| s.name.clone())
+        .unwrap_or_default();
+    holds.push(HoldPoint {
+        id: id.clone(),
+        step: last_si.clone(),
+        when: "after the last silicon etch, before stripping the oxide".into(),
+        measure: "plate thickness = w - front depth - back depth (um)".into(),
+        accept: format!(
+            "{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)",
+            plan.plate_target_um,
+            PLATE_TOL_REL * plan.plate_target_um
+        ),
+        then: "thicker: etch on (both faces); thinner: record, the FE sensitivity scales with \
+               the plate"
+            .into(),
+    });
+    if let Some(row) = steps.iter_mut().rev().find(|r| r.name == last_si) {
+        row.holds.push(id);
+    }
+}
+
+/// Where a process-file value comes from: its default's source, else the process file.
+fn provenance(defaults_used: &[Provenance], path: &str) -> String {
+    defaults_used
+        .iter()
+        .find(|d| d.path == path)
+        .map(|d| format!("default: {}", d.source))
+        .unwrap_or_else(|| "process file".into())
+}
+
+/// The plan's results not yet matched to a step, one iterator per step kind that has them.
+struct PlanRows<'a> {
+    oxidations: std::slice::Iter<'a, OxidationResult>,
+    resists: std::slice::Iter<'a, ResistResult>,
+    oxide_etches: std::slice::Iter<'a, OxideEtchResult>,
+    silicon_etches: std::slice::Iter<'a, EtchStep>,
+}
+
+/// What one step kind puts in its row, and the hold point it opens (its id is given by
+/// [`step_rows`], in the order the holds are opened).
+#[derive(Default)]
+struct StepCells {
+    process: String,
+    parameters: String,
+    computed: Vec<Computed>,
+    target: Option<Target>,
+    hold: Option<HoldPoint>,
+}
+
+impl StepCells {
+    /// A row with only the process in words and its parameters.
+    fn plain(process: impl Into<String>, parameters: String) -> Self {
+        StepCells {
+            process: process.into(),
+            parameters,
+            ..Default::default()
+        }
+    }
+}
+
+/// One row per process step, in order; the hold points the steps open are numbered onto `holds`.
+fn step_rows(input: &TravelerInput<'_>, holds: &mut Vec<HoldPoint>) -> Vec<StepRow> {
+    let plan = input.plan;
+    let mut rows = PlanRows {
+        oxidations: plan.oxidations.iter(),
+        resists: plan.resists.iter(),
+        oxide_etches: plan.oxide_etches.iter(),
+        silicon_etches: plan.steps.iter(),
+    };
+    let mut steps = Vec::new();
+    for (i, s) in input.process.steps.iter().enumerate() {
+        let cells = step_cells(input, i, s, &mut rows);
+        let mut step_holds = Vec::new();
+        if let Some(mut hold) = cells.hold {
+            hold.id = format!("H{}", holds.len() + 1);
+            step_holds.push(hold.id.clone());
+            holds.push(hold);
+        }
+        steps.push(StepRow {
+            number: i + 1,
+            name: s.name.clone(),
+            process: cells.process,
+            equipment: s.equipment.clone(),
+            parameters: with_notes(cells.parameters, &s.notes),
+            computed: cells.computed,
+            target: cells.target,
+            holds: step_holds,
+        });
+    }
+    steps
+}
+
+/// The parameters column: the step's parameters, then its notes after a `; `.
+fn with_notes(parameters: String, notes: &str) -> String {
+    match (parameters.is_empty(), notes.is_empty()) {
+        (_, true) => parameters,
+        (true, false) => notes.to_string(),
+        (false, false) => format!("{parameters}; {notes}"),
+    }
+}
+
+/// The cells of step `i` by its kind, taking the plan's next result for kinds that have one.
+fn step_cells(input: &TravelerInput<'_>, i: usize, s: &Step, rows: &mut PlanRows) -> StepCells {
+    match &s.params {
+        StepParams::Clean(g) => generic_cells("clean", g),
+        StepParams::Mount(g) => generic_cells("mount on carrier", g),
+        StepParams::Oxidation(o) => oxidation_cells(input, s, o, rows.oxidations.next()),
+        StepParams::SpinCoat(c) => spin_coat_cells(input, i, c, rows.resists.next()),
+        StepParams::Bake(b) => {
+            StepCells::plain("bake", format!("{} C, {} min", b.temp_c, b.time_min))
+        }
+        StepParams::Expose(e) => expose_cells(input, e),
+        StepParams::Develop(d) => {
+            StepCells::plain("develop", format!("{}, {} s", d.developer, d.time_s))
+        }
+        StepParams::OxideEtch(e) => oxide_etch_cells(input, e, rows.oxide_etches.next()),
+        StepParams::SiliconEtch(e) => silicon_etch_cells(input.plan, e, rows.silicon_etches.next()),
+        StepParams::Strip(st) => {
+            StepCells::plain(format!("strip {}", label(&st.target)), st.chemistry.clone())
+        }
+        StepParams::MetalEtch(m) => metal_etch_cells(input.set, m),
+        StepParams::Assemble(a) => assemble_cells(a),
+    }
+}
+
+/// A clean or mount step: temperature and time when given.
+fn generic_cells(kind: &str, g: &Generic) -> StepCells {
+    let mut v = Vec::new();
+    if let Some(t) = g.temp_c {
+        v.push(format!("{t} C"));
+    }
+    if let Some(t) = g.time_min {
+        v.push(format!("{t} min"));
+    }
+    StepCells::plain(kind, v.join(", "))
+}
+
+/// An oxidation: Deal-Grove thickness and Si consumed, the ellipsometer target, and the hold that
+/// checks the oxide outlives the silicon etch it masks.
+fn oxidation_cells(
+    input: &TravelerInput<'_>,
+    s: &Step,
+    o: &Oxidation,
+    r: Option<&OxidationResult>,
+) -> StepCells {
+    let params = format!(
+        "{} ambient, {} C, {} h",
+        label(&o.ambient),
+        o.temp_c,
+        o.time_h
+    );
+    let mut cells = StepCells::plain(format!("thermal oxidation ({})", label(&o.ambient)), params);
+    let Some(r) = r else { return cells };
+    cells.computed.push(Computed {
+        what: "oxide per face".into(),
+        value: format!("{:.3} um", r.thickness_um),
+        provenance: format!(
+            "Deal-Grove x^2 + A x = B (t + tau), B = {:.4} um2/h, B/A = {:.3} \
+             um/h (Plummer, Deal & Griffin Table 6-2)",
+            r.b_um2_per_h, r.b_over_a_um_per_h
+        ),
+    });
+    cells.computed.push(Computed {
+        what: "Si consumed".into(),
+        value: format!("{:.3} um", r.silicon_consumed_um),
+        provenance: "0.44-0.46 x oxide (process-physics.md)".into(),
+    });
+    cells.target = Some(Target {
+        quantity: "oxide thickness (ellipsometer), each face".into(),
+        value: format!(
+            "{:.3} um +/- {:.3} um",
+            r.thickness_um,
+            OXIDE_TOL_REL * r.thickness_um
+        ),
+        basis: "Deal-Grove; 5 % as the OXIDE_CLAIM check".into(),
+    });
+    cells.hold = oxide_hold(input.process, input.plan, s);
+    cells
+}
+
+/// The oxide must outlive the next silicon etch it masks: measure it before lithography.
+fn oxide_hold(p: &Process, plan: &EtchPlan, s: &Step) -> Option<HoldPoint> {
+    let e = plan
+        .steps
+        .iter()
+        .find(|e| e.mask == crate::process::EtchMask::Oxide && e.mask_consumed_um > 0.0)?;
+    let need = e.mask_consumed_um / (1.0 - MASK_MARGIN_REL);
+    Some(HoldPoint {
+        id: String::new(),
+        step: s.name.clone(),
+        when: "after oxidation, before lithography".into(),
+        measure: "oxide thickness on both faces (ellipsometer, 5 points)".into(),
+        accept: format!(
+            ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and \
+             {:.0} % must be left",
+            e.name,
+            e.mask_consumed_um,
+            e.time_h,
+            if e.etchant == Etchant::Tmah {
+                p.etchants.tmah_oxide_rate_um_per_h
+            } else {
+                p.etchants.koh_oxide_rate_um_per_h
+            },
+            MASK_MARGIN_REL * 100.0
+        ),
+        then: "below: oxidise longer (re-run the plan with the measured \
+               thickness as initial_oxide_um)"
+            .into(),
+    })
+}
+
+/// A spin coat: resist thickness from the spin curve t = t_ref (rpm / rpm_ref)^-n and its target.
+fn spin_coat_cells(
+    input: &TravelerInput<'_>,
+    i: usize,
+    c: &SpinCoat,
+    r: Option<&ResistResult>,
+) -> StepCells {
+    let params = format!(
+        "{}, {} rpm, {} s, {}, on {}",
+        c.resist,
+        c.speed_rpm,
+        c.time_s,
+        side(c.side),
+        label(&c.substrate)
+    );
+    let mut cells = StepCells::plain("spin coat", params);
+    let Some(r) = r else { return cells };
+    let prov = |path: &str| provenance(input.defaults_used, path);
+    cells.computed.push(Computed {
+        what: "resist".into(),
+        value: format!("{:.2} um", r.thickness_um),
+        provenance: format!(
+            "spin curve t = t_ref (rpm / rpm_ref)^-n: {} um at {} rpm ({}), n = \
+             {:.3} ({})",
+            c.ref_thickness_um,
+            c.ref_speed_rpm,
+            prov(&format!("steps[{i}].ref_thickness_um")),
+            c.spin_exponent,
+            prov(&format!("steps[{i}].spin_exponent"))
+        ),
+    });
+    cells.target = Some(Target {
+        quantity: "resist thickness".into(),
+        value: format!(
+            "{:.2} um +/- {:.2} um",
+            r.thickness_um,
+            RESIST_TOL_REL * r.thickness_um
+        ),
+        basis: "[choice] 10 %: a larger error means a wrong speed or resist".into(),
+    });
+    cells
+}
+
+/// An exposure: each mask's file, tone, side and GDS layer from the inventory.
+fn expose_cells(input: &TravelerInput<'_>, e: &Expose) -> StepCells {
+    let mut cells = StepCells::plain(
+        "UV exposure",
+        format!("masks {}; {} s", e.masks.join(", "), e.time_s),
+    );
+    for name in &e.masks {
+        if let Some(m) = input.inventory.masks.iter().find(|m| &m.name == name) {
+            cells.computed.push(Computed {
+                what: format!("mask {name}"),
+                value: format!(
+                    "{}, {}, {} side{}",
+                    m.svg_file,
+                    m.tone,
+                    side(m.side),
+                    if m.mirrored { ", MIRRORED" } else { "" }
+                ),
+                provenance: format!("GDS layer {} of {}", m.gds_layer, input.inventory.gds_file),
+            });
+        }
+    }
+    cells
+}
+
+/// An oxide etch: time = oxide / BOE rate plus the over-etch, and clear openings as the target.
+fn oxide_etch_cells(
+    input: &TravelerInput<'_>,
+    e: &OxideEtch,
+    r: Option<&OxideEtchResult>,
+) -> StepCells {
+    let mut cells = StepCells::plain(
+        "oxide etch",
+        format!(
+            "{}, {}, over-etch {} %",
+            e.etchant,
+            side(e.side),
+            e.overetch_pct
+        ),
+    );
+    let Some(r) = r else { return cells };
+    cells.computed.push(Computed {
+        what: "etch time".into(),
+        value: format!("{:.1} min", r.time_min),
+        provenance: format!(
+            "{:.3} um oxide at {} um/min ({}) + {} % over-etch",
+            r.oxide_um,
+            r.rate_um_per_min,
+            provenance(input.defaults_used, "etchants.boe_rate_um_per_min"),
+            e.overetch_pct
+        ),
+    });
+    cells.target = Some(Target {
+        quantity: "openings clear".into(),
+        value: "0 um oxide in the openings (the surface dewets)".into(),
+        basis: "a hard mask needs bare Si in every opening".into(),
+    });
+    cells
+}
+
+/// A silicon etch: the computed column, the depth target (1 %) and the 90 % depth hold.
+fn silicon_etch_cells(plan: &EtchPlan, e: &SiliconEtch, r: Option<&EtchStep>) -> StepCells {
+    let params = format!(
+        "{} {} wt %, {} C, {}, {} mask{}",
+        e.etchant.label(),
+        e.concentration_wt_pct,
+        e.temp_c,
+        side(e.side),
+        label(&e.mask),
+        e.time_h
+            .map(|t| format!(", recipe time {t} h"))
+            .unwrap_or_default()
+    );
+    let mut cells = StepCells::plain("anisotropic Si etch", params);
+    let Some(r) = r else { return cells };
+    silicon_rows(r, &mut cells.computed);
+    let tol = DEPTH_TOL_REL * r.depth_um;
+    cells.target = Some(Target {
+        quantity: format!("etch depth per face ({})", side(r.side)),
+        value: format!("{:.1} um +/- {:.1} um", r.depth_um, tol),
+        basis: "1 %, as the ETCH_TIME_DEPTH_MISMATCH check".into(),
+    });
+    cells.hold = Some(depth_hold(plan, r, tol));
+    cells
+}
+
+/// Stop at HOLD_FRACTION of the computed time, measure the depth d, and finish from the measured
+/// rate: remaining time = t_hold (D / d - 1).
+fn depth_hold(plan: &EtchPlan, r: &EtchStep, tol: f64) -> HoldPoint {
+    let two_sided = plan.steps.iter().any(|s| s.side == Side::Both)
+        || (plan.front_depth_um > 0.0 && plan.back_depth_um > 0.0);
+    let t_hold = HOLD_FRACTION * r.time_for_depth_h;
+    let finish = if two_sided && plan.steps.len() == 1 {
+        format!(
+            "for the {} um plate finish to depth D = (w - {})/2 per face (w from \
+             H1), remaining time = {:.3} h x (D / d - 1)",
+            plan.plate_target_um, plan.plate_target_um, t_hold
+        )
+    } else {
+        format!(
+            "remaining time = {t_hold:.3} h x ({} um / d - 1)",
+            r.depth_um
+        )
+    };
+    HoldPoint {
+        id: String::new(),
+        step: r.name.clone(),
+        when: format!(
+            "at {:.0} % of the computed time: {:.3} h = {:.0} min (not the \
+             recipe's {} h)",
+            HOLD_FRACTION * 100.0,
+            t_hold,
+            t_hold * 60.0,
+            r.time_h
+        ),
+        measure: format!(
+            "etch depth d on each etched face (microscope focus or profilometer), \
+             expected {:.1} um",
+            HOLD_FRACTION * r.depth_um
+        ),
+        accept: format!(
+            "d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h",
+            HOLD_FRACTION * r.depth_um,
+            HOLD_FRACTION * tol
+        ),
+        then: finish,
+    }
+}
+
+/// A metal etch: the electrode islands it must leave isolated.
+fn metal_etch_cells(set: &MaskSet, m: &MetalEtch) -> StepCells {
+    let n = set.electrodes.len();
+    let mut cells = StepCells::plain(
+        "metal etch",
+        format!("{}, {} C, {} min", m.etchant, m.temp_c, m.time_min),
+    );
+    cells.target = Some(Target {
+        quantity: "electrode islands".into(),
+        value: format!(
+            "{n} isolated islands ({})",
+            set.electrodes
+                .iter()
+                .map(|e| e.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        basis: "PVDF mask; check no continuity between neighbours".into(),
+    });
+    cells
+}
+
+/// An assembly step: temperature, time and wire count when given.
+fn assemble_cells(a: &Assemble) -> StepCells {
+    let mut v = Vec::new();
+    if let Some(t) = a.temp_c {
+        v.push(format!("{t} C"));
+    }
+    if let Some(t) = a.time_min {
+        v.push(format!("{t} min"));
+    }
+    if a.wires > 0 {
+        v.push(format!("{} wires", a.wires));
+    }
+    StepCells::plain("assemble", v.join(", "))
 }
 
 /// The computed column of a silicon etch.

@@ -34,56 +34,18 @@ pub struct SceneLoads {
 
 /// Splits `load` between the plate and the supports by area.
 pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
-    let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
     match *load {
         SceneLoad::Point {
             x_um,
             y_um,
             force_n,
             radius_um,
-        } => {
-            // Square patch of equal area, as the FE point load with a radius uses.
-            let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
-            let poly = [
-                (x_um - h, y_um - h),
-                (x_um + h, y_um - h),
-                (x_um + h, y_um + h),
-                (x_um - h, y_um + h),
-            ];
-            let mut s = polygon_split(&poly, force_n, g);
-            let inside = y_um - h >= py0 && y_um + h <= py1 && x_um - h >= 0.0 && x_um + h <= l;
-            if inside {
-                s.plate = vec![Load::Point {
-                    x_um,
-                    y_um,
-                    force_n,
-                    radius_um,
-                }];
-            }
-            // The centre may lie over a support while the patch reaches the plate: read there.
-            s.at_um = (x_um.clamp(0.0, l), y_um.clamp(py0, py1));
-            s.patch = RectUm {
-                x0_um: x_um - h,
-                y0_um: y_um - h,
-                x1_um: x_um + h,
-                y1_um: y_um + h,
-            };
-            s
-        }
+        } => split_point(g, (x_um, y_um), force_n, radius_um),
         SceneLoad::Pressure { force_n, region } => {
             let r = region
                 .map(|r| (r.x0_um, r.y0_um, r.x1_um, r.y1_um))
-                .unwrap_or((0.0, py0, l, py1));
-            let poly = [(r.0, r.1), (r.2, r.1), (r.2, r.3), (r.0, r.3)];
-            let mut s = polygon_split(&poly, force_n, g);
-            s.at_um = ((r.0 + r.2) / 2.0, ((r.1 + r.3) / 2.0).clamp(py0, py1));
-            s.patch = RectUm {
-                x0_um: r.0,
-                y0_um: r.1.max(py0),
-                x1_um: r.2,
-                y1_um: r.3.min(py1),
-            };
-            s
+                .unwrap_or((0.0, g.plate_y0_um, g.length_um, g.plate_y1_um));
+            split_pressure(g, r, force_n)
         }
         SceneLoad::Probe {
             x_um,
@@ -92,78 +54,147 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
             height_um,
             angle_deg,
             force_n,
-        } => {
-            let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
-            let mut s = polygon_split(&poly, force_n, g);
-            let inside = poly
-                .iter()
-                .all(|&(x, y)| x >= 0.0 && x <= l && y >= py0 && y <= py1);
-            if inside {
-                s.plate = vec![Load::Probe {
-                    x_um,
-                    y_um,
-                    width_um,
-                    height_um,
-                    angle_deg,
-                    total_force_n: force_n,
-                }];
-            }
-            let (bx0, bx1) = poly
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
-            let (by0, by1) = poly
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
-            s.at_um = (x_um, y_um.clamp(py0, py1));
-            s.patch = RectUm {
-                x0_um: bx0.max(0.0),
-                y0_um: by0.max(py0),
-                x1_um: bx1.min(l),
-                y1_um: by1.min(py1),
-            };
-            s
-        }
-        SceneLoad::Line { y_um, force_n } => {
-            let (plate, direct) = if y_um > py0 && y_um < py1 {
-                (
-                    vec![Load::Line {
-                        x0_um: 0.0,
-                        y0_um: y_um,
-                        x1_um: l,
-                        y1_um: y_um,
-                        total_force_n: force_n,
-                    }],
-                    vec![],
-                )
-            } else {
-                let side = if y_um <= py0 {
-                    ElectrodeSide::Support1
-                } else {
-                    ElectrodeSide::Support2
-                };
-                (
-                    vec![],
-                    vec![DirectLoad {
-                        side,
-                        x0_um: 0.0,
-                        x1_um: l,
-                        force_n,
-                    }],
-                )
-            };
-            SceneLoads {
-                plate,
-                direct,
+        } => split_probe(g, (x_um, y_um), (width_um, height_um), angle_deg, force_n),
+        SceneLoad::Line { y_um, force_n } => split_line(g, y_um, force_n),
+    }
+}
+
+/// A point load with a contact radius: the square patch of equal area (side sqrt(pi) r, as the FE
+/// point load with a radius uses), kept as a point load when the patch lies on the plate.
+fn split_point(
+    g: &SensorGeometry,
+    (x_um, y_um): (f64, f64),
+    force_n: f64,
+    radius_um: f64,
+) -> SceneLoads {
+    let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
+    // Square patch of equal area, as the FE point load with a radius uses.
+    let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
+    let poly = [
+        (x_um - h, y_um - h),
+        (x_um + h, y_um - h),
+        (x_um + h, y_um + h),
+        (x_um - h, y_um + h),
+    ];
+    let mut s = polygon_split(&poly, force_n, g);
+    let inside = y_um - h >= py0 && y_um + h <= py1 && x_um - h >= 0.0 && x_um + h <= l;
+    if inside {
+        s.plate = vec![Load::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        }];
+    }
+    // The centre may lie over a support while the patch reaches the plate: read there.
+    s.at_um = (x_um.clamp(0.0, l), y_um.clamp(py0, py1));
+    s.patch = RectUm {
+        x0_um: x_um - h,
+        y0_um: y_um - h,
+        x1_um: x_um + h,
+        y1_um: y_um + h,
+    };
+    s
+}
+
+/// A uniform pressure over the rectangle `r` = (x0, y0, x1, y1); read at its centre.
+fn split_pressure(g: &SensorGeometry, r: (f64, f64, f64, f64), force_n: f64) -> SceneLoads {
+    let (py0, py1) = (g.plate_y0_um, g.plate_y1_um);
+    let poly = [(r.0, r.1), (r.2, r.1), (r.2, r.3), (r.0, r.3)];
+    let mut s = polygon_split(&poly, force_n, g);
+    s.at_um = ((r.0 + r.2) / 2.0, ((r.1 + r.3) / 2.0).clamp(py0, py1));
+    s.patch = RectUm {
+        x0_um: r.0,
+        y0_um: r.1.max(py0),
+        x1_um: r.2,
+        y1_um: r.3.min(py1),
+    };
+    s
+}
+
+/// A rotated rectangular probe, kept whole when every corner lies on the plate; the patch is its
+/// bounding box clipped to the plate.
+fn split_probe(
+    g: &SensorGeometry,
+    (x_um, y_um): (f64, f64),
+    (width_um, height_um): (f64, f64),
+    angle_deg: f64,
+    force_n: f64,
+) -> SceneLoads {
+    let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
+    let poly = probe_polygon(x_um, y_um, width_um, height_um, angle_deg);
+    let mut s = polygon_split(&poly, force_n, g);
+    let inside = poly
+        .iter()
+        .all(|&(x, y)| x >= 0.0 && x <= l && y >= py0 && y <= py1);
+    if inside {
+        s.plate = vec![Load::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            total_force_n: force_n,
+        }];
+    }
+    let (bx0, bx1) = poly
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.0), b.max(q.0)));
+    let (by0, by1) = poly
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), q| (a.min(q.1), b.max(q.1)));
+    s.at_um = (x_um, y_um.clamp(py0, py1));
+    s.patch = RectUm {
+        x0_um: bx0.max(0.0),
+        y0_um: by0.max(py0),
+        x1_um: bx1.min(l),
+        y1_um: by1.min(py1),
+    };
+    s
+}
+
+/// A line load across the whole length at `y_um`: on the plate when strictly between the
+/// supports, else straight into the support it lies over.
+fn split_line(g: &SensorGeometry, y_um: f64, force_n: f64) -> SceneLoads {
+    let (py0, py1, l) = (g.plate_y0_um, g.plate_y1_um, g.length_um);
+    let (plate, direct) = if y_um > py0 && y_um < py1 {
+        (
+            vec![Load::Line {
+                x0_um: 0.0,
+                y0_um: y_um,
+                x1_um: l,
+                y1_um: y_um,
                 total_force_n: force_n,
-                at_um: (l / 2.0, y_um.clamp(py0, py1)),
-                patch: RectUm {
-                    x0_um: 0.0,
-                    y0_um: (y_um - 50.0).max(py0),
-                    x1_um: l,
-                    y1_um: (y_um + 50.0).min(py1),
-                },
-            }
-        }
+            }],
+            vec![],
+        )
+    } else {
+        let side = if y_um <= py0 {
+            ElectrodeSide::Support1
+        } else {
+            ElectrodeSide::Support2
+        };
+        (
+            vec![],
+            vec![DirectLoad {
+                side,
+                x0_um: 0.0,
+                x1_um: l,
+                force_n,
+            }],
+        )
+    };
+    SceneLoads {
+        plate,
+        direct,
+        total_force_n: force_n,
+        at_um: (l / 2.0, y_um.clamp(py0, py1)),
+        patch: RectUm {
+            x0_um: 0.0,
+            y0_um: (y_um - 50.0).max(py0),
+            x1_um: l,
+            y1_um: (y_um + 50.0).min(py1),
+        },
     }
 }
 
