@@ -350,6 +350,25 @@ fn fe(fe: Option<&FeSummary>) -> Section {
          under {} (at most {} levels).",
         fe.tol_rel, fe.max_levels
     ))));
+    s.push(Block::Table(scene_table(fe)));
+    if let Some(t) = voltage_table(fe) {
+        s.push(Block::Table(t));
+    }
+    s.push(Block::Figures {
+        figures: plots(fe)
+            .into_iter()
+            .map(|(caption, svg)| Figure { svg, caption })
+            .collect(),
+        grid: false,
+        max_width_mm: None,
+    });
+    s.push(Block::List(scene_warnings(fe)));
+    s
+}
+
+/// One row per scene: load, model and cost, error, the numbers its limits are about, and the
+/// limits with PASS or FAIL.
+fn scene_table(fe: &FeSummary) -> Table {
     let mut table = Table::new(&[
         "scene",
         "load",
@@ -394,34 +413,32 @@ fn fe(fe: Option<&FeSummary>) -> Section {
             limits,
         ]);
     }
-    s.push(Block::Table(table));
-    if let Some(first) = fe.scenes.first() {
-        let mut head = vec!["electrode".to_string()];
-        head.extend(fe.scenes.iter().map(|sc| format!("{} (mV)", sc.name)));
-        let mut table = Table::new(&head);
-        for (i, e) in first.electrodes.iter().enumerate() {
-            let mut r: Vec<Rich> = vec![e.name.as_str().into()];
-            r.extend(fe.scenes.iter().map(|sc| {
-                sc.electrodes
-                    .get(i)
-                    .map(|x| format!("{:.3}", x.voltage_mv))
-                    .unwrap_or_default()
-                    .into()
-            }));
-            table.row(r);
-        }
-        s.push(Block::Table(table));
+    table
+}
+
+/// Electrode voltages (mV), one column per scene.
+fn voltage_table(fe: &FeSummary) -> Option<Table> {
+    let first = fe.scenes.first()?;
+    let mut head = vec!["electrode".to_string()];
+    head.extend(fe.scenes.iter().map(|sc| format!("{} (mV)", sc.name)));
+    let mut table = Table::new(&head);
+    for (i, e) in first.electrodes.iter().enumerate() {
+        let mut r: Vec<Rich> = vec![e.name.as_str().into()];
+        r.extend(fe.scenes.iter().map(|sc| {
+            sc.electrodes
+                .get(i)
+                .map(|x| format!("{:.3}", x.voltage_mv))
+                .unwrap_or_default()
+                .into()
+        }));
+        table.row(r);
     }
-    s.push(Block::Figures {
-        figures: plots(fe)
-            .into_iter()
-            .map(|(caption, svg)| Figure { svg, caption })
-            .collect(),
-        grid: false,
-        max_width_mm: None,
-    });
-    let warnings: Vec<(Rich, bool)> = fe
-        .scenes
+    Some(table)
+}
+
+/// What each scene's answer should be read with.
+fn scene_warnings(fe: &FeSummary) -> Vec<(Rich, bool)> {
+    fe.scenes
         .iter()
         .flat_map(|sc| {
             sc.warnings.iter().map(move |w| {
@@ -433,9 +450,7 @@ fn fe(fe: Option<&FeSummary>) -> Section {
                 )
             })
         })
-        .collect();
-    s.push(Block::List(warnings));
-    s
+        .collect()
 }
 
 fn compensation(t: &Traveler, fig: &Figures) -> Section {
