@@ -12,7 +12,7 @@ h1 { font-size: 15pt; margin: 0 0 4pt; } h2 { font-size: 12pt; border-bottom: 1p
                    margin-top: 14pt; }
 h2 { break-after: avoid; } table { border-collapse: collapse; width: 100%; margin: 4pt 0; }
 th, td { border: 1px solid #999; padding: 2pt 3pt; vertical-align: top; text-align: left; }
-th { background: #eee; } td { overflow-wrap: anywhere; }
+th { background: #eee; } td, th { overflow-wrap: break-word; hyphens: auto; }
 table.steps { table-layout: fixed; } tr { break-inside: avoid; } .blank { min-width: 18mm; height: \
                    12pt; }
 code, .hash { font-family: monospace; font-size: 7.5pt; word-break: break-all; }

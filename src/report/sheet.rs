@@ -157,7 +157,7 @@ fn steps(t: &Traveler) -> Section {
             "Measured",
             "Operator/date",
         ],
-        &[11, 9, 10, 14, 26, 14, 8, 8],
+        &[10, 9, 9, 13, 25, 12, 11, 11],
         2,
     );
     for r in &t.steps {
@@ -214,13 +214,20 @@ fn holds(t: &Traveler) -> Section {
             "Measure",
             "Accept",
             "Then",
-            "Measured",
+            "Measured (one per reading)",
             "Engineer sign-off/date",
         ],
-        &[6, 10, 16, 16, 16, 16, 10, 10],
-        2,
+        &[5, 9, 14, 15, 15, 15, 17, 10],
+        1,
     );
     for h in &t.holds {
+        let mut readings = Rich::default();
+        for (i, r) in h.readings.iter().enumerate() {
+            if i > 0 {
+                readings = readings.and(Span::Break);
+            }
+            readings = readings.plain(format!("{r}: ______"));
+        }
         table.row(vec![
             Rich::value(h.id.clone()),
             h.step.as_str().into(),
@@ -228,6 +235,7 @@ fn holds(t: &Traveler) -> Section {
             h.measure.as_str().into(),
             h.accept.as_str().into(),
             h.then.as_str().into(),
+            readings,
         ]);
     }
     s.push(Block::Table(table));

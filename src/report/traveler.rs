@@ -73,8 +73,15 @@ pub struct HoldPoint {
     pub step: String,
     pub when: String,
     pub measure: String,
+    /// One blank per reading the measurement asks for, by label.
+    pub readings: Vec<String>,
     pub accept: String,
     pub then: String,
+}
+
+/// Labels `prefix 1` .. `prefix n`.
+fn numbered(prefix: &str, n: usize) -> Vec<String> {
+    (1..=n).map(|i| format!("{prefix}{i}")).collect()
 }
 
 /// A number of the source against what tactfab computes.
@@ -299,6 +306,7 @@ fn start_hold(p: &Process, plan: &EtchPlan) -> HoldPoint {
         step: "start".into(),
         when: "before the first step".into(),
         measure: "wafer thickness w at the centre and 4 points 10 mm from the edge (um)".into(),
+        readings: ["centre", "N", "E", "S", "W"].map(String::from).to_vec(),
         accept: format!(
             "{} +/- {} um (supplier tolerance)",
             w.thickness_um, w.thickness_tolerance_um
@@ -327,6 +335,7 @@ fn plate_hold(plan: &EtchPlan, steps: &mut [StepRow], holds: &mut Vec<HoldPoint>
         step: last_si.clone(),
         when: "after the last silicon etch, before stripping the oxide".into(),
         measure: "plate thickness = w - front depth - back depth (um)".into(),
+        readings: vec!["plate".into()],
         accept: format!(
             "{} +/- {:.1} um (5 %, as the PLATE_TOLERANCE check)",
             plan.plate_target_um,
@@ -512,6 +521,7 @@ fn oxide_hold(p: &Process, plan: &EtchPlan, s: &Step) -> Option<HoldPoint> {
         step: s.name.clone(),
         when: "after oxidation, before lithography".into(),
         measure: "oxide thickness on both faces (ellipsometer, 5 points)".into(),
+        readings: [numbered("front ", 5), numbered("back ", 5)].concat(),
         accept: format!(
             ">= {need:.3} um: `{}` erodes {:.3} um ({:.2} h at {} um/h), and \
              {:.0} % must be left",
@@ -693,6 +703,11 @@ fn depth_hold(plan: &EtchPlan, r: &EtchStep, tol: f64) -> HoldPoint {
              expected {:.1} um",
             HOLD_FRACTION * r.depth_um
         ),
+        readings: match r.side {
+            Side::Front => vec!["front d".into()],
+            Side::Back => vec!["back d".into()],
+            Side::Both => vec!["front d".into(), "back d".into()],
+        },
         accept: format!(
             "d within {:.1} +/- {:.1} um; measured rate d / {t_hold:.3} h",
             HOLD_FRACTION * r.depth_um,

@@ -661,6 +661,9 @@ fn traveler_text_is_typeset() {
     assert!(text.contains(" µm") && text.contains(" ± "));
     assert!(!text.contains('`'), "literal backticks in the HTML");
     assert!(!text.contains("+/-"));
+    // One blank per reading: H1 asks for five wafer thicknesses, H2 for five oxide readings a face.
+    assert!(text.contains("centre: ______<br>N: ______"), "H1 readings");
+    assert_eq!(text.matches("front 5: ______").count(), 1, "H2 readings");
     let words: Vec<&str> = text
         .split(|c: char| !(c.is_alphanumeric() || c == '_'))
         .filter(|w| *w == "um")
