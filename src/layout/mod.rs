@@ -292,10 +292,16 @@ fn add_labels(
     let g = &p.geometry;
     let (l, w) = (g.die_length_um, g.die_width_um);
     let pixel = p.layout.label_pixel_um;
-    let clearance = (p.drc.min_space_um * 2.0).max(150.0);
     let mut warnings = Vec::new();
     for m in masks {
         let layer = m.layer;
+        // A label obeys the rules of the layer it is drawn on: on the PVDF mask it keeps the
+        // electrode gap from the islands (it is metal like them).
+        let clearance = match layer {
+            LayerKind::Pvdf => p.drc.min_electrode_gap_um,
+            _ => 0.0,
+        }
+        .max((p.drc.min_space_um * 2.0).max(150.0));
         let obstacles = match layer {
             LayerKind::FrontSi => front_obstacles.to_vec(),
             _ => die.shapes.get(&layer).cloned().unwrap_or_default(),
@@ -307,22 +313,31 @@ fn add_labels(
             vec![device.clone(), name.clone(), rev.clone()],
             vec![format!("{device} {name} {rev}")],
         ];
-        let spot = choices.iter().find_map(|lines| {
-            labels::find_spot(lines, pixel, &obstacles, l, w, clearance).map(|s| (lines, s))
+        // The configured pixel first, then smaller ones down to twice the minimum width (the
+        // strokes must still print), before giving up on a label.
+        let pixels = [1.0, 0.8, 0.6]
+            .map(|f| f * pixel)
+            .into_iter()
+            .filter(|&px| px == pixel || px >= 2.0 * p.drc.min_width_um);
+        let spot = pixels.into_iter().find_map(|px| {
+            choices.iter().find_map(|lines| {
+                labels::find_spot(lines, px, &obstacles, l, w, clearance).map(|s| (lines, s, px))
+            })
         });
         match spot {
-            Some((lines, (x, y))) => {
-                die.add(layer, text::text_polygons(lines, x, y, pixel));
-                warnings.extend(label_undercut(plan, m, pixel));
+            Some((lines, (x, y), px)) => {
+                die.add(layer, text::text_polygons(lines, x, y, px));
+                warnings.extend(label_undercut(plan, m, px));
             }
             None => warnings.push(
                 Finding::warning(
                     LayoutCode::LabelNoRoom,
                     format!(
-                    "mask `{}`: no free spot on layer {} for a {pixel} um-pixel label; none drawn",
-                    m.name,
-                    layer.name()
-                ),
+                        "mask `{}`: no free spot on layer {} for a label ({pixel} um pixels or \
+                     smaller, {clearance} um from every shape); none drawn",
+                        m.name,
+                        layer.name()
+                    ),
                 )
                 .at(At::Mask(m.name.clone())),
             ),
