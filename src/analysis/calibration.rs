@@ -178,6 +178,19 @@ fn sample(r: &SceneReport, x_um: f64, y_um: f64) -> Sample {
 
 /// Runs the plan as one batched FE call.
 pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibration, AnalysisError> {
+    let increasing = |v: &[f64]| v.len() >= 2 && v.windows(2).all(|w| w[1] > w[0]);
+    if !increasing(&plan.grid_x_um) || !increasing(&plan.grid_y_um) {
+        return Err(AnalysisError::Plan {
+            reason: format!(
+                "a {:.0} um contact (a {:.0} um square) leaves no grid of at least 2 x 2 \
+                 positions with the contact wholly on the {:.0} x {:.0} um plate",
+                plan.radius_um,
+                2.0 * contact_half_side_um(plan.radius_um),
+                g.length_um,
+                g.plate_y1_um - g.plate_y0_um
+            ),
+        });
+    }
     let (cx, cy) = (g.length_um / 2.0, g.width_um / 2.0);
     let r = plan.radius_um;
     let mut scenes = Vec::new();

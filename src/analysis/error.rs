@@ -22,6 +22,11 @@ pub enum AnalysisError {
         got: usize,
         names: String,
     },
+    #[error(
+        "{reason}\n  hint: a smaller contact radius (--contact-radius-mm) or a \
+         finer grid (--x-step-mm, --y-step-mm)"
+    )]
+    Plan { reason: String },
     #[error("calibration: {reason}\n  hint: regenerate it with `tactfab calibrate FILE -o DIR`")]
     Calibration { reason: String },
     #[error(

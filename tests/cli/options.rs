@@ -958,6 +958,22 @@ fn values_that_crashed_before_are_refused_naming_the_flag() {
             &["fe", "@FILE", "--max-levels", "1", "--point", "1e9,0,1"],
             "--point",
         ),
+        // A contact wider than the plate leaves no calibration grid: a clear refusal.
+        (
+            &[
+                "calibrate",
+                "@FILE",
+                "-o",
+                "@OUT",
+                "--max-levels",
+                "1",
+                "--contact-radius-mm",
+                "5",
+                "--set",
+                "geometry.support_width_um=5000",
+            ],
+            "--contact-radius-mm",
+        ),
         // Centres on the die, contact patches over its edge: part of the force would be lost.
         (
             &["fe", "@FILE", "--max-levels", "1", "--point", "30,7,1"],
