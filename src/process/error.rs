@@ -66,9 +66,17 @@ impl fmt::Display for Problem {
         } else {
             ""
         };
+        // `steps[i]` is the YAML index; the traveler numbers steps from 1: say both.
+        let step = self
+            .path
+            .strip_prefix("steps[")
+            .and_then(|r| r.split_once(']'))
+            .and_then(|(i, _)| i.parse::<usize>().ok())
+            .map(|i| format!(" (traveler step {})", i + 1))
+            .unwrap_or_default();
         write!(
             f,
-            "{}: {}{default}: {}",
+            "{}: {}{default}{step}: {}",
             self.location, self.path, self.message
         )?;
         if !self.expected.is_empty() {

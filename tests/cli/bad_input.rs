@@ -86,7 +86,8 @@ fn bad_override_points_at_the_argument() {
     run.expect_code(2);
     assert!(
         run.stderr.contains(
-            "--set steps.tmah-etch.temp_c=150: steps[10].temp_c: 150 C for TMAH is out of range"
+            "--set steps.tmah-etch.temp_c=150: steps[10].temp_c (traveler step 11): 150 C for TMAH \
+             is out of range"
         ),
         "{}",
         run.stderr
