@@ -79,6 +79,25 @@ pub struct HoldPoint {
     pub then: String,
 }
 
+/// The tool a step of this kind runs on when the process file names none [choice: the usual
+/// cleanroom tool for the kind]; the traveler marks it `(default)`.
+fn default_equipment(params: &StepParams) -> &'static str {
+    match params {
+        StepParams::Clean(_) => "wet bench",
+        StepParams::Oxidation(_) => "oxidation furnace",
+        StepParams::SpinCoat(_) => "spinner",
+        StepParams::Bake(_) => "hotplate",
+        StepParams::Expose(_) => "mask aligner",
+        StepParams::Develop(_) => "wet bench (developer)",
+        StepParams::OxideEtch(_) => "wet bench (BOE)",
+        StepParams::SiliconEtch(_) => "heated etch bath",
+        StepParams::Strip(_) => "wet bench",
+        StepParams::Mount(_) => "bench",
+        StepParams::MetalEtch(_) => "wet bench",
+        StepParams::Assemble(_) => "assembly bench",
+    }
+}
+
 /// Labels `prefix 1` .. `prefix n`.
 fn numbered(prefix: &str, n: usize) -> Vec<String> {
     (1..=n).map(|i| format!("{prefix}{i}")).collect()
@@ -411,7 +430,11 @@ fn step_rows(input: &TravelerInput<'_>, holds: &mut Vec<HoldPoint>) -> Vec<StepR
             number: i + 1,
             name: s.name.clone(),
             process: cells.process,
-            equipment: s.equipment.clone(),
+            equipment: if s.equipment.trim().is_empty() {
+                format!("{} (default)", default_equipment(&s.params))
+            } else {
+                s.equipment.clone()
+            },
             parameters: with_notes(cells.parameters, &s.notes),
             computed: cells.computed,
             target: cells.target,
