@@ -231,7 +231,10 @@ fn add_electrodes(die: &mut Cell, p: &Process) -> Result<Vec<Electrode>, LayoutE
         );
     }
     die.note(
-        "COMMON BACK ELECTRODE: UNPATTERNED AL ON THE FILM BACK (10TH WIRE)",
+        format!(
+            "COMMON BACK ELECTRODE: UNPATTERNED AL ON THE FILM BACK ({}TH WIRE)",
+            electrodes.len() + 1
+        ),
         l / 2.0,
         w / 2.0 + 500.0,
     );

@@ -174,6 +174,16 @@ pub struct Electrodes {
     pub drawn_axis: Axis,
 }
 
+impl Electrodes {
+    /// Islands the PVDF mask carries: three per unit (S1k, Mk, S2k) or the four of the cross.
+    pub fn island_count(&self) -> usize {
+        match self.pattern {
+            ElectrodePattern::Nine => 3 * self.units as usize,
+            ElectrodePattern::FourCross => 4,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Materials {

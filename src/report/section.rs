@@ -28,6 +28,8 @@ pub struct PvdfState {
     pub on_carrier: bool,
     pub resist: Film,
     pub electrodes_patterned: bool,
+    /// Electrode islands the Al etch leaves (from the electrode pattern).
+    pub islands: usize,
     pub attached: bool,
 }
 
@@ -79,9 +81,9 @@ impl Stack {
                 },
                 film(&p.resist),
                 if p.electrodes_patterned {
-                    "patterned (9 islands)"
+                    format!("patterned ({} islands)", p.islands)
                 } else {
-                    "blanket"
+                    "blanket".to_string()
                 }
             ));
         }
@@ -198,6 +200,7 @@ pub fn stacks(p: &Process, plan: &EtchPlan) -> Vec<Stack> {
             StepParams::MetalEtch(_) => {
                 if let Some(f) = st.pvdf.as_mut() {
                     f.electrodes_patterned = true;
+                    f.islands = p.geometry.electrodes.island_count();
                 }
             }
             StepParams::Assemble(_) => {

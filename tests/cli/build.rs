@@ -674,3 +674,22 @@ fn traveler_text_is_typeset() {
         words.len()
     );
 }
+
+/// Counts in the run sheet and the notes come from the design, not from the bundled one: the
+/// four-element sensor's film is patterned into 4 islands.
+#[test]
+fn island_count_follows_the_electrode_pattern() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("t");
+    let args = ["traveler", "process/four-element.yaml", "--no-fe", "-o"];
+    let (code, _, stderr) = run(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let md = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "md"))
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .unwrap();
+    assert!(md.contains("patterned (4 islands)"), "four islands");
+    assert!(!md.contains("9 islands"));
+}
