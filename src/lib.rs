@@ -28,8 +28,9 @@
 //! 5. [`drc`] checks the generated set (width, space, compensators, tooth bases, streets,
 //!    electrodes, polygon validity) and returns violations as values; the process file may waive
 //!    codes on purpose.
-//! 6. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp,
-//!    and the one atomic directory writer.
+//! 6. [`export`] is the only place um become integer nm: GDSII (gds21), SVG per mask, KLayout .lyp
+//!    and the DRC marker database (.lyrdb), the one XML escaper, and the one directory writer
+//!    (a manifest of what tactfab wrote, swapped in as a unit).
 //! 7. [`fe`] is a Kirchhoff plate solver (Bogner-Fox-Schmit rectangles, faer supernodal Cholesky in
 //!    a nested-dissection order from the mesh grid) that knows nothing of sensors: meshes,
 //!    thickness regions, line supports (clamped, simple, symmetry lines), loads, reactions,
@@ -42,8 +43,9 @@
 //!    [`sensor::Accuracy`] and says which model answered ([`sensor::ModelKind`]) and what it cost,
 //!    solving half or a quarter of the plate when the teeth and the loads are mirror-symmetric.
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
-//!    provenance, targets, hold points, a cross-section after each step, checks, FE summary) as
-//!    Markdown and HTML, and `tactfab build`'s in-memory build and `build.json` summary.
+//!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
+//!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown
+//!    and as printable HTML, and `tactfab build`'s in-memory build and `build.json` summary.
 //! 10. The studies call the sensor: [`analysis`] (calibration, load inverse, orientation),
 //!     [`softness`] (composite beam, paper 001 Eq. 7-12, beside a locking-free tissue FE, and the
 //!     inverse) and [`sweep`] (paper 001's 15,000 plates, sharded).

@@ -146,7 +146,7 @@ pub struct Calibration {
     pub x_sweep: Vec<Sample>,
     pub grid_x_um: Vec<f64>,
     pub grid_y_um: Vec<f64>,
-    /// grid[j][i] at (grid_x_um[i], grid_y_um[j]), 1 N.
+    /// `grid[j][i]` at (`grid_x_um[i]`, `grid_y_um[j]`), 1 N.
     pub grid: Vec<Vec<Sample>>,
     pub held_out: Vec<Sample>,
     pub cost: Cost,

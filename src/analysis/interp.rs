@@ -109,7 +109,7 @@ fn end_slope(h0: f64, h1: f64, del0: f64, del1: f64) -> f64 {
     }
 }
 
-/// Tensor-product PCHIP on a grid: values[j][i] at (xs[i], ys[j]); PCHIP in x along each row,
+/// Tensor-product PCHIP on a grid: `values[j][i]` at (`xs[i]`, `ys[j]`); PCHIP in x along each row,
 /// then PCHIP in y through the row values.
 pub fn grid_eval(xs: &[f64], ys: &[f64], values: &[Vec<f64>], x: f64, y: f64) -> f64 {
     let col: Vec<f64> = values

@@ -108,7 +108,7 @@ pub struct Bivariate {
 pub struct Orientation {
     pub plan: OrientationPlan,
     pub electrodes: Vec<String>,
-    /// charge_pc[f][a][e]: force index, angle index, electrode index.
+    /// `charge_pc[f][a][e]`: force index, angle index, electrode index.
     pub charge_pc: Vec<Vec<Vec<f64>>>,
     pub max_error_estimate: Option<f64>,
     /// Largest |c_solved(F) - c_scaled(F)| / max |c| over the check angles.

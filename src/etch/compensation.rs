@@ -19,7 +19,7 @@ pub struct CompensationDesign {
     pub reach_um: f64,
 }
 
-/// a = h / ratio (paper 002 sec. VI.A, after the KOH work of its ref. [33]); a square centred on
+/// a = h / ratio (paper 002 sec. VI.A, after the KOH work of its ref. \[33\]); a square centred on
 /// the corner needs side sqrt 2 a to reach as far along the diagonal (process-physics.md).
 ///
 /// Facing corners across a street of width g: corner-attached squares reach a into the street

@@ -57,7 +57,7 @@ impl DealGrove {
     }
 }
 
-/// Silicon consumed per unit oxide grown: 0.44-0.46 [lit]; 0.45 used.
+/// Silicon consumed per unit oxide grown: 0.44-0.46 \[lit\]; 0.45 used.
 pub const SI_CONSUMED_PER_OXIDE: f64 = 0.45;
 
 #[cfg(test)]

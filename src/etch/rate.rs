@@ -65,7 +65,7 @@ pub fn koh_density_g_per_cm3(wt_pct: f64) -> f64 {
 }
 
 /// Seidel et al., J. Electrochem. Soc. 137 (1990) 3612, Eq. 10:
-/// R = k0 [H2O]^4 [KOH]^(1/4) exp(-Ea/kT), concentrations in mol/L.
+/// R = k0 \[H2O\]^4 \[KOH\]^(1/4) exp(-Ea/kT), concentrations in mol/L.
 pub fn koh_seidel(k0_um_per_h: f64, ea_ev: f64, wt_pct: f64, temp_c: f64) -> f64 {
     const M_KOH_G_PER_MOL: f64 = 56.106;
     const M_H2O_G_PER_MOL: f64 = 18.015;

@@ -137,7 +137,7 @@ pub fn point_load(x: f64, y: f64, a: f64, b: f64, force_n: f64) -> [f64; 16] {
     n.map(|v| v * force_n)
 }
 
-/// Consistent load of a uniform pressure p over the local sub-rectangle [x0,x1] x [y0,y1]:
+/// Consistent load of a uniform pressure p over the local sub-rectangle \[x0,x1\] x \[y0,y1\]:
 /// f_i = p int N_i dA (separable, 4-point Gauss per direction, exact). The whole element is x0=0,
 /// x1=a, y0=0, y1=b.
 pub fn rect_load(

@@ -5,7 +5,7 @@ use serde::Serialize;
 /// Orientation of the die edges on a (100) wafer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum DieEdge {
-    /// Edges along <110> (the usual case): crystal axes rotated 45 deg about [001].
+    /// Edges along <110> (the usual case): crystal axes rotated 45 deg about \[001\].
     Along110,
     /// Edges along <100>: die axes coincide with the crystal axes.
     Along100,
@@ -33,7 +33,7 @@ pub struct BendingStiffness {
 impl PlateMaterial {
     /// Cubic crystal (e.g. Si, Hopcroft et al. JMEMS 2010) on a (100) wafer; plane-stress reduction
     /// Q11 = C11 - C12^2/C11, Q12 = C12 - C12^2/C11, Q66 = C44 (Jones, Mechanics of Composite
-    /// Materials, Eq. 2.61), then rotated by 45 deg about [001] for <110> die edges.
+    /// Materials, Eq. 2.61), then rotated by 45 deg about \[001\] for <110> die edges.
     pub fn from_cubic(c11_pa: f64, c12_pa: f64, c44_pa: f64, die_edge: DieEdge) -> Self {
         assert!(
             c11_pa > 0.0 && c44_pa > 0.0,

@@ -104,7 +104,7 @@ impl PlateSolution {
     pub fn mesh(&self) -> &RectMesh {
         &self.ctx.mesh
     }
-    /// Global dof vector (4 per node: w [m], w_x, w_y, w_xy [1/m]).
+    /// Global dof vector (4 per node: w \[m\], w_x, w_y, w_xy [1/m]).
     pub fn dofs(&self) -> &[f64] {
         &self.u
     }

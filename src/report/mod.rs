@@ -6,7 +6,7 @@
 //! that [`markdown`] and [`html`] render,
 //! [`section`] draws the cross-section after each step from the etch plan, [`inventory`] lists
 //! the masks with their SHA-256, [`fe`] summarises the FE scenes, [`limits`] checks their
-//! pass/fail limits, [`summary`] is `build.json`; [`calibration`] and [`orientation`] render the studies' CSV
+//! pass/fail limits, [`summary`](mod@summary) is `build.json`; [`calibration`] and [`orientation`] render the studies' CSV
 //! and SVG files. Outputs are byte-identical for the same input:
 //! no wall times are stored.
 

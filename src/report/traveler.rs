@@ -24,7 +24,7 @@ pub const OXIDE_TOL_REL: f64 = limits::OXIDE_CLAIM_REL;
 pub const DEPTH_TOL_REL: f64 = limits::MISMATCH_REL;
 /// Plate tolerance: that of the plan's PLATE_TOLERANCE check.
 pub const PLATE_TOL_REL: f64 = limits::PLATE_TOLERANCE_REL;
-/// Resist thickness tolerance [choice]: spin-coat repeatability of a few %; 10 % flags a wrong
+/// Resist thickness tolerance \[choice\]: spin-coat repeatability of a few %; 10 % flags a wrong
 /// speed.
 pub const RESIST_TOL_REL: f64 = 0.10;
 /// Stop for a depth measurement at this fraction of the computed time (process-physics.md).

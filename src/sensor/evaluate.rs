@@ -159,7 +159,7 @@ pub fn evaluate(
 }
 
 /// Answers every scene with the cheapest model whose estimated error is under `tol`: the
-/// fixed-fixed strip ([`super::beam_model`]) for line loads on plates without teeth when its bound
+/// fixed-fixed strip ([`beam_answer`](super::beam_answer)) for line loads on plates without teeth when its bound
 /// allows, else the plate, all plate scenes on a shared sequence of meshes (one factorisation per
 /// level, all scenes as one multi-column solve) until every estimate is under `tol` or `max_levels`
 /// is reached. Mirror symmetry is used when every plate scene has it ([`Symmetry`]).

@@ -58,7 +58,7 @@ pub enum SoftnessError {
 
 /// Paper 001 sec. 4.3.2: nu = 0.49 for the nearly incompressible tissue.
 pub const TISSUE_NU: f64 = 0.49;
-/// [choice] Tissue thickness: paper 001 gives none (Fig. 22 shows a block several times the plate's
+/// \[choice\] Tissue thickness: paper 001 gives none (Fig. 22 shows a block several times the plate's
 /// thickness); 5 mm, half the span, a grasped bowel wall / organ slab. A CLI flag changes it.
 pub const TISSUE_THICKNESS_UM: f64 = 5000.0;
 

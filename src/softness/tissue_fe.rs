@@ -5,7 +5,7 @@
 //! the plate's top fibre, u = u0 - (t_b / 2) theta, v = w (y up, theta = dw/dx). The stiffness is
 //! K(E_t) = E_t K_tissue(E = 1, nu) + K_plate on one sparsity pattern: the symbolic Cholesky is
 //! done once and every E_t costs one numeric factorisation. Read-out: plate bottom-fibre strain
-//! eps = u0' + (t_b / 2) w'', so int eps dx over the electrode = [u0] + (t_b / 2) [w'] (exact in
+//! eps = u0' + (t_b / 2) w'', so int eps dx over the electrode = \[u0\] + (t_b / 2) [w'] (exact in
 //! the FE space).
 
 use serde::Serialize;
