@@ -220,6 +220,13 @@ pub struct BuildArgs {
     pub date: DateArgs,
     #[command(flatten)]
     pub replace: OverwriteArgs,
+    #[command(flatten)]
+    pub gate: GateArgs,
+}
+
+/// Whether an unconverged declared scene fails the build.
+#[derive(Debug, Args)]
+pub struct GateArgs {
     /// Do not fail when a declared scene's estimated error stays above --tol (the traveler and
     /// build.json still say which did not converge).
     #[arg(long)]
@@ -242,10 +249,8 @@ pub struct TravelerArgs {
     pub date: DateArgs,
     #[command(flatten)]
     pub replace: OverwriteArgs,
-    /// Do not fail when a declared scene's estimated error stays above --tol (the traveler and
-    /// build.json still say which did not converge).
-    #[arg(long)]
-    pub allow_unconverged: bool,
+    #[command(flatten)]
+    pub gate: GateArgs,
 }
 
 #[derive(Debug, Args)]

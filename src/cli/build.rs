@@ -15,7 +15,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         process_file,
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
-        allow_unconverged: args.allow_unconverged,
+        allow_unconverged: args.gate.allow_unconverged,
     };
     let built = {
         let progress = Progress::new();

@@ -12,7 +12,7 @@ pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
         process_file: process_identity(&args.process)?.0,
         fe: (!args.no_fe).then(|| args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
-        allow_unconverged: args.allow_unconverged,
+        allow_unconverged: args.gate.allow_unconverged,
     };
     let built = {
         let progress = Progress::new();

@@ -20,7 +20,6 @@ fn quoted(s: &str) -> String {
 pub fn to_lyrdb(drc: &DrcReport, set: &MaskSet) -> String {
     let cell = escape(&set.die_cell);
     let mut codes: Vec<_> = drc.violations.iter().map(|v| v.code).collect();
-    codes.dedup();
     codes.sort_by_key(|c| c.as_str());
     codes.dedup();
     let mut s = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<report-database>\n");
