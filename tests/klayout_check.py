@@ -36,7 +36,7 @@ def main():
     tops = [c.name for c in ly.top_cells()]
     check(tops == ["MIS_GRASPER_WAFER"], f"one top cell, the wafer (got {tops})")
     layers = {(i.layer, i.datatype) for i in ly.layer_infos()}
-    for ld in [(1, 0), (2, 0), (3, 0), (10, 0), (63, 0), (64, 0)]:
+    for ld in [(1, 0), (2, 0), (3, 0), (10, 0), (63, 0), (64, 0), (65, 0)]:
         check(ld in layers, f"layer {ld[0]}/{ld[1]} present")
 
     die = cells["MIS_GRASPER_DIE"]
@@ -116,6 +116,13 @@ def main():
                 n_dies += 1
     check(arrays >= 2 and n_dies > 0, f"{n_dies} dies in {arrays} AREF rows")
     check(inside, "every die lies inside the wafer less its edge exclusion")
+    # The wafer edge and usable circle sit on their own layer, not on the die outline.
+    wo = region(wafer, 65).bbox()
+    ru = exp["usable_radius_um"] * 1000
+    check(wo.width() > 2 * ru and abs(wo.center().x) <= 1 and abs(wo.center().y) <= 1,
+          f"wafer outline on 65/0, {wo.width() / 1000} um across, centred")
+    li64 = ly.find_layer(64, 0)
+    check(li64 is None or wafer.shapes(li64).is_empty(), "64/0 holds die outlines only (nothing drawn in the wafer cell)")
 
     # No strange polygons anywhere; width and space on the printing layers of the die and wafer marks.
     for (l, d) in sorted(layers):
@@ -157,7 +164,7 @@ def main():
     # Layer properties: every layer named, with the source KLayout maps onto the GDS layer.
     lyp = ET.parse(os.path.join(svg_dir, "mis-grasper.lyp")).getroot()
     sources = {p.findtext("source"): p.findtext("name") for p in lyp.findall("properties")}
-    want_src = {f"{l}/{d}@1" for (l, d) in [(1, 0), (2, 0), (3, 0), (10, 0), (63, 0), (64, 0)]}
+    want_src = {f"{l}/{d}@1" for (l, d) in [(1, 0), (2, 0), (3, 0), (10, 0), (63, 0), (64, 0), (65, 0)]}
     check(set(sources) == want_src and all(sources.values()), f"lyp names every layer: {sources}")
     lv_ok = True
     try:
@@ -166,7 +173,7 @@ def main():
         lv.load_layout(gds, True)
         lv.load_layer_props(os.path.join(svg_dir, "mis-grasper.lyp"))
         names = sorted(n.name for n in lv.each_layer())
-        lv_ok = len(names) == 6
+        lv_ok = len(names) == 7
     except ImportError:
         names = "klayout.lay not available"
     check(lv_ok, f"KLayout loads the lyp onto the layout: {names}")

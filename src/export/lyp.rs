@@ -11,7 +11,10 @@ impl MaskSet {
             String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<layer-properties>\n");
         for k in LayerKind::ALL {
             let g = k.gds(&self.layers);
-            let fill = if matches!(k, LayerKind::Outline | LayerKind::Annotation) {
+            let fill = if matches!(
+                k,
+                LayerKind::Outline | LayerKind::WaferOutline | LayerKind::Annotation
+            ) {
                 "I1"
             } else {
                 "I5"

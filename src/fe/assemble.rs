@@ -77,20 +77,23 @@ impl ElementStiffness {
 }
 
 /// Sparsity pattern (CSC, lower triangle) of the free-free stiffness, built directly from the 3x3
-/// node stencil of the rectilinear mesh (no sorting of element triplets).
+/// node stencil of the rectilinear mesh (no sorting of element triplets), for `m` dofs per node
+/// (4 for the bending plate, 6 for the von Karman plate).
 #[derive(Debug, Clone)]
 pub struct Pattern {
     pub symbolic: SymbolicSparseColMat<usize>,
+    /// Dofs per node.
+    m: usize,
     /// Position in the values of entry (row, col) for every free column, by the row's stencil
-    /// neighbour k (0..9) and dof (0..4): `slot[36 col + 4 k + dof]`, or [`NO_SLOT`] above the
-    /// diagonal or on a constrained row. Assembly is then indexing, not searching.
+    /// neighbour k (0..9) and node dof d (0..m): `slot[9 m col + m k + d]`, or [`NO_SLOT`] above
+    /// the diagonal or on a constrained row. Assembly is then indexing, not searching.
     slot: Vec<u32>,
 }
 
 const NO_SLOT: u32 = u32::MAX;
 
 /// Stencil neighbour index (dy + 1) 3 + (dx + 1) of element corner `r` seen from corner `c`.
-const NEIGHBOUR: [[usize; 4]; 4] = {
+pub(crate) const NEIGHBOUR: [[usize; 4]; 4] = {
     let mut t = [[0; 4]; 4];
     let mut r = 0;
     while r < 4 {
@@ -107,33 +110,48 @@ const NEIGHBOUR: [[usize; 4]; 4] = {
 };
 
 impl Pattern {
-    /// Build once per mesh and constraint set.
+    /// Build once per mesh and constraint set (4 dofs per node).
     pub fn new(mesh: &RectMesh, dofs: &DofMap) -> FeResult<Self> {
+        Self::with_node_dofs(mesh, &dofs.free_index, &dofs.free_dofs, 4)
+    }
+
+    /// The pattern for `m` dofs per node: `free_index[m node + d]` is the free index of a global
+    /// dof or [`CONSTRAINED`], `free_dofs` the global dof of every free index. Panics if the
+    /// lengths do not match the mesh (misuse).
+    #[track_caller]
+    pub fn with_node_dofs(
+        mesh: &RectMesh,
+        free_index: &[usize],
+        free_dofs: &[usize],
+        m: usize,
+    ) -> FeResult<Self> {
         let (nxl, nyl) = (mesh.x_um.len(), mesh.y_um.len());
-        let n = dofs.n_free();
-        // Positions are u32: at most 36 entries per column.
-        if n >= (u32::MAX / 36) as usize {
+        assert_eq!(free_index.len(), m * nxl * nyl, "m dofs per node");
+        let n = free_dofs.len();
+        // Positions are u32: at most 9 m entries per column.
+        if n >= (u32::MAX as usize) / (9 * m) {
             return Err(FeError::Sparse {
                 detail: format!("{n} free dofs"),
                 hint: "too many dofs for one plate: use a coarser mesh",
             });
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(n * 20);
-        let mut slot = vec![NO_SLOT; 36 * n];
+        let mut row_idx = Vec::with_capacity(n * 5 * m);
+        let mut slot = vec![NO_SLOT; 9 * m * n];
         col_ptr.push(0);
-        for (c, &g) in dofs.free_dofs.iter().enumerate() {
-            let node = g / 4;
+        for (c, &g) in free_dofs.iter().enumerate() {
+            let node = g / m;
             let (i, j) = (node % nxl, node / nxl);
-            // All nodes of the 3x3 stencil share an element with this node; rows come out sorted.
+            // All nodes of the 3x3 stencil share an element with this node; rows come out sorted
+            // when free indices grow with the global dof.
             for jj in j.saturating_sub(1)..=(j + 1).min(nyl - 1) {
                 for ii in i.saturating_sub(1)..=(i + 1).min(nxl - 1) {
                     let nn = jj * nxl + ii;
                     let k = (jj + 1 - j) * 3 + (ii + 1 - i);
-                    for d in 0..4 {
-                        let f = dofs.free_index[4 * nn + d];
+                    for d in 0..m {
+                        let f = free_index[m * nn + d];
                         if f != CONSTRAINED && f >= c {
-                            slot[36 * c + 4 * k + d] = row_idx.len() as u32;
+                            slot[9 * m * c + m * k + d] = row_idx.len() as u32;
                             row_idx.push(f);
                         }
                     }
@@ -143,12 +161,43 @@ impl Pattern {
         }
         Ok(Pattern {
             symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            m,
             slot,
         })
     }
 
+    /// Adds an element matrix to the values: local dof `i` sits at element corner `corner[i]`,
+    /// node dof `node_dof[i]`, free index `free[i]` (or [`CONSTRAINED`]); `ke` is row-major,
+    /// `n` x `n`.
+    pub fn add_element(
+        &self,
+        vals: &mut [f64],
+        free: &[usize],
+        corner: &[usize],
+        node_dof: &[usize],
+        ke: &[f64],
+    ) {
+        let n = free.len();
+        let m = self.m;
+        for j in 0..n {
+            let c = free[j];
+            if c == CONSTRAINED {
+                continue;
+            }
+            let base = 9 * m * c;
+            for i in 0..n {
+                let s = self.slot[base + m * NEIGHBOUR[corner[i]][corner[j]] + node_dof[i]];
+                if s != NO_SLOT {
+                    vals[s as usize] += ke[i * n + j];
+                }
+            }
+        }
+    }
+
     /// Assembled lower-triangle values (CSC order) from the element stiffness matrices.
+    #[track_caller]
     pub fn values(&self, mesh: &RectMesh, dofs: &DofMap, k: &ElementStiffness) -> Vec<f64> {
+        assert_eq!(self.m, 4, "the bending pattern");
         let mut vals = vec![0.0; self.symbolic.row_idx().len()];
         for e in 0..mesh.n_elements() {
             let ed = element_dofs(mesh, e).map(|d| dofs.free_index[d]);

@@ -28,7 +28,7 @@ pub fn element_dofs(mesh: &RectMesh, e: usize) -> [usize; 16] {
     std::array::from_fn(|i| 4 * nodes[i / 4] + i % 4)
 }
 
-fn find_line(axis: &[f64], at: f64) -> Option<usize> {
+pub(crate) fn find_line(axis: &[f64], at: f64) -> Option<usize> {
     let tol = 1e-9 * (axis.last().unwrap() - axis[0]).abs().max(1.0);
     let k = axis.partition_point(|&v| v < at - tol);
     (k < axis.len() && (axis[k] - at).abs() <= tol).then_some(k)

@@ -36,9 +36,12 @@ pub mod ordering;
 pub mod problem;
 pub mod solution;
 pub mod solve;
+pub mod vonkarman;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_vonkarman;
 
 pub use beam::{fixed_fixed_reactions, BeamReactions};
 pub use convergence::{richardson, richardson_ratios, ConvergenceKind, Richardson, ThreeMesh};
@@ -52,3 +55,4 @@ pub use solution::{
     DeflectionPeak, GroupReaction, PlateSolution, SolutionSummary, StressPeak, Surface,
 };
 pub use solve::Factorised;
+pub use vonkarman::{InPlane, NewtonStats, NonlinearOptions, VonKarman};

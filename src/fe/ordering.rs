@@ -49,11 +49,21 @@ fn dissect(nxl: usize, (i0, i1): (usize, usize), (j0, j1): (usize, usize), out: 
 /// The node order expanded to the free dofs: `fwd[new] = old` free index, each node's free dofs
 /// kept together.
 pub fn free_dof_order(dofs: &DofMap, nx_lines: usize, ny_lines: usize) -> Vec<usize> {
-    let mut fwd = Vec::with_capacity(dofs.n_free());
+    node_dof_order(&dofs.free_index, 4, nx_lines, ny_lines)
+}
+
+/// [`free_dof_order`] for `m` dofs per node (`free_index[m node + d]`).
+pub fn node_dof_order(
+    free_index: &[usize],
+    m: usize,
+    nx_lines: usize,
+    ny_lines: usize,
+) -> Vec<usize> {
+    let mut fwd = Vec::with_capacity(free_index.len());
     for node in nested_dissection(nx_lines, ny_lines) {
         fwd.extend(
-            (0..4)
-                .map(|d| dofs.free_index[4 * node + d])
+            (0..m)
+                .map(|d| free_index[m * node + d])
                 .filter(|&f| f != CONSTRAINED),
         );
     }

@@ -73,6 +73,9 @@ pub struct PlateSolution {
     reactions: Vec<GroupReaction>,
     nodal: Vec<NodalReaction>,
     applied_force_n: f64,
+    /// In-plane displacements (u, v) per node in metres, bilinear per element: present on a von
+    /// Karman solution ([`crate::fe::vonkarman`]), whose strains then add the membrane strain.
+    membrane: Option<Vec<f64>>,
 }
 
 /// Support force at one constrained node (w dof), in the load direction.
@@ -92,6 +95,7 @@ impl PlateSolution {
         applied_force_n: f64,
     ) -> Self {
         PlateSolution {
+            membrane: None,
             nodal: Vec::new(),
             ctx,
             u,
@@ -119,6 +123,51 @@ impl PlateSolution {
     pub(crate) fn with_nodal(mut self, nodal: Vec<NodalReaction>) -> Self {
         self.nodal = nodal;
         self
+    }
+    pub(crate) fn with_membrane(mut self, uv: Vec<f64>) -> Self {
+        self.membrane = Some(uv);
+        self
+    }
+    /// True for a geometrically nonlinear (von Karman) solution.
+    pub fn is_nonlinear(&self) -> bool {
+        self.membrane.is_some()
+    }
+    /// Mid-plane (membrane) strain (eps_x, eps_y, gamma_xy) of element `e` at local (x, y) in m:
+    /// (u_x + w_x^2/2, v_y + w_y^2/2, u_y + v_x + w_x w_y) (von Karman; Reddy, Theory and
+    /// Analysis of Elastic Plates and Shells, Eq. 3.3.10); zero on a linear solution.
+    fn membrane_strain(&self, e: usize, x: f64, y: f64) -> [f64; 3] {
+        let Some(uv) = &self.membrane else {
+            return [0.0; 3];
+        };
+        let (a, b) = self.element_size_m(e);
+        let nodes = self.ctx.mesh.element_nodes(e);
+        let (dx, dy) = crate::fe::vonkarman::q4_gradients(x, y, a, b);
+        let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+        for (k, &n) in nodes.iter().enumerate() {
+            ux += dx[k] * uv[2 * n];
+            uy += dy[k] * uv[2 * n];
+            vx += dx[k] * uv[2 * n + 1];
+            vy += dy[k] * uv[2 * n + 1];
+        }
+        let s = bfs::shape(x, y, a, b);
+        let u = self.element_u(e);
+        let wx: f64 = s[1].iter().zip(&u).map(|(p, q)| p * q).sum();
+        let wy: f64 = s[2].iter().zip(&u).map(|(p, q)| p * q).sum();
+        [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy]
+    }
+    /// In-plane force resultants (N_x, N_y, N_xy) in N/m at a point, N = Q t eps0; zero on a
+    /// linear solution.
+    #[track_caller]
+    pub fn membrane_forces(&self, x_um: f64, y_um: f64) -> [f64; 3] {
+        let Some((e, lx, ly)) = self.ctx.mesh.locate(x_um, y_um) else {
+            panic!("point ({x_um}, {y_um}) um is outside the plate");
+        };
+        let eps = self.membrane_strain(e, lx, ly);
+        let t = self.ctx.thickness_um[e] * 1e-6;
+        self.ctx
+            .material
+            .stress(eps[0], eps[1], eps[2])
+            .map(|s| s * t)
     }
     pub(crate) fn context(&self) -> &SolutionContext {
         &self.ctx
@@ -191,11 +240,18 @@ impl PlateSolution {
     /// kappa), t = local thickness: each section bends about its own mid-plane, so on a stepped
     /// plate with a flat bottom the local neutral-axis offset is t/2; membrane coupling at
     /// thickness steps is neglected.
+    /// On a von Karman solution the membrane strain is added: eps = eps0 + (t/2) kappa.
     #[track_caller]
     pub fn bottom_strain(&self, x_um: f64, y_um: f64) -> [f64; 3] {
         let (e, _, k) = self.at(x_um, y_um);
         let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
-        k.map(|v| h * v)
+        let (_, lx, ly) = self
+            .ctx
+            .mesh
+            .locate(x_um, y_um)
+            .expect("inside: at() checked");
+        let m = self.membrane_strain(e, lx, ly);
+        [0, 1, 2].map(|i| m[i] + h * k[i])
     }
 
     /// Clipped parts of a rectangle per element: (element, local x0, x1, y0, y1 in m).
@@ -239,7 +295,7 @@ impl PlateSolution {
             let whole = |lo: f64, hi: f64, len: f64| {
                 lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len
             };
-            if whole(x0, x1, a) && whole(y0, y1, b) {
+            if self.membrane.is_none() && whole(x0, x1, a) && whole(y0, y1, b) {
                 let (ix, iy) = bfs::curvature_integral(&u, a, b);
                 sx += h * ix;
                 sy += h * iy;
@@ -248,8 +304,9 @@ impl PlateSolution {
             for (x, wx) in bfs::gauss4_on(x0, x1) {
                 for (y, wy) in bfs::gauss4_on(y0, y1) {
                     let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
-                    sx += wx * wy * h * k[0];
-                    sy += wx * wy * h * k[1];
+                    let m = self.membrane_strain(e, x, y);
+                    sx += wx * wy * (m[0] + h * k[0]);
+                    sy += wx * wy * (m[1] + h * k[1]);
                 }
             }
         }
@@ -259,7 +316,7 @@ impl PlateSolution {
     /// Largest principal tensile bending stress on either surface over a rectangle (e.g. a contact
     /// patch), sampled on a 5x5 grid including the edges of every clipped element part; None if
     /// the rectangle does not overlap the plate.
-    /// sigma_bottom = Q (t/2) kappa, sigma_top = -sigma_bottom; sigma_1 = (sx+sy)/2 +
+    /// sigma = Q (eps0 +/- (t/2) kappa) on the bottom/top (eps0 = 0 on a linear solution); sigma_1 = (sx+sy)/2 +
     /// sqrt(((sx-sy)/2)^2 + txy^2).
     pub fn max_principal_stress(&self, rect: RectUm) -> Option<StressPeak> {
         let mut best = StressPeak {
@@ -279,12 +336,19 @@ impl PlateSolution {
                     let x = x0 + (x1 - x0) * p as f64 / 4.0;
                     let y = y0 + (y1 - y0) * q as f64 / 4.0;
                     let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
-                    let s = self.ctx.material.stress(h * k[0], h * k[1], h * k[2]);
-                    let (c, r) = (
-                        0.5 * (s[0] + s[1]),
-                        (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt(),
-                    );
-                    for (sigma, surface) in [(c + r, Surface::Bottom), (-c + r, Surface::Top)] {
+                    let m = self.membrane_strain(e, x, y);
+                    let principal = |sign: f64| {
+                        let s = self.ctx.material.stress(
+                            m[0] + sign * h * k[0],
+                            m[1] + sign * h * k[1],
+                            m[2] + sign * h * k[2],
+                        );
+                        0.5 * (s[0] + s[1]) + (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt()
+                    };
+                    for (sigma, surface) in [
+                        (principal(1.0), Surface::Bottom),
+                        (principal(-1.0), Surface::Top),
+                    ] {
                         if sigma > best.sigma_pa {
                             best = StressPeak {
                                 x_um: ex0 + x * 1e6,

@@ -20,17 +20,21 @@ pub enum LayerKind {
     Pvdf,
     Marks,
     Annotation,
+    /// The die outline (its YAML and lyp name is `die_outline`).
     Outline,
+    /// The wafer edge and usable-area circles, in the wafer cell.
+    WaferOutline,
 }
 
 impl LayerKind {
-    pub const ALL: [LayerKind; 6] = [
+    pub const ALL: [LayerKind; 7] = [
         LayerKind::FrontSi,
         LayerKind::BackSi,
         LayerKind::Pvdf,
         LayerKind::Marks,
         LayerKind::Annotation,
         LayerKind::Outline,
+        LayerKind::WaferOutline,
     ];
 
     /// Logical layer name (lyp, SVG group id, reports).
@@ -42,6 +46,7 @@ impl LayerKind {
             LayerKind::Marks => "marks",
             LayerKind::Annotation => "annotation",
             LayerKind::Outline => "die_outline",
+            LayerKind::WaferOutline => "wafer_outline",
         }
     }
 
@@ -56,7 +61,7 @@ impl LayerKind {
                  alignment marks"
             }
             LayerKind::Pvdf => {
-                "Al kept on the PVDF film (nine islands with wire pads), label, marks"
+                "Al kept on the PVDF film (electrode islands with wire pads), label, marks"
             }
             LayerKind::Marks => {
                 "reference copy of all alignment marks (front and back overlaid); does not print \
@@ -65,6 +70,9 @@ impl LayerKind {
             LayerKind::Annotation => "non-printing notes (GDS TEXT)",
             LayerKind::Outline => {
                 "die outline; dicing streets lie between outlines; does not print"
+            }
+            LayerKind::WaferOutline => {
+                "wafer edge and the usable area inside the edge exclusion; does not print"
             }
         }
     }
@@ -86,6 +94,7 @@ impl LayerKind {
             LayerKind::Marks => map.marks,
             LayerKind::Annotation => map.annotation,
             LayerKind::Outline => map.outline,
+            LayerKind::WaferOutline => map.wafer_outline,
         }
     }
 
@@ -98,6 +107,7 @@ impl LayerKind {
             LayerKind::Marks => "#ff7f0e",
             LayerKind::Annotation => "#bcbd22",
             LayerKind::Outline => "#808080",
+            LayerKind::WaferOutline => "#404040",
         }
     }
 }

@@ -403,7 +403,7 @@ fn wafer_cell(
         add_alignment_marks(&mut wafer_cell, masks, snap(site.x), snap(site.y));
     }
     wafer_cell.add(
-        LayerKind::Outline,
+        LayerKind::WaferOutline,
         [circle(p.wafer.diameter_mm * 500.0), circle(r_usable)],
     );
     wafer_cell.note(

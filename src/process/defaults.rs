@@ -158,6 +158,12 @@ pub fn layer_outline() -> GdsLayer {
         datatype: 0,
     }
 }
+pub fn layer_wafer_outline() -> GdsLayer {
+    GdsLayer {
+        layer: 65,
+        datatype: 0,
+    }
+}
 pub fn edge_exclusion_mm() -> f64 {
     3.0
 }
@@ -313,7 +319,7 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "layout.layers",
         source: "[est] tactfab layer map: 1/0 front Si, 2/0 back Si, 3/0 PVDF, 10/0 marks, 63/0 \
-                 annotations, 64/0 die outline",
+                 annotations, 64/0 die outline, 65/0 wafer outline",
     },
     DefaultSource {
         path: "layout.edge_exclusion_mm",

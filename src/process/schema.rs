@@ -679,6 +679,8 @@ pub struct LayerMap {
     pub annotation: GdsLayer,
     #[serde(default = "d::layer_outline")]
     pub outline: GdsLayer,
+    #[serde(default = "d::layer_wafer_outline")]
+    pub wafer_outline: GdsLayer,
 }
 
 impl Default for LayerMap {
@@ -690,6 +692,7 @@ impl Default for LayerMap {
             marks: d::layer_marks(),
             annotation: d::layer_annotation(),
             outline: d::layer_outline(),
+            wafer_outline: d::layer_wafer_outline(),
         }
     }
 }

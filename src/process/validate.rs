@@ -958,6 +958,7 @@ fn layout(v: &mut V, p: &Process) {
         ("marks", l.marks),
         ("annotation", l.annotation),
         ("outline", l.outline),
+        ("wafer_outline", l.wafer_outline),
     ] {
         if !(0..=255).contains(&g.layer) || !(0..=255).contains(&g.datatype) {
             v.push(

@@ -56,6 +56,7 @@ fn bundled_process_writes_the_set_and_passes_drc() {
         "10/0",
         "63/0",
         "64/0",
+        "65/0",
         "light field",
         "MIRRORED",
         "DRC passed",

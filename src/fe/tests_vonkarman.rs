@@ -1,0 +1,279 @@
+//! The von Karman plate against closed forms and the linear plate: cylindrical bending of a
+//! clamped strip with immovable edges (Timoshenko & Woinowsky-Krieger, Theory of Plates and
+//! Shells, 2nd ed., §3), the small-load limit, sliding supports, equilibrium, mirror symmetry and
+//! the reuse of one symbolic analysis.
+
+use super::*;
+
+const SPAN_UM: f64 = 2000.0;
+const WIDTH_UM: f64 = 500.0;
+const T_UM: f64 = 100.0;
+
+fn mesh(n_span: usize) -> RectMesh {
+    RectMesh {
+        x_um: vec![0.0, 0.5 * WIDTH_UM, WIDTH_UM],
+        y_um: (0..=n_span)
+            .map(|k| SPAN_UM * k as f64 / n_span as f64)
+            .collect(),
+    }
+}
+
+/// A strip clamped along y = 0 and y = span, mirror lines at both x ends: cylindrical bending in
+/// plane strain (u = 0, w_x = 0 everywhere).
+fn strip(n_span: usize, pressure_pa: f64) -> PlateProblem {
+    let m = mesh(n_span);
+    let mut p = PlateProblem::new(m, T_UM, PlateMaterial::silicon(DieEdge::Along110));
+    for (g, at) in [("y0", 0.0), ("y1", SPAN_UM)] {
+        p.supports.push(LineSupport {
+            group: g.into(),
+            kind: SupportKind::Clamped,
+            along: Axis::X,
+            at_um: at,
+            from_um: 0.0,
+            to_um: WIDTH_UM,
+        });
+    }
+    for at in [0.0, WIDTH_UM] {
+        p.supports.push(LineSupport {
+            group: "symmetry".into(),
+            kind: SupportKind::Symmetry,
+            along: Axis::Y,
+            at_um: at,
+            from_um: 0.0,
+            to_um: SPAN_UM,
+        });
+    }
+    p.load_cases.push(vec![Load::Pressure {
+        region: None,
+        total_force_n: pressure_pa * SPAN_UM * WIDTH_UM * 1e-12,
+    }]);
+    p
+}
+
+/// Centre deflection and membrane force of the clamped strip with immovable edges under uniform
+/// pressure q: D w'''' - N w'' = q with N = A / (2 l) int w'^2 ds (the edges do not move, so the
+/// mean membrane strain is the stretch of the deflected line). For a given N the solution is
+/// w(s) = C (cosh ks - cosh(kl/2)) + q (l^2/4 - s^2) / (2N), k^2 = N/D, C = q l / (2 N k
+/// sinh(kl/2)) (Timoshenko & Woinowsky-Krieger §3, Eq. 10 with built-in edges); N is found by
+/// bisection and the integral by composite Gauss quadrature of the closed-form slope.
+fn strip_reference(q: f64, l: f64, d: f64, a: f64) -> (f64, f64) {
+    let slope_sq_integral = |n: f64| {
+        let k = (n / d).sqrt();
+        let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+        let mut sum = 0.0;
+        let panels = 400;
+        for p in 0..panels {
+            let (s0, s1) = (
+                -0.5 * l + l * p as f64 / panels as f64,
+                -0.5 * l + l * (p + 1) as f64 / panels as f64,
+            );
+            for (s, w) in bfs::gauss4_on(s0, s1) {
+                let ws = c * k * (k * s).sinh() - q * s / n;
+                sum += w * ws * ws;
+            }
+        }
+        sum
+    };
+    let (mut lo, mut hi) = (1e-3f64, 1e9f64);
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if mid - a / (2.0 * l) * slope_sq_integral(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let n = (lo * hi).sqrt();
+    let k = (n / d).sqrt();
+    let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+    (c * (1.0 - (0.5 * k * l).cosh()) + q * l * l / (8.0 * n), n)
+}
+
+/// Pressure giving a linear centre deflection of `ratio` thicknesses (w0 = q l^4 / (384 D)).
+fn pressure_for(ratio: f64) -> f64 {
+    let d = PlateMaterial::silicon(DieEdge::Along110)
+        .bending_stiffness(T_UM * 1e-6)
+        .d22_nm;
+    ratio * T_UM * 1e-6 * 384.0 * d / (SPAN_UM * 1e-6).powi(4)
+}
+
+fn centre(s: &PlateSolution) -> f64 {
+    s.deflection_m(0.5 * WIDTH_UM, 0.5 * SPAN_UM)
+}
+
+#[test]
+fn clamped_strip_matches_cylindrical_bending_closed_form() {
+    let mat = PlateMaterial::silicon(DieEdge::Along110);
+    let t = T_UM * 1e-6;
+    let (d, a) = (mat.q22_pa * t.powi(3) / 12.0, mat.q22_pa * t);
+    let q = pressure_for(1.6);
+    let (w_ref, n_ref) = strip_reference(q, SPAN_UM * 1e-6, d, a);
+    let w_lin = q * (SPAN_UM * 1e-6).powi(4) / (384.0 * d);
+    // Membrane stiffening is the answer here, not a correction: the linear model is far off.
+    assert!(w_ref < 0.7 * w_lin, "reference {w_ref} vs linear {w_lin}");
+    let mut errors = Vec::new();
+    for n in [16, 32, 64] {
+        let p = strip(n, q);
+        let vk = VonKarman::new(&p, NonlinearOptions::default()).unwrap();
+        let (s, stats) = vk.solve(&p.load_cases[0]).unwrap();
+        let w = centre(&s);
+        let ny = s.membrane_forces(0.5 * WIDTH_UM, 0.5 * SPAN_UM)[1];
+        errors.push(((w - w_ref) / w_ref).abs());
+        assert!(
+            stats.iterations <= 30,
+            "{n}: {stats:?} Newton iterations for a hardening plate"
+        );
+        if n == 64 {
+            assert!(
+                ((ny - n_ref) / n_ref).abs() < 5e-3,
+                "membrane force {ny} vs {n_ref} N/m"
+            );
+        }
+    }
+    assert!(errors[2] < 2e-3, "errors {errors:?}");
+    assert!(
+        errors[2] < errors[1] && errors[1] < errors[0],
+        "monotone: {errors:?}"
+    );
+}
+
+#[test]
+fn small_loads_give_the_linear_plate() {
+    // w/t = 1e-4: the deflection differs by O((w/t)^2), the surface strain by O(w/t) (the
+    // membrane strain w_y^2/2 against the bending strain t/2 w_yy).
+    let q = pressure_for(1e-4);
+    let p = strip(16, q);
+    let lin = p.solve().unwrap().remove(0);
+    let (nl, _) = VonKarman::new(&p, NonlinearOptions::default())
+        .unwrap()
+        .solve(&p.load_cases[0])
+        .unwrap();
+    let (a, b) = (centre(&lin), centre(&nl));
+    assert!(((a - b) / a).abs() < 1e-7, "linear {a} vs von Karman {b}");
+    let sa = lin.integrate_bottom_strain(RectUm {
+        x0_um: 0.0,
+        y0_um: 500.0,
+        x1_um: WIDTH_UM,
+        y1_um: 1500.0,
+    });
+    let sb = nl.integrate_bottom_strain(RectUm {
+        x0_um: 0.0,
+        y0_um: 500.0,
+        x1_um: WIDTH_UM,
+        y1_um: 1500.0,
+    });
+    assert!(((sa.1 - sb.1) / sa.1).abs() < 1e-3, "{sa:?} vs {sb:?}");
+}
+
+#[test]
+fn sliding_supports_carry_no_membrane_force() {
+    let q = pressure_for(1.6);
+    let opts = NonlinearOptions {
+        in_plane: InPlane::Sliding,
+        ..Default::default()
+    };
+    // The strip may pull in: no stretching, so the linear answer in the limit; the bilinear
+    // in-plane field cannot follow w_y^2 / 2 exactly, so a small spurious tension remains and
+    // falls with the mesh.
+    let mut errors = Vec::new();
+    for n in [16, 32, 64] {
+        let p = strip(n, q);
+        let lin = centre(&p.solve().unwrap()[0]);
+        let (s, _) = VonKarman::new(&p, opts)
+            .unwrap()
+            .solve(&p.load_cases[0])
+            .unwrap();
+        errors.push(((centre(&s) - lin) / lin).abs());
+        if n == 64 {
+            let ny = s.membrane_forces(0.5 * WIDTH_UM, 0.5 * SPAN_UM)[1];
+            let (im, _) = VonKarman::new(&p, NonlinearOptions::default())
+                .unwrap()
+                .solve(&p.load_cases[0])
+                .unwrap();
+            let ny_im = im.membrane_forces(0.5 * WIDTH_UM, 0.5 * SPAN_UM)[1];
+            assert!(
+                ny.abs() < 0.02 * ny_im,
+                "sliding N_y {ny} vs immovable {ny_im}"
+            );
+        }
+    }
+    assert!(
+        errors[2] < 0.5 * errors[1] && errors[1] < 0.5 * errors[0] && errors[2] < 5e-3,
+        "sliding vs linear: {errors:?}"
+    );
+}
+
+/// A clamped square plate under a large off-centre point load: the supports carry the load
+/// (equilibrium holds exactly in the deformed state), the symmetric plate gives the mirrored field,
+/// and the membrane makes it stiffer than the linear plate.
+#[test]
+fn point_load_equilibrium_symmetry_and_stiffening() {
+    let lines: Vec<f64> = (0..=16).map(|k| 250.0 * k as f64).collect();
+    let m = RectMesh {
+        x_um: lines.clone(),
+        y_um: lines,
+    };
+    let mut p = PlateProblem::new(m, 50.0, PlateMaterial::silicon(DieEdge::Along110));
+    p.support_all_edges(SupportKind::Clamped);
+    let loads = vec![Load::Point {
+        x_um: 1500.0,
+        y_um: 2000.0,
+        force_n: 2.0,
+        radius_um: 0.0,
+    }];
+    p.load_cases.push(loads.clone());
+    let lin = p.solve().unwrap().remove(0);
+    let (s, stats) = VonKarman::new(&p, NonlinearOptions::default())
+        .unwrap()
+        .solve(&loads)
+        .unwrap();
+    let total: f64 = s.reactions().iter().map(|r| r.force_n).sum();
+    assert!((total - 2.0).abs() < 1e-9, "reactions {total}");
+    let (wl, wn) = (
+        lin.deflection_m(1500.0, 2000.0),
+        s.deflection_m(1500.0, 2000.0),
+    );
+    assert!(
+        wl / 50e-6 > 1.0,
+        "a large-deflection case: w/t = {}",
+        wl / 50e-6
+    );
+    assert!(
+        wn < 0.9 * wl && wn > 0.2 * wl,
+        "nonlinear {wn} vs linear {wl}"
+    );
+    assert!(stats.load_steps >= 1);
+    // Mirror about y = 2000: the same field at mirrored points.
+    for (x, y) in [(700.0, 1100.0), (3100.0, 600.0), (2500.0, 1900.0)] {
+        let (a, b) = (s.deflection_m(x, y), s.deflection_m(x, 4000.0 - y));
+        assert!((a - b).abs() <= 1e-9 * wn.abs(), "({x}, {y}): {a} vs {b}");
+        let (na, nb) = (s.membrane_forces(x, y), s.membrane_forces(x, 4000.0 - y));
+        assert!((na[0] - nb[0]).abs() <= 1e-6 * na[0].abs().max(1.0));
+    }
+}
+
+/// Linearity in reverse: doubling a large load less than doubles the deflection, and the
+/// answer does not depend on how the load was stepped (a tighter step cap gives the same field).
+#[test]
+fn path_independent_and_hardening() {
+    let q = pressure_for(1.0);
+    let p1 = strip(16, q);
+    let p2 = strip(16, 2.0 * q);
+    let vk = VonKarman::new(&p1, NonlinearOptions::default()).unwrap();
+    let w1 = centre(&vk.solve(&p1.load_cases[0]).unwrap().0);
+    let w2 = centre(&vk.solve(&p2.load_cases[0]).unwrap().0);
+    assert!(w2 < 2.0 * w1 && w2 > w1, "{w1} -> {w2}");
+    let small_steps = NonlinearOptions {
+        max_iterations: 6,
+        max_load_steps: 500,
+        ..Default::default()
+    };
+    let w2b = centre(
+        &VonKarman::new(&p2, small_steps)
+            .unwrap()
+            .solve(&p2.load_cases[0])
+            .unwrap()
+            .0,
+    );
+    assert!(((w2 - w2b) / w2).abs() < 1e-8, "{w2} vs {w2b}");
+}

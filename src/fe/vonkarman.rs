@@ -1,0 +1,668 @@
+//! Geometrically nonlinear (von Karman) Kirchhoff plate: the BFS bending field w plus bilinear
+//! in-plane displacements (u, v) on the same mesh, 6 dofs per node (w, w_x, w_y, w_xy, u, v),
+//! solved by Newton iterations with load stepping.
+//!
+//! Kinematics (von Karman; Reddy, Theory and Analysis of Elastic Plates and Shells, 2nd ed.,
+//! Eq. 3.3.10): membrane strain eps0 = (u_x + w_x^2 / 2, v_y + w_y^2 / 2, u_y + v_x + w_x w_y),
+//! curvature kappa = (-w_xx, -w_yy, -2 w_xy); resultants N = A eps0 with A = Q t, M = D kappa with
+//! D = Q t^3 / 12 (sections symmetric about their own mid-plane, as in the linear rung: no B
+//! coupling). The tangent stiffness (Reddy, An Introduction to Nonlinear FEM, 2nd ed., Eq. 7.3.21)
+//! is int B^T A B + B_b^T D B_b + K_sigma dA with B = [B_m | B_nl(w)] and the initial-stress
+//! matrix K_sigma = int (N_x w,i_x w,j_x + N_y w,i_y w,j_y + N_xy (w,i_x w,j_y + w,i_y w,j_x)) dA.
+//!
+//! The sparsity pattern, the elimination order and the symbolic Cholesky analysis are built once
+//! per mesh and constraint set and reused by every Newton iteration of every load step and scene.
+//! Loads are dead loads (they do not follow the deformation).
+
+// Index loops mirror the matrix formulas.
+#![allow(clippy::needless_range_loop)]
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use faer::sparse::SparseColMat;
+use faer::Mat;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::fe::assemble::Pattern;
+use crate::fe::bfs;
+use crate::fe::cholesky::SymbolicFactor;
+use crate::fe::dofs::{find_line, DofMap, CONSTRAINED};
+use crate::fe::error::{FeError, FeResult};
+use crate::fe::loads::load_vector;
+use crate::fe::material::PlateMaterial;
+use crate::fe::mesh::RectMesh;
+use crate::fe::ordering::node_dof_order;
+use crate::fe::problem::{Axis, Load, PlateProblem, SupportKind};
+use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionContext};
+
+/// Dofs per node: w, w_x, w_y, w_xy, u, v.
+const M: usize = 6;
+/// Element dofs: 16 bending (BFS local order) then 8 membrane (u, v at each corner).
+const NE: usize = 24;
+
+/// What the supports do in the plate's own plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InPlane {
+    /// u = v = 0 on every support line: the support holds the plate (bonded to the support
+    /// post); the plate must stretch to deflect (membrane stiffening).
+    Immovable,
+    /// Only the displacement along the support line is held; the plate may pull in across it
+    /// (one node is held across as well, to remove the rigid translation).
+    Sliding,
+}
+
+/// Newton and load-stepping controls.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NonlinearOptions {
+    pub in_plane: InPlane,
+    /// Converged when the energy norm of the correction falls below this fraction of the first
+    /// correction's in the step (squared-norm ratio, so 1e-20 is ~1e-10 in displacement).
+    pub energy_tol: f64,
+    /// Newton iterations per load step before the step is halved.
+    pub max_iterations: usize,
+    /// Most load steps (after halvings) before giving up.
+    pub max_load_steps: usize,
+}
+
+impl Default for NonlinearOptions {
+    fn default() -> Self {
+        NonlinearOptions {
+            in_plane: InPlane::Immovable,
+            energy_tol: 1e-20,
+            max_iterations: 25,
+            max_load_steps: 64,
+        }
+    }
+}
+
+/// What the Newton solve cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct NewtonStats {
+    /// Load steps taken (accepted).
+    pub load_steps: usize,
+    /// Newton iterations over all steps (each one numeric factorisation on the shared analysis).
+    pub iterations: usize,
+}
+
+/// Per element size and thickness: the shape-function derivatives at the 4x4 Gauss points and
+/// the constant bending stiffness.
+struct ElementKind {
+    /// BFS: w_x and w_y of the 16 shape functions at each Gauss point.
+    wx: [[f64; 16]; 16],
+    wy: [[f64; 16]; 16],
+    /// Q4: d/dx, d/dy of the 4 corner functions at each Gauss point.
+    mx: [[f64; 4]; 16],
+    my: [[f64; 4]; 16],
+    /// Gauss weight times area Jacobian.
+    wt: [f64; 16],
+    kb: Box<[[f64; 16]; 16]>,
+    /// Membrane stiffness A = Q t (A11, A12, A22, A66) in N/m.
+    a: [f64; 4],
+}
+
+/// Derivatives (d/dx, d/dy) of the bilinear corner functions at local (x, y), corners in BFS order.
+pub fn q4_gradients(x: f64, y: f64, a: f64, b: f64) -> ([f64; 4], [f64; 4]) {
+    let mut dx = [0.0; 4];
+    let mut dy = [0.0; 4];
+    for (k, &(ix, iy)) in bfs::CORNERS.iter().enumerate() {
+        let (fx, gx) = if ix == 1 {
+            (x / a, 1.0 / a)
+        } else {
+            (1.0 - x / a, -1.0 / a)
+        };
+        let (fy, gy) = if iy == 1 {
+            (y / b, 1.0 / b)
+        } else {
+            (1.0 - y / b, -1.0 / b)
+        };
+        dx[k] = gx * fy;
+        dy[k] = fx * gy;
+    }
+    (dx, dy)
+}
+
+impl ElementKind {
+    fn new(a: f64, b: f64, t_m: f64, mat: &PlateMaterial) -> Self {
+        let gx = bfs::gauss4_on(0.0, a);
+        let gy = bfs::gauss4_on(0.0, b);
+        let mut k = ElementKind {
+            wx: [[0.0; 16]; 16],
+            wy: [[0.0; 16]; 16],
+            mx: [[0.0; 4]; 16],
+            my: [[0.0; 4]; 16],
+            wt: [0.0; 16],
+            kb: Box::new(bfs::stiffness(a, b, &mat.bending_stiffness(t_m))),
+            a: [
+                mat.q11_pa * t_m,
+                mat.q12_pa * t_m,
+                mat.q22_pa * t_m,
+                mat.q66_pa * t_m,
+            ],
+        };
+        for (p, &(x, wxg)) in gx.iter().enumerate() {
+            for (q, &(y, wyg)) in gy.iter().enumerate() {
+                let g = 4 * p + q;
+                let s = bfs::shape(x, y, a, b);
+                k.wx[g] = s[1];
+                k.wy[g] = s[2];
+                (k.mx[g], k.my[g]) = q4_gradients(x, y, a, b);
+                k.wt[g] = wxg * wyg;
+            }
+        }
+        k
+    }
+
+    /// Internal force (24) and, if asked, the tangent (24 x 24, row-major) of one element at its
+    /// dofs `ue` (16 bending, then u, v per corner).
+    fn evaluate(&self, ue: &[f64; NE], tangent: Option<&mut [f64]>) -> [f64; NE] {
+        let mut r = [0.0; NE];
+        // Bending: K_b w (linear).
+        for i in 0..16 {
+            r[i] = (0..16).map(|j| self.kb[i][j] * ue[j]).sum();
+        }
+        let mut kt = tangent;
+        if let Some(k) = kt.as_deref_mut() {
+            for i in 0..16 {
+                k[i * NE..i * NE + 16].copy_from_slice(&self.kb[i]);
+                k[i * NE + 16..(i + 1) * NE].fill(0.0);
+            }
+            k[16 * NE..].fill(0.0);
+        }
+        let [a11, a12, a22, a66] = self.a;
+        for g in 0..16 {
+            let (nx, ny, mx, my) = (&self.wx[g], &self.wy[g], &self.mx[g], &self.my[g]);
+            let wx: f64 = (0..16).map(|i| nx[i] * ue[i]).sum();
+            let wy: f64 = (0..16).map(|i| ny[i] * ue[i]).sum();
+            let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+            for c in 0..4 {
+                ux += mx[c] * ue[16 + 2 * c];
+                uy += my[c] * ue[16 + 2 * c];
+                vx += mx[c] * ue[17 + 2 * c];
+                vy += my[c] * ue[17 + 2 * c];
+            }
+            let e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            let n = [a11 * e[0] + a12 * e[1], a12 * e[0] + a22 * e[1], a66 * e[2]];
+            // B (3 x 24): d eps0 / d dof.
+            let mut b = [[0.0; NE]; 3];
+            for i in 0..16 {
+                b[0][i] = wx * nx[i];
+                b[1][i] = wy * ny[i];
+                b[2][i] = wx * ny[i] + wy * nx[i];
+            }
+            for c in 0..4 {
+                b[0][16 + 2 * c] = mx[c];
+                b[2][16 + 2 * c] = my[c];
+                b[1][17 + 2 * c] = my[c];
+                b[2][17 + 2 * c] = mx[c];
+            }
+            let w = self.wt[g];
+            for i in 0..NE {
+                r[i] += w * (b[0][i] * n[0] + b[1][i] * n[1] + b[2][i] * n[2]);
+            }
+            if let Some(k) = kt.as_deref_mut() {
+                // A B (3 x 24).
+                let mut ab = [[0.0; NE]; 3];
+                for j in 0..NE {
+                    ab[0][j] = w * (a11 * b[0][j] + a12 * b[1][j]);
+                    ab[1][j] = w * (a12 * b[0][j] + a22 * b[1][j]);
+                    ab[2][j] = w * a66 * b[2][j];
+                }
+                for i in 0..NE {
+                    let (b0, b1, b2) = (b[0][i], b[1][i], b[2][i]);
+                    if b0 == 0.0 && b1 == 0.0 && b2 == 0.0 {
+                        continue;
+                    }
+                    let row = &mut k[i * NE..(i + 1) * NE];
+                    for j in 0..NE {
+                        row[j] += b0 * ab[0][j] + b1 * ab[1][j] + b2 * ab[2][j];
+                    }
+                }
+                // Initial-stress (geometric) stiffness on the w dofs.
+                let (sx, sy, sxy) = (w * n[0], w * n[1], w * n[2]);
+                for i in 0..16 {
+                    let row = &mut k[i * NE..i * NE + 16];
+                    for j in 0..16 {
+                        row[j] += sx * nx[i] * nx[j]
+                            + sy * ny[i] * ny[j]
+                            + sxy * (nx[i] * ny[j] + ny[i] * nx[j]);
+                    }
+                }
+            }
+        }
+        r
+    }
+}
+
+/// A von Karman plate ready to solve: dofs, pattern and symbolic analysis built once.
+pub struct VonKarman {
+    mesh: RectMesh,
+    opts: NonlinearOptions,
+    free_index: Vec<usize>,
+    free_dofs: Vec<usize>,
+    /// (global dof, prescribed value, group) of every constrained dof.
+    constrained: Vec<(usize, f64, usize)>,
+    groups: Vec<String>,
+    pattern: Pattern,
+    symbolic: SymbolicFactor,
+    kinds: Vec<ElementKind>,
+    kind: Vec<u32>,
+    ctx: Arc<SolutionContext>,
+}
+
+/// Global dofs (6 per node) of an element in the local order of [`ElementKind::evaluate`].
+fn element_dofs6(mesh: &RectMesh, e: usize) -> [usize; NE] {
+    let nodes = mesh.element_nodes(e);
+    std::array::from_fn(|i| {
+        if i < 16 {
+            M * nodes[i / 4] + i % 4
+        } else {
+            let c = (i - 16) / 2;
+            M * nodes[c] + 4 + (i - 16) % 2
+        }
+    })
+}
+
+/// Element corner and node dof of every local dof.
+const CORNER: [usize; NE] = {
+    let mut t = [0; NE];
+    let mut i = 0;
+    while i < NE {
+        t[i] = if i < 16 { i / 4 } else { (i - 16) / 2 };
+        i += 1;
+    }
+    t
+};
+const NODE_DOF: [usize; NE] = {
+    let mut t = [0; NE];
+    let mut i = 0;
+    while i < NE {
+        t[i] = if i < 16 { i % 4 } else { 4 + (i - 16) % 2 };
+        i += 1;
+    }
+    t
+};
+
+/// Rigid in-plane modes (u = 1, v = 1, rotation) the in-plane constraints leave free.
+fn free_in_plane_modes(mesh: &RectMesh, constrained: &[(usize, f64, usize)]) -> usize {
+    let (x0, y0, x1, y1) = mesh.bounds_um();
+    let (xc, yc, l) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), (x1 - x0).max(y1 - y0));
+    let nxl = mesh.x_um.len();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 3];
+    for &(d, _, _) in constrained.iter().filter(|c| c.0 % M >= 4) {
+        let node = d / M;
+        let (x, y) = (
+            (mesh.x_um[node % nxl] - xc) / l,
+            (mesh.y_um[node / nxl] - yc) / l,
+        );
+        let row = if d % M == 4 {
+            [1.0, 0.0, -y]
+        } else {
+            [0.0, 1.0, x]
+        };
+        for k in 0..3 {
+            cols[k].push(row[k]);
+        }
+    }
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for mut c in cols {
+        for q in &basis {
+            let dot: f64 = c.iter().zip(q).map(|(a, b)| a * b).sum();
+            c.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
+        }
+        let norm = c.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if norm > 1e-9 {
+            basis.push(c.into_iter().map(|a| a / norm).collect());
+        }
+    }
+    3 - basis.len()
+}
+
+/// The constrained dofs (6 per node): the bending constraints of the linear problem, plus the
+/// in-plane ones of each support line by `in_plane` and the normal in-plane displacement on
+/// every symmetry line.
+fn constraints(
+    problem: &PlateProblem,
+    bending: &DofMap,
+    in_plane: InPlane,
+) -> FeResult<Vec<Option<(f64, usize)>>> {
+    let mesh = &problem.mesh;
+    let mut owner: Vec<Option<(f64, usize)>> = vec![None; M * mesh.n_nodes()];
+    for &(d, v, g) in &bending.constrained {
+        owner[M * (d / 4) + d % 4] = Some((v, g));
+    }
+    let group = |name: &str| bending.groups.iter().position(|g| g == name).unwrap_or(0);
+    let mut sliding_anchor = None;
+    let mut any_mirror_x = false;
+    for s in &problem.supports {
+        let (line_axis, span_axis) = match s.along {
+            Axis::X => (&mesh.y_um, &mesh.x_um),
+            Axis::Y => (&mesh.x_um, &mesh.y_um),
+        };
+        let Some(k) = find_line(line_axis, s.at_um) else {
+            continue; // DofMap::new already refused it
+        };
+        let (lo, hi) = (s.from_um.min(s.to_um), s.from_um.max(s.to_um));
+        let tol = 1e-9 * (span_axis.last().unwrap() - span_axis[0]);
+        // Along the line: u for a line along x; across: v.
+        let (along, across) = match s.along {
+            Axis::X => (4, 5),
+            Axis::Y => (5, 4),
+        };
+        let held: &[usize] = match (s.kind, in_plane) {
+            (SupportKind::Symmetry, _) => &[across],
+            (_, InPlane::Immovable) => &[4, 5],
+            (_, InPlane::Sliding) => &[along],
+        };
+        if s.kind == SupportKind::Symmetry && s.along == Axis::X {
+            any_mirror_x = true;
+        }
+        let nodes: Vec<usize> = span_axis
+            .iter()
+            .enumerate()
+            .filter(|(_, &c)| c >= lo - tol && c <= hi + tol)
+            .map(|(m, _)| match s.along {
+                Axis::X => mesh.node(m, k),
+                Axis::Y => mesh.node(k, m),
+            })
+            .collect();
+        if in_plane == InPlane::Sliding && s.kind != SupportKind::Symmetry {
+            sliding_anchor.get_or_insert((nodes[nodes.len() / 2], across, group(&s.group)));
+        }
+        for n in nodes {
+            for &d in held {
+                owner[M * n + d].get_or_insert((0.0, group(&s.group)));
+            }
+        }
+    }
+    if let Some((n, d, g)) = sliding_anchor {
+        // Sliding supports along x leave the rigid v translation free unless a mirror holds it.
+        if !(any_mirror_x && d == 5) {
+            owner[M * n + d].get_or_insert((0.0, g));
+        }
+    }
+    Ok(owner)
+}
+
+impl VonKarman {
+    /// Number the dofs, check that rigid motion is prevented in and out of plane, build the
+    /// pattern and analyse it. Panics on an invalid mesh (misuse).
+    #[track_caller]
+    pub fn new(problem: &PlateProblem, opts: NonlinearOptions) -> FeResult<Self> {
+        let mesh = &problem.mesh;
+        mesh.validate();
+        let bending = DofMap::new(problem)?;
+        let free_modes = bending.free_rigid_modes(mesh);
+        if free_modes > 0 {
+            return Err(FeError::Underconstrained {
+                free_modes,
+                hint: "the plate is not fully constrained: check that supports exist and are not \
+                       all collinear",
+            });
+        }
+        let owner = constraints(problem, &bending, opts.in_plane)?;
+        let mut free_index = vec![CONSTRAINED; owner.len()];
+        let mut free_dofs = Vec::new();
+        let mut constrained = Vec::new();
+        for (d, o) in owner.iter().enumerate() {
+            match o {
+                None => {
+                    free_index[d] = free_dofs.len();
+                    free_dofs.push(d);
+                }
+                Some((v, g)) => constrained.push((d, *v, *g)),
+            }
+        }
+        let in_plane_free = free_in_plane_modes(mesh, &constrained);
+        if in_plane_free > 0 {
+            return Err(FeError::Underconstrained {
+                free_modes: in_plane_free,
+                hint: "the plate can slide or turn in its own plane: hold it in-plane at a \
+                       support",
+            });
+        }
+        let pattern = Pattern::with_node_dofs(mesh, &free_index, &free_dofs, M)?;
+        let order = node_dof_order(&free_index, M, mesh.x_um.len(), mesh.y_um.len());
+        let symbolic = SymbolicFactor::new(pattern.symbolic.as_ref(), &order)?;
+        let thickness = problem.element_thickness_um();
+        let mut cache: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut kinds = Vec::new();
+        let mut kind = Vec::with_capacity(mesh.n_elements());
+        for (e, &t) in thickness.iter().enumerate() {
+            if !(t > 0.0 && t.is_finite()) {
+                return Err(FeError::InvalidStiffness {
+                    element: e,
+                    hint: "every thickness (base and regions) must be positive",
+                });
+            }
+            let (x0, y0, x1, y1) = mesh.element_bounds_um(e);
+            let (a, b) = ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6);
+            let id = *cache
+                .entry([a.to_bits(), b.to_bits(), t.to_bits()])
+                .or_insert_with(|| {
+                    kinds.push(ElementKind::new(a, b, t * 1e-6, &problem.material));
+                    (kinds.len() - 1) as u32
+                });
+            kind.push(id);
+        }
+        Ok(VonKarman {
+            mesh: mesh.clone(),
+            opts,
+            free_index,
+            free_dofs,
+            constrained,
+            groups: bending.groups.clone(),
+            pattern,
+            symbolic,
+            kinds,
+            kind,
+            ctx: Arc::new(SolutionContext {
+                mesh: mesh.clone(),
+                thickness_um: thickness,
+                material: problem.material,
+                groups: bending.groups,
+            }),
+        })
+    }
+
+    /// Unknowns of the nonlinear system.
+    pub fn n_free_dofs(&self) -> usize {
+        self.free_dofs.len()
+    }
+
+    /// Internal force over all dofs and, if asked, the tangent's values on the pattern.
+    fn internal(&self, u: &[f64], with_tangent: bool) -> (Vec<f64>, Option<Vec<f64>>) {
+        const CHUNK: usize = 1024;
+        let n_el = self.mesh.n_elements();
+        let mut r = vec![0.0; u.len()];
+        let mut vals = with_tangent.then(|| vec![0.0; self.pattern.symbolic.row_idx().len()]);
+        let mut start = 0;
+        while start < n_el {
+            let end = (start + CHUNK).min(n_el);
+            let done: Vec<([usize; NE], [f64; NE], Option<Vec<f64>>)> = (start..end)
+                .into_par_iter()
+                .map(|e| {
+                    let dofs = element_dofs6(&self.mesh, e);
+                    let ue = dofs.map(|d| u[d]);
+                    let mut k = with_tangent.then(|| vec![0.0; NE * NE]);
+                    let re = self.kinds[self.kind[e] as usize].evaluate(&ue, k.as_deref_mut());
+                    (dofs, re, k)
+                })
+                .collect();
+            for (dofs, re, k) in done {
+                for (d, v) in dofs.iter().zip(re) {
+                    r[*d] += v;
+                }
+                if let (Some(vals), Some(k)) = (vals.as_mut(), k) {
+                    let free = dofs.map(|d| self.free_index[d]);
+                    self.pattern
+                        .add_element(vals, &free, &CORNER, &NODE_DOF, &k);
+                }
+            }
+            start = end;
+        }
+        (r, vals)
+    }
+
+    /// Solve one load case by Newton iterations, stepping the load up from zero (steps halve when
+    /// Newton fails to converge, and grow again when it converges fast).
+    pub fn solve(&self, loads: &[Load]) -> FeResult<(PlateSolution, NewtonStats)> {
+        let mesh = &self.mesh;
+        let f4 = load_vector(mesh, loads, 0)?;
+        let mut f = vec![0.0; M * mesh.n_nodes()];
+        for (d, v) in f4.iter().enumerate() {
+            f[M * (d / 4) + d % 4] = *v;
+        }
+        let mut u = vec![0.0; f.len()];
+        for &(d, v, _) in &self.constrained {
+            u[d] = v;
+        }
+        let mut stats = NewtonStats {
+            load_steps: 0,
+            iterations: 0,
+        };
+        let (mut lambda, mut step) = (0.0f64, 1.0f64);
+        let mut previous: Option<(f64, Vec<f64>)> = None;
+        let mut attempts = 0;
+        while lambda < 1.0 {
+            attempts += 1;
+            if attempts > self.opts.max_load_steps {
+                return Err(FeError::Convergence {
+                    detail: format!(
+                        "Newton did not converge within {} load steps (reached {:.1} % of the \
+                         load)",
+                        self.opts.max_load_steps,
+                        lambda * 100.0
+                    ),
+                    hint: "the plate may buckle or snap at this load: lower the load or use the \
+                           linear rung",
+                });
+            }
+            let target = (lambda + step).min(1.0);
+            // Predictor: extrapolate along the last converged step.
+            let mut trial = u.clone();
+            if let Some((l0, u0)) = &previous {
+                let s = (target - lambda) / (lambda - l0);
+                for ((t, a), b) in trial.iter_mut().zip(&u).zip(u0) {
+                    *t = a + s * (a - b);
+                }
+            }
+            match self.newton(&mut trial, &f, target, &mut stats) {
+                Some(iterations) => {
+                    previous = Some((lambda, std::mem::replace(&mut u, trial)));
+                    lambda = target;
+                    stats.load_steps += 1;
+                    if iterations <= 4 {
+                        step *= 2.0;
+                    }
+                }
+                None => {
+                    step *= 0.5;
+                    if step < 1e-4 {
+                        return Err(FeError::Convergence {
+                            detail: format!(
+                                "Newton failed at {:.1} % of the load even with tiny steps",
+                                lambda * 100.0
+                            ),
+                            hint: "the plate may buckle or snap at this load",
+                        });
+                    }
+                }
+            }
+        }
+        Ok((self.solution(u, &f)?, stats))
+    }
+
+    /// Newton iterations at load factor `lambda` from `u`; the iteration count on convergence.
+    fn newton(
+        &self,
+        u: &mut [f64],
+        f: &[f64],
+        lambda: f64,
+        stats: &mut NewtonStats,
+    ) -> Option<usize> {
+        let mut first_energy = None;
+        for it in 1..=self.opts.max_iterations {
+            let (r_int, vals) = self.internal(u, true);
+            let mut rhs = Mat::<f64>::zeros(self.free_dofs.len(), 1);
+            for (i, &d) in self.free_dofs.iter().enumerate() {
+                rhs[(i, 0)] = lambda * f[d] - r_int[d];
+            }
+            let llt = self
+                .symbolic
+                .factor(
+                    SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), vals?).as_ref(),
+                )
+                .ok()?;
+            stats.iterations += 1;
+            let r0: Vec<f64> = (0..self.free_dofs.len()).map(|i| rhs[(i, 0)]).collect();
+            llt.solve_in_place(rhs.as_mut());
+            let mut energy = 0.0;
+            for (i, &d) in self.free_dofs.iter().enumerate() {
+                let du = rhs[(i, 0)];
+                if !du.is_finite() {
+                    return None;
+                }
+                energy += du * r0[i];
+                u[d] += du;
+            }
+            let e0 = *first_energy.get_or_insert(energy.abs());
+            if e0 == 0.0 || energy.abs() <= self.opts.energy_tol * e0 {
+                return Some(it);
+            }
+            if energy.abs() > 1e6 * e0 {
+                return None;
+            }
+        }
+        None
+    }
+
+    /// The converged field as a plate solution: w part and membrane part, reactions f - R_int at
+    /// the constrained w dofs.
+    fn solution(&self, u: Vec<f64>, f: &[f64]) -> FeResult<PlateSolution> {
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(FeError::NonFinite {
+                hint: "check material constants, thickness and load values for NaN/inf",
+            });
+        }
+        let mesh = &self.mesh;
+        let (r_int, _) = self.internal(&u, false);
+        let mut by_group = vec![0.0; self.groups.len()];
+        let mut nodal = Vec::new();
+        let nxl = mesh.x_um.len();
+        for &(d, _, g) in &self.constrained {
+            if d % M == 0 {
+                let r = f[d] - r_int[d];
+                by_group[g] += r;
+                let node = d / M;
+                nodal.push(NodalReaction {
+                    group: self.groups[g].clone(),
+                    x_um: mesh.x_um[node % nxl],
+                    y_um: mesh.y_um[node / nxl],
+                    force_n: r,
+                });
+            }
+        }
+        let applied: f64 = f.iter().step_by(M).sum();
+        let w: Vec<f64> = (0..mesh.n_nodes())
+            .flat_map(|n| u[M * n..M * n + 4].to_vec())
+            .collect();
+        let uv: Vec<f64> = (0..mesh.n_nodes())
+            .flat_map(|n| [u[M * n + 4], u[M * n + 5]])
+            .collect();
+        let reactions = self
+            .groups
+            .iter()
+            .zip(by_group)
+            .map(|(g, f)| GroupReaction {
+                group: g.clone(),
+                force_n: f,
+            })
+            .collect();
+        Ok(PlateSolution::new(self.ctx.clone(), w, reactions, applied)
+            .with_nodal(nodal)
+            .with_membrane(uv))
+    }
+}
