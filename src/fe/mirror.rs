@@ -109,14 +109,27 @@ impl PlateSolution {
             Axis::X => [1.0, 1.0, -1.0, -1.0],
             Axis::Y => [1.0, -1.0, 1.0, -1.0],
         };
+        // In-plane (u, v): the displacement across the line is odd.
+        let sign_uv: [f64; 2] = match along {
+            Axis::X => [1.0, -1.0],
+            Axis::Y => [-1.0, 1.0],
+        };
         let u_half = self.dofs();
+        let uv_half = self.membrane();
         let mut u = Vec::with_capacity(4 * mesh.n_nodes());
+        let mut uv = Vec::with_capacity(2 * mesh.n_nodes());
         for &(j, fy) in &ym.node {
             for &(i, fx) in &xm.node {
-                let src = 4 * half.node(i, j);
+                let node = half.node(i, j);
                 for d in 0..4 {
                     let flip = if fx || fy { sign[d] } else { 1.0 };
-                    u.push(flip * u_half[src + d]);
+                    u.push(flip * u_half[4 * node + d]);
+                }
+                if let Some(m) = uv_half {
+                    for d in 0..2 {
+                        let flip = if fx || fy { sign_uv[d] } else { 1.0 };
+                        uv.push(flip * m[2 * node + d]);
+                    }
                 }
             }
         }
@@ -178,6 +191,12 @@ impl PlateSolution {
             material: ctx.material,
             groups,
         });
-        PlateSolution::new(ctx, u, reactions, 2.0 * self.applied_force_n()).with_nodal(nodal)
+        let whole =
+            PlateSolution::new(ctx, u, reactions, 2.0 * self.applied_force_n()).with_nodal(nodal);
+        if uv_half.is_some() {
+            whole.with_membrane(uv)
+        } else {
+            whole
+        }
     }
 }

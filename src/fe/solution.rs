@@ -128,6 +128,10 @@ impl PlateSolution {
         self.membrane = Some(uv);
         self
     }
+    /// In-plane displacements (u, v per node, m) of a von Karman solution.
+    pub(crate) fn membrane(&self) -> Option<&[f64]> {
+        self.membrane.as_deref()
+    }
     /// True for a geometrically nonlinear (von Karman) solution.
     pub fn is_nonlinear(&self) -> bool {
         self.membrane.is_some()

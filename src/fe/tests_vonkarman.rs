@@ -277,3 +277,77 @@ fn path_independent_and_hardening() {
     );
     assert!(((w2 - w2b) / w2).abs() < 1e-8, "{w2} vs {w2b}");
 }
+
+/// The half model with a mirror line (w_y, w_xy and v held there) mirrored back equals the whole
+/// plate, bending and membrane fields alike.
+#[test]
+fn half_model_mirrors_to_the_whole_plate() {
+    let lines: Vec<f64> = (0..=16).map(|k| 250.0 * k as f64).collect();
+    let build = |y_max: f64| {
+        let m = RectMesh {
+            x_um: lines.clone(),
+            y_um: lines.iter().copied().filter(|&y| y <= y_max).collect(),
+        };
+        let mut p = PlateProblem::new(m, 50.0, PlateMaterial::silicon(DieEdge::Along110));
+        for (g, at) in [("y0", 0.0), ("y1", 4000.0)] {
+            if at <= y_max {
+                p.supports.push(LineSupport {
+                    group: g.into(),
+                    kind: SupportKind::Clamped,
+                    along: Axis::X,
+                    at_um: at,
+                    from_um: 0.0,
+                    to_um: 4000.0,
+                });
+            }
+        }
+        if y_max < 4000.0 {
+            p.supports.push(LineSupport {
+                group: "symmetry".into(),
+                kind: SupportKind::Symmetry,
+                along: Axis::X,
+                at_um: y_max,
+                from_um: 0.0,
+                to_um: 4000.0,
+            });
+        }
+        p
+    };
+    let patch = |y1: f64| Load::Pressure {
+        region: Some(RectUm {
+            x0_um: 1000.0,
+            y0_um: 1500.0,
+            x1_um: 2500.0,
+            y1_um: y1,
+        }),
+        total_force_n: 3.0 * (y1 - 1500.0) / 1000.0,
+    };
+    let whole = build(4000.0);
+    let (w, _) = VonKarman::new(&whole, NonlinearOptions::default())
+        .unwrap()
+        .solve(&[patch(2500.0)])
+        .unwrap();
+    let half = build(2000.0);
+    let (h, _) = VonKarman::new(&half, NonlinearOptions::default())
+        .unwrap()
+        .solve(&[patch(2000.0)])
+        .unwrap();
+    let h = h.mirrored(Axis::X, 2000.0, |g| g.to_string());
+    let peak = w.max_deflection().w_m;
+    assert!(
+        peak / 50e-6 > 1.0,
+        "large deflection: w/t = {}",
+        peak / 50e-6
+    );
+    for (x, y) in [(1700.0, 1900.0), (600.0, 3100.0), (3300.0, 2600.0)] {
+        let (a, b) = (w.deflection_m(x, y), h.deflection_m(x, y));
+        assert!((a - b).abs() <= 1e-7 * peak, "w at ({x}, {y}): {a} vs {b}");
+        let (na, nb) = (w.membrane_forces(x, y), h.membrane_forces(x, y));
+        for k in 0..3 {
+            assert!(
+                (na[k] - nb[k]).abs() <= 1e-6 * na[0].abs().max(na[1].abs()),
+                "N at ({x}, {y}): {na:?} vs {nb:?}"
+            );
+        }
+    }
+}
