@@ -124,6 +124,10 @@ codes! {
             "the finest meshes do not converge monotonically; the estimate is the last change",
         ProbeOverhang = "PROBE_OVERHANG":
             "the probe is wider than the die: its force spreads over the part on the die",
+        StressSingular = "STRESS_SINGULAR":
+            "the peak point stress does not converge; the safety factor uses the averaged stress",
+        TouchDown = "TOUCH_DOWN":
+            "the plate reaches the channel floor: readings beyond touch-down are not modelled",
     }
 }
 

@@ -78,6 +78,14 @@ pub struct AccuracyArgs {
     /// 16, 24 or 32 times; three are needed for an error estimate).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "8")]
     pub max_levels: u8,
+    /// Model rung: auto (the cheapest meeting --tol: strip, linear plate, large-deflection
+    /// plate), or force beam, plate or large-deflection.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub model: ModelArg,
+    /// In-plane support condition of the large-deflection plate: immovable (the supports hold
+    /// the plate) or sliding (it may pull in across them).
+    #[arg(long, value_enum, default_value = "immovable")]
+    pub in_plane: InPlaneArg,
 }
 
 impl From<AccuracyArgs> for tactfab::sensor::Accuracy {
@@ -85,6 +93,8 @@ impl From<AccuracyArgs> for tactfab::sensor::Accuracy {
         tactfab::sensor::Accuracy {
             tol_rel: a.tol,
             max_levels: usize::from(a.max_levels),
+            model: a.model.into(),
+            in_plane: a.in_plane.into(),
         }
     }
 }
@@ -352,6 +362,51 @@ pub struct StudyAccuracyArgs {
     /// are needed for an error estimate.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "3")]
     pub max_levels: u8,
+    /// Model rung. The studies fit slopes and polynomials in the force that assume the linear
+    /// plate, so they default to it and report its model error; auto lets each load climb to the
+    /// large-deflection plate where the linear one misses --tol.
+    #[arg(long, value_enum, default_value = "plate")]
+    pub model: ModelArg,
+    /// In-plane support condition of the large-deflection plate: immovable or sliding.
+    #[arg(long, value_enum, default_value = "immovable")]
+    pub in_plane: InPlaneArg,
+}
+
+/// `--model`: the rung of the fidelity ladder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ModelArg {
+    Auto,
+    Beam,
+    Plate,
+    LargeDeflection,
+}
+
+impl From<ModelArg> for tactfab::sensor::ModelChoice {
+    fn from(m: ModelArg) -> Self {
+        use tactfab::sensor::ModelChoice as C;
+        match m {
+            ModelArg::Auto => C::Auto,
+            ModelArg::Beam => C::Beam,
+            ModelArg::Plate => C::Plate,
+            ModelArg::LargeDeflection => C::LargeDeflection,
+        }
+    }
+}
+
+/// `--in-plane`: what the supports do in the plate's plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum InPlaneArg {
+    Immovable,
+    Sliding,
+}
+
+impl From<InPlaneArg> for tactfab::fe::InPlane {
+    fn from(m: InPlaneArg) -> Self {
+        match m {
+            InPlaneArg::Immovable => tactfab::fe::InPlane::Immovable,
+            InPlaneArg::Sliding => tactfab::fe::InPlane::Sliding,
+        }
+    }
 }
 
 impl From<StudyAccuracyArgs> for tactfab::sensor::Accuracy {
@@ -359,6 +414,8 @@ impl From<StudyAccuracyArgs> for tactfab::sensor::Accuracy {
         tactfab::sensor::Accuracy {
             tol_rel: a.tol,
             max_levels: usize::from(a.max_levels),
+            model: a.model.into(),
+            in_plane: a.in_plane.into(),
         }
     }
 }

@@ -36,6 +36,7 @@ pub mod ordering;
 pub mod problem;
 pub mod solution;
 pub mod solve;
+pub mod stress_average;
 pub mod vonkarman;
 
 #[cfg(test)]

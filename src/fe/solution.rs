@@ -140,6 +140,22 @@ impl PlateSolution {
     /// (u_x + w_x^2/2, v_y + w_y^2/2, u_y + v_x + w_x w_y) (von Karman; Reddy, Theory and
     /// Analysis of Elastic Plates and Shells, Eq. 3.3.10); zero on a linear solution.
     fn membrane_strain(&self, e: usize, x: f64, y: f64) -> [f64; 3] {
+        if self.membrane.is_none() {
+            return [0.0; 3];
+        }
+        let (a, b) = self.element_size_m(e);
+        let s = bfs::shape(x, y, a, b);
+        self.membrane_strain_with(e, x, y, &s, &self.element_u(e))
+    }
+    /// [`Self::membrane_strain`] with the shape functions and element dofs already at hand.
+    fn membrane_strain_with(
+        &self,
+        e: usize,
+        x: f64,
+        y: f64,
+        s: &[[f64; 16]; 6],
+        u: &[f64; 16],
+    ) -> [f64; 3] {
         let Some(uv) = &self.membrane else {
             return [0.0; 3];
         };
@@ -153,11 +169,50 @@ impl PlateSolution {
             vx += dx[k] * uv[2 * n + 1];
             vy += dy[k] * uv[2 * n + 1];
         }
-        let s = bfs::shape(x, y, a, b);
-        let u = self.element_u(e);
-        let wx: f64 = s[1].iter().zip(&u).map(|(p, q)| p * q).sum();
-        let wy: f64 = s[2].iter().zip(&u).map(|(p, q)| p * q).sum();
+        let wx: f64 = s[1].iter().zip(u).map(|(p, q)| p * q).sum();
+        let wy: f64 = s[2].iter().zip(u).map(|(p, q)| p * q).sum();
         [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy]
+    }
+    /// The six von Karman nodal values (w, w_x, w_y, w_xy, u, v) this field takes at a point, by
+    /// element interpolation: the starting guess of a finer mesh's Newton solve.
+    #[track_caller]
+    pub(crate) fn node_values(&self, x_um: f64, y_um: f64) -> [f64; 6] {
+        let Some((e, lx, ly)) = self.ctx.mesh.locate(x_um, y_um) else {
+            panic!("point ({x_um}, {y_um}) um is outside the plate");
+        };
+        let (a, b) = self.element_size_m(e);
+        let u = self.element_u(e);
+        let s = bfs::shape(lx, ly, a, b);
+        let dot = |row: &[f64; 16]| row.iter().zip(&u).map(|(p, q)| p * q).sum::<f64>();
+        let (mut uu, mut vv) = (0.0, 0.0);
+        if let Some(uv) = &self.membrane {
+            for (k, &(ix, iy)) in bfs::CORNERS.iter().enumerate() {
+                let fx = if ix == 1 { lx / a } else { 1.0 - lx / a };
+                let fy = if iy == 1 { ly / b } else { 1.0 - ly / b };
+                let n = self.ctx.mesh.element_nodes(e)[k];
+                uu += fx * fy * uv[2 * n];
+                vv += fx * fy * uv[2 * n + 1];
+            }
+        }
+        [dot(&s[0]), dot(&s[1]), dot(&s[2]), dot(&s[5]), uu, vv]
+    }
+    /// Surface stresses (sigma_x, sigma_y, tau_xy) in Pa of element `e` at local (x, y) m:
+    /// [bottom, top], sigma = Q (eps0 +/- (t/2) kappa).
+    pub(crate) fn surface_stresses(&self, e: usize, x: f64, y: f64) -> [[f64; 3]; 2] {
+        let (a, b) = self.element_size_m(e);
+        let u = self.element_u(e);
+        let s = bfs::shape(x, y, a, b);
+        let dot = |row: &[f64; 16]| row.iter().zip(&u).map(|(p, q)| p * q).sum::<f64>();
+        let k = [-dot(&s[3]), -dot(&s[4]), -2.0 * dot(&s[5])];
+        let m = self.membrane_strain_with(e, x, y, &s, &u);
+        let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+        [1.0, -1.0].map(|sign| {
+            self.ctx.material.stress(
+                m[0] + sign * h * k[0],
+                m[1] + sign * h * k[1],
+                m[2] + sign * h * k[2],
+            )
+        })
     }
     /// In-plane force resultants (N_x, N_y, N_xy) in N/m at a point, N = Q t eps0; zero on a
     /// linear solution.
@@ -194,11 +249,11 @@ impl PlateSolution {
             .map(|r| r.force_n)
     }
 
-    fn element_u(&self, e: usize) -> [f64; 16] {
+    pub(crate) fn element_u(&self, e: usize) -> [f64; 16] {
         element_dofs(&self.ctx.mesh, e).map(|d| self.u[d])
     }
 
-    fn element_size_m(&self, e: usize) -> (f64, f64) {
+    pub(crate) fn element_size_m(&self, e: usize) -> (f64, f64) {
         let (x0, y0, x1, y1) = self.ctx.mesh.element_bounds_um(e);
         ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6)
     }
@@ -259,7 +314,7 @@ impl PlateSolution {
     }
 
     /// Clipped parts of a rectangle per element: (element, local x0, x1, y0, y1 in m).
-    fn clipped(&self, r: &RectUm) -> Vec<(usize, f64, f64, f64, f64)> {
+    pub(crate) fn clipped(&self, r: &RectUm) -> Vec<(usize, f64, f64, f64, f64)> {
         let m = &self.ctx.mesh;
         let r = r.normalised();
         let mut out = Vec::new();

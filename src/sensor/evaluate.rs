@@ -3,12 +3,14 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fe::problem::Axis as FeAxis;
 use crate::fe::solution::LINEAR_RANGE_LIMIT;
 use crate::fe::{
-    Factorised, LineSupport, PlateProblem, RectMesh, SupportKind, ThicknessRegion, ThreeMesh,
+    Factorised, InPlane, LineSupport, NonlinearOptions, PlateProblem, RectMesh, SupportKind,
+    ThicknessRegion, VonKarman,
 };
 use crate::finding::{Finding, SceneCode};
 use crate::process::{Scene, SceneLoad};
@@ -18,10 +20,13 @@ use super::check::{check_scene, overhang, SensorError, MAX_SOLUTION_VALUES};
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::mesh_lines::{
-    base_lines, grading_description, level_ratios, subdivide, MeshOptions, COARSE_ELEMENT_UM,
-    SUBDIVISIONS,
+    base_lines, grading_description, subdivide, MeshOptions, COARSE_ELEMENT_UM, SUBDIVISIONS,
 };
 use super::readout::{group_for, read, ElectrodeReading, Readout};
+use super::rung::{
+    discretisation, linear_model_error, quantities, worst, ErrorParts, ModelChoice, QuantityError,
+    STRESS_PEAK,
+};
 use super::scene::{split, SceneLoads};
 use super::symmetry::Symmetry;
 
@@ -31,16 +36,28 @@ use super::symmetry::Symmetry;
 pub struct Accuracy {
     pub tol_rel: f64,
     pub max_levels: usize,
+    /// The rung to use ([`ModelChoice::Auto`]: the cheapest that meets `tol_rel`).
+    pub model: ModelChoice,
+    /// What the supports do in-plane on the large-deflection rung.
+    pub in_plane: InPlane,
 }
 
 impl Accuracy {
     /// `tol_rel` in (0, 1) is the caller's to check (the CLI's value parsers do); levels beyond
-    /// [`SUBDIVISIONS`] are capped.
+    /// [`SUBDIVISIONS`] are capped. The rung is chosen automatically, supports immovable in-plane.
     pub const fn new(tol_rel: f64, max_levels: usize) -> Self {
         Accuracy {
             tol_rel,
             max_levels,
+            model: ModelChoice::Auto,
+            in_plane: InPlane::Immovable,
         }
+    }
+
+    /// The same accuracy on a forced rung.
+    pub const fn with_model(mut self, model: ModelChoice) -> Self {
+        self.model = model;
+        self
     }
 }
 
@@ -50,8 +67,10 @@ impl Accuracy {
 pub enum ModelKind {
     /// The fixed-fixed strip (paper 001 Eq. 3-6).
     Beam,
-    /// The Kirchhoff BFS plate.
+    /// The Kirchhoff BFS plate (linear).
     Plate,
+    /// The von Karman plate: BFS bending with in-plane membrane displacements, Newton solved.
+    LargeDeflectionPlate,
     /// The load lies wholly over a support: no plate solve.
     Direct,
 }
@@ -61,6 +80,7 @@ impl std::fmt::Display for ModelKind {
         f.write_str(match self {
             ModelKind::Beam => "beam",
             ModelKind::Plate => "plate",
+            ModelKind::LargeDeflectionPlate => "large_deflection_plate",
             ModelKind::Direct => "direct",
         })
     }
@@ -82,6 +102,13 @@ pub struct ModelInfo {
     pub symmetry: Option<String>,
     /// How the coarsest mesh was graded ([`MeshOptions::graded`]); None: only feature lines.
     pub grading: Option<String>,
+    /// Why this rung answered.
+    pub reason: String,
+    /// The in-plane support condition (large-deflection plate only).
+    pub in_plane: Option<InPlane>,
+    /// Newton iterations over all levels and load steps (large-deflection plate only); each is
+    /// one numeric factorisation on the level's shared symbolic analysis.
+    pub newton_iterations: Option<usize>,
 }
 
 impl ModelInfo {
@@ -96,6 +123,9 @@ impl ModelInfo {
             observed_order: None,
             symmetry: None,
             grading: None,
+            reason: "the load lies wholly over the supports".into(),
+            in_plane: None,
+            newton_iterations: None,
         }
     }
 }
@@ -129,12 +159,17 @@ pub struct SceneReport {
     pub model: ModelInfo,
     /// Wall time of every level solved for this answer.
     pub solve_ms: f64,
-    /// Estimated relative error of the readings (three-mesh Richardson); None before three levels.
+    /// Estimated relative error of the readings: the worst total (discretisation + model) over
+    /// [`SceneReport::quantities`]; None before three levels.
     pub error_estimate: Option<f64>,
+    /// The worst of each error part over the quantities.
+    pub error: ErrorParts,
+    /// Every quantity met the tolerance.
     pub converged: bool,
     pub deflection_at_load_um: f64,
     pub max_deflection_um: f64,
-    /// Largest principal bending stress over the contact patch.
+    /// Largest principal stress over the contact patch, averaged over a square a plate thickness
+    /// wide (the point peak is in [`SceneReport::quantities`] with its convergence).
     pub max_stress_mpa: f64,
     pub safety_factor: f64,
     /// Load at which the stress reaches fracture / safety factor (linear scaling).
@@ -144,6 +179,9 @@ pub struct SceneReport {
     pub most_sensitive: String,
     pub reactions_n: Reactions,
     pub electrodes: Vec<ElectrodeReading>,
+    /// Each quantity with its own error (deflection, charges, reactions); a voltage has its
+    /// charge's relative error (V = Q / C).
+    pub quantities: Vec<QuantityError>,
     pub warnings: Vec<Finding>,
     /// Per mesh level: size, cost, values and the estimate (`tactfab fe --convergence`).
     pub convergence: Vec<LevelRecord>,
@@ -185,24 +223,65 @@ pub fn evaluate_many_with(
     for s in scenes {
         check_scene(s, g)?;
     }
-    let (tol, max_levels) = (acc.tol_rel, acc.max_levels.min(SUBDIVISIONS.len()));
+    let tol = acc.tol_rel;
     let beam_error = beam_error_estimate(g);
-    let by_beam = |s: &Scene| match s.load {
-        SceneLoad::Line { y_um, .. } => beam_applies(g, y_um) && beam_error < tol,
+    let beam_fits = |s: &Scene| match s.load {
+        SceneLoad::Line { y_um, .. } => beam_applies(g, y_um),
         _ => false,
     };
-    let plate_scenes: Vec<Scene> = scenes.iter().filter(|s| !by_beam(s)).cloned().collect();
+    if acc.model == ModelChoice::Beam {
+        if let Some(s) = scenes.iter().find(|s| !beam_fits(s)) {
+            return Err(SensorError::Scene {
+                scene: s.name.clone(),
+                problem: "the strip (--model beam) answers only line loads across a plate                           without teeth"
+                    .into(),
+                hint: "use --model auto, plate or large-deflection for this scene",
+            });
+        }
+    }
+    // The strip is linear: its model error is its bound against the linear plate plus the
+    // linear plate's own (membrane) model error, estimated on the coarsest mesh.
+    let candidates: Vec<usize> = (0..scenes.len())
+        .filter(|&k| match acc.model {
+            ModelChoice::Beam => true,
+            ModelChoice::Auto => beam_fits(&scenes[k]) && beam_error < tol,
+            _ => false,
+        })
+        .collect();
+    let mut strip_error = vec![None; scenes.len()];
+    if !candidates.is_empty() {
+        let cand: Vec<Scene> = candidates.iter().map(|&k| scenes[k].clone()).collect();
+        let coarse = Accuracy {
+            max_levels: 1,
+            ..acc.with_model(ModelChoice::Plate)
+        };
+        for (&k, r) in candidates
+            .iter()
+            .zip(evaluate_plate(g, &cand, coarse, mesh)?)
+        {
+            let e = beam_error + r.error.model.unwrap_or(0.0);
+            if acc.model == ModelChoice::Beam || e < tol {
+                strip_error[k] = Some(e);
+            }
+        }
+    }
+    let by_beam = |k: usize| strip_error[k].is_some();
+    let plate_scenes: Vec<Scene> = (0..scenes.len())
+        .filter(|&k| !by_beam(k))
+        .map(|k| scenes[k].clone())
+        .collect();
     let mut plate = if plate_scenes.is_empty() {
         Vec::new()
     } else {
-        evaluate_plate(g, &plate_scenes, tol, max_levels, mesh)?
+        evaluate_plate(g, &plate_scenes, acc, mesh)?
     }
     .into_iter();
     Ok(scenes
         .iter()
-        .map(|s| match s.load {
-            SceneLoad::Line { y_um, force_n } if by_beam(s) => {
-                beam_report(g, s, y_um, force_n, beam_error, tol)
+        .enumerate()
+        .map(|(k, s)| match (s.load.clone(), strip_error[k]) {
+            (SceneLoad::Line { y_um, force_n }, Some(e)) => {
+                beam_report(g, s, y_um, force_n, e, acc)
             }
             _ => plate.next().expect("one plate report per plate scene"),
         })
@@ -216,8 +295,9 @@ fn beam_report(
     y_um: f64,
     force_n: f64,
     error: f64,
-    tol: f64,
+    acc: Accuracy,
 ) -> SceneReport {
+    let tol = acc.tol_rel;
     let t0 = Instant::now();
     let b = beam_answer(g, y_um, force_n);
     let r = b.readout;
@@ -235,9 +315,27 @@ fn beam_report(
             observed_order: None,
             symmetry: None,
             grading: None,
+            reason: match acc.model {
+                ModelChoice::Beam => "forced by --model beam".into(),
+                _ => format!(
+                    "the strip qualifies: a line load across a plate without teeth, its model \
+                     error {error:.2e} (its bound against the linear plate plus the linear \
+                     plate's membrane model error) is under the tolerance {tol:.0e}"
+                ),
+            },
+            in_plane: None,
+            newton_iterations: None,
         },
         solve_ms: t0.elapsed().as_secs_f64() * 1e3,
         error_estimate: Some(error),
+        error: ErrorParts::new(Some(0.0), Some(error)),
+        quantities: {
+            let mut v = vec![b.deflection_at_load_m];
+            v.extend(r.electrodes.iter().map(|e| e.charge_pc));
+            v.extend([r.support1_n, r.support2_n]);
+            let model = vec![error; v.len()];
+            quantities(g, &v, &vec![Some(0.0); v.len()], Some(&model), tol)
+        },
         converged: error < tol,
         deflection_at_load_um: b.deflection_at_load_m * 1e6,
         max_deflection_um: b.max_deflection_m * 1e6,
@@ -293,31 +391,174 @@ fn most_sensitive(r: &Readout, force_n: f64) -> (String, f64) {
         .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a })
 }
 
-/// The plate path of [`evaluate_many`]: the level loop, then one report per scene.
+/// The rung a level loop runs.
+#[derive(Debug, Clone, Copy)]
+enum Rung {
+    Linear,
+    LargeDeflection(NonlinearOptions),
+    /// The large-deflection plate estimated by two modified-Newton corrections from the linear
+    /// field ([`VonKarman::modified_newton`]): the linear plate's model-error estimate.
+    Estimate(NonlinearOptions),
+}
+
+/// The plate path of [`evaluate_many`]: the rung of each scene (see [`ModelChoice`]), its level
+/// loop, then one report per scene. The linear plate's model error is its difference from the
+/// large-deflection plate on the coarsest mesh, where a nonlinear solve costs little.
 fn evaluate_plate(
     g: &SensorGeometry,
     scenes: &[Scene],
-    tol: f64,
-    max_levels: usize,
+    acc: Accuracy,
     mesh: MeshOptions,
 ) -> Result<Vec<SceneReport>, SensorError> {
+    let tol = acc.tol_rel;
+    let max_levels = acc.max_levels.min(SUBDIVISIONS.len());
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
-    let levels = solve_levels(g, &loads, tol, max_levels, mesh)?;
-    Ok(scenes
+    let nonlinear = Rung::LargeDeflection(NonlinearOptions {
+        in_plane: acc.in_plane,
+        ..Default::default()
+    });
+    let report_all =
+        |levels: &Levels, model: Option<&[Vec<f64>]>, reason: &dyn Fn(usize) -> String| {
+            scenes
+                .iter()
+                .zip(&loads)
+                .enumerate()
+                .map(|(k, (scene, l))| {
+                    let m = model.map(|m| m[k].as_slice());
+                    scene_report(g, scene, l, k, levels, tol, m, reason(k))
+                })
+                .collect::<Vec<_>>()
+        };
+    if acc.model == ModelChoice::LargeDeflection {
+        let levels = solve_levels(g, &loads, tol, max_levels, mesh, nonlinear)?;
+        return Ok(report_all(&levels, None, &|_| {
+            "forced by --model large-deflection".into()
+        }));
+    }
+    let linear = solve_levels(g, &loads, tol, max_levels, mesh, Rung::Linear)?;
+    // The linear plate's model error on the coarsest mesh: every scene by the cheap estimate
+    // (one factorisation for all), and by the converged nonlinear solve where that estimate is
+    // not small (it is accurate only for a mild nonlinearity).
+    let Rung::LargeDeflection(opts) = nonlinear else {
+        unreachable!("built above")
+    };
+    let estimate = solve_levels(g, &loads, tol, 1, mesh, Rung::Estimate(opts))?;
+    let h0 = estimate.cost.first().map_or(0.0, |c| c.0);
+    let mut model: Vec<Vec<f64>> = (0..scenes.len())
+        .map(|k| {
+            linear_model_error(
+                g,
+                &linear.history[k][0],
+                &estimate.history[k][0],
+                loads[k].total_force_n,
+            )
+        })
+        .collect();
+    let mut by_newton = vec![false; scenes.len()];
+    // Forced linear plate: the estimate is what is reported (large means large); auto: a large
+    // estimate is confirmed by Newton before the scene climbs or stays.
+    let large: Vec<usize> = (0..scenes.len())
+        .filter(|_| acc.model == ModelChoice::Auto)
+        .filter(|&k| model[k].iter().any(|&e| e > 0.5 * tol))
+        .collect();
+    // Auto: a scene whose estimate alone is over the tolerance climbs at once (its level loop's
+    // first level gives the converged comparison); forced plate: one coarse Newton solve.
+    let (climb_now, check): (Vec<usize>, Vec<usize>) = large
         .iter()
-        .zip(&loads)
-        .enumerate()
-        .map(|(k, (scene, l))| scene_report(g, scene, l, k, &levels, tol))
-        .collect())
+        .partition(|&&k| acc.model == ModelChoice::Auto && model[k].iter().any(|&e| e >= tol));
+    let climbed = if climb_now.is_empty() {
+        None
+    } else {
+        let sub: Vec<SceneLoads> = climb_now.iter().map(|&k| loads[k].clone()).collect();
+        let levels = solve_levels(g, &sub, tol, max_levels, mesh, nonlinear)?;
+        for (j, &k) in climb_now.iter().enumerate() {
+            model[k] = linear_model_error(
+                g,
+                &linear.history[k][0],
+                &levels.history[j][0],
+                loads[k].total_force_n,
+            );
+            by_newton[k] = true;
+        }
+        Some((sub, levels))
+    };
+    if !check.is_empty() {
+        let sub: Vec<SceneLoads> = check.iter().map(|&k| loads[k].clone()).collect();
+        let coarse = solve_levels(g, &sub, tol, 1, mesh, nonlinear)?;
+        for (j, &k) in check.iter().enumerate() {
+            model[k] = linear_model_error(
+                g,
+                &linear.history[k][0],
+                &coarse.history[j][0],
+                loads[k].total_force_n,
+            );
+            by_newton[k] = true;
+        }
+    }
+    let worst_model = |k: usize| model[k].iter().copied().fold(0.0, f64::max);
+    let basis = |k: usize| {
+        format!(
+            "model error {:.2e} = its difference from the large-deflection plate ({}) on the \
+             {h0:.0} um mesh",
+            worst_model(k),
+            if by_newton[k] {
+                "Newton-converged"
+            } else {
+                "two modified-Newton corrections"
+            }
+        )
+    };
+    let mut reports = report_all(&linear, Some(&model), &|k| match acc.model {
+        ModelChoice::Plate => format!("forced by --model plate; {}", basis(k)),
+        _ => format!(
+            "auto: the linear plate meets the tolerance {tol:.0e} ({})",
+            basis(k)
+        ),
+    });
+    if acc.model == ModelChoice::Plate {
+        return Ok(reports);
+    }
+    // Auto: the scenes the linear plate cannot answer within the tolerance climb a rung.
+    let reason = |k: usize, reports: &[SceneReport]| {
+        format!(
+            "auto: the linear plate misses the tolerance {tol:.0e} ({}, discretisation {})",
+            basis(k),
+            reports[k]
+                .error
+                .discretisation
+                .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}"))
+        )
+    };
+    if let Some((sub, levels)) = &climbed {
+        for (j, &k) in climb_now.iter().enumerate() {
+            let why = reason(k, &reports);
+            reports[k] = scene_report(g, &scenes[k], &sub[j], j, levels, tol, None, why);
+        }
+    }
+    let climb: Vec<usize> = (0..scenes.len())
+        .filter(|&k| !climb_now.contains(&k))
+        .filter(|&k| !loads[k].plate.is_empty() && !reports[k].converged)
+        .filter(|&k| worst_model(k) > 0.0)
+        .collect();
+    if climb.is_empty() {
+        return Ok(reports);
+    }
+    let sub: Vec<SceneLoads> = climb.iter().map(|&k| loads[k].clone()).collect();
+    let levels = solve_levels(g, &sub, tol, max_levels, mesh, nonlinear)?;
+    for (j, &k) in climb.iter().enumerate() {
+        let why = reason(k, &reports);
+        reports[k] = scene_report(g, &scenes[k], &sub[j], j, &levels, tol, None, why);
+    }
+    Ok(reports)
 }
 
-/// What the level loop leaves: per scene the history of its quantities (deflection at the load,
-/// then each electrode's charge) and estimates, the cost of each level, and the last level's
-/// solutions and readings.
+/// What the level loop leaves: per scene the history of its quantities
+/// ([`quantity_names`](super::rung) order) and estimates, the cost of each level, and the last
+/// level's solutions and readings.
 struct Levels {
-    /// Per scene, per level: [w at the load, charge of each electrode].
+    /// Per scene, per level: [w at the load, charge of each electrode, reaction 1, reaction 2].
     history: Vec<Vec<Vec<f64>>>,
-    /// Per scene, per level: (estimate, observed order) after that level.
+    /// Per scene, per level: (worst discretisation estimate, observed order) after that level.
     estimates: Vec<Vec<(Option<f64>, Option<f64>)>>,
     /// Per level: (element size, elements, dofs, ms).
     cost: Vec<(f64, usize, usize, f64)>,
@@ -331,14 +572,79 @@ fn latest(est: &[(Option<f64>, Option<f64>)]) -> (Option<f64>, Option<f64>) {
     est.last().copied().unwrap_or((None, None))
 }
 
-/// Solves all scenes on the shared mesh sequence (one factorisation per level, the scenes as one
-/// multi-column solve) until every plate scene's estimate is under `tol` or `max_levels` ran.
+/// One level's solutions on `rung`: the linear plate solves every scene in one multi-column
+/// solve; the large-deflection plate runs Newton per scene on one shared symbolic analysis.
+/// Returns the whole-plate solutions and the Newton iterations spent.
+fn solve_rung(
+    problem: &PlateProblem,
+    cases: &[Vec<crate::fe::Load>],
+    loads: &[SceneLoads],
+    sym: &Symmetry,
+    rung: Rung,
+    previous: &[Option<crate::fe::PlateSolution>],
+) -> Result<(Vec<Option<crate::fe::PlateSolution>>, usize), SensorError> {
+    let used = |l: &SceneLoads| !l.plate.is_empty();
+    match rung {
+        Rung::Linear => {
+            let solved = Factorised::new(problem)?.solve(cases)?;
+            Ok((
+                solved
+                    .into_iter()
+                    .zip(loads)
+                    .map(|(s, l)| used(l).then(|| sym.expand(s)))
+                    .collect(),
+                0,
+            ))
+        }
+        Rung::Estimate(opts) => {
+            let solved = VonKarman::new(problem, opts)?.modified_newton(cases, 2)?;
+            Ok((
+                solved
+                    .into_iter()
+                    .zip(loads)
+                    .map(|(s, l)| used(l).then(|| sym.expand(s)))
+                    .collect(),
+                0,
+            ))
+        }
+        Rung::LargeDeflection(opts) => {
+            let vk = VonKarman::new(problem, opts)?;
+            // Scenes in parallel (each Newton factorisation is sequential), each from the
+            // previous level's field where there is one.
+            let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> = cases
+                .par_iter()
+                .zip(loads)
+                .zip(previous)
+                .map(|((c, l), prev)| {
+                    used(l)
+                        .then(|| {
+                            match prev {
+                                Some(p) => vk.solve_from(c, p),
+                                None => vk.solve(c),
+                            }
+                            .map(|(s, st)| (sym.expand(s), st.iterations))
+                        })
+                        .transpose()
+                })
+                .collect::<Result<_, _>>()?;
+            let iterations = solved.iter().flatten().map(|s| s.1).sum();
+            Ok((
+                solved.into_iter().map(|s| s.map(|s| s.0)).collect(),
+                iterations,
+            ))
+        }
+    }
+}
+
+/// Solves all scenes on the shared mesh sequence until every plate scene's discretisation
+/// estimate is under `tol` or `max_levels` ran.
 fn solve_levels(
     g: &SensorGeometry,
     loads: &[SceneLoads],
     tol: f64,
     max_levels: usize,
     mesh: MeshOptions,
+    rung: Rung,
 ) -> Result<Levels, SensorError> {
     let needs_plate = loads.iter().any(|l| !l.plate.is_empty());
     let cases: Vec<Vec<_>> = loads.iter().map(|l| l.plate.clone()).collect();
@@ -360,34 +666,42 @@ fn solve_levels(
     };
     let levels = if needs_plate { max_levels } else { 1 };
     let base = base_lines(g, loads, &sym, mesh.graded);
+    let (kind, in_plane) = match rung {
+        Rung::Linear => (ModelKind::Plate, None),
+        Rung::LargeDeflection(o) | Rung::Estimate(o) => {
+            (ModelKind::LargeDeflectionPlate, Some(o.in_plane))
+        }
+    };
+    let mut newton = 0;
     for (level, &sub) in SUBDIVISIONS.iter().enumerate().take(levels) {
         let t0 = Instant::now();
         let h = COARSE_ELEMENT_UM / sub as f64;
         let (sols, info) = if needs_plate {
             let problem = build_problem(g, &base, level, &sym);
-            let values = 4 * problem.mesh.n_nodes() * n;
+            let per_node = if in_plane.is_some() { 6 } else { 4 };
+            let values = per_node * problem.mesh.n_nodes() * n;
             if values > MAX_SOLUTION_VALUES {
                 return Err(SensorError::TooLarge {
                     loads: n,
-                    dofs: 4 * problem.mesh.n_nodes(),
+                    dofs: per_node * problem.mesh.n_nodes(),
                     level: level + 1,
                 });
             }
-            let solved = Factorised::new(&problem)?.solve(&part_cases)?;
-            let sols: Vec<_> = solved
-                .into_iter()
-                .zip(loads)
-                .map(|(s, l)| (!l.plate.is_empty()).then(|| sym.expand(s)))
-                .collect();
+            let (sols, iterations) =
+                solve_rung(&problem, &part_cases, loads, &sym, rung, &out.solutions)?;
+            newton += iterations;
             let info = ModelInfo {
-                kind: ModelKind::Plate,
+                kind,
                 elements: problem.mesh.n_elements(),
-                dofs: 4 * problem.mesh.n_nodes(),
+                dofs: per_node * problem.mesh.n_nodes(),
                 levels: level + 1,
                 max_element_um: h,
                 observed_order: None,
                 symmetry: sym.describe(),
                 grading: mesh.graded.then(|| grading_description(loads)),
+                reason: String::new(),
+                in_plane,
+                newton_iterations: in_plane.map(|_| newton),
             };
             (sols, info)
         } else {
@@ -406,14 +720,15 @@ fn solve_levels(
                     .map_or(0.0, |s| s.deflection_m(l.at_um.0, l.at_um.1));
                 let mut q = vec![w];
                 q.extend(r.electrodes.iter().map(|e| e.charge_pc));
+                q.extend([r.support1_n, r.support2_n]);
+                q.extend(stresses(g, sols[k].as_ref(), l).map(|p| p.map_or(0.0, |p| p.sigma_pa)));
                 out.history[k].push(q);
-                let est = if out.history[k].len() >= 3 {
-                    let (e, p) = estimate(&out.history[k], g);
-                    (Some(e), p)
-                } else {
-                    latest(&out.estimates[k])
-                };
-                out.estimates[k].push(est);
+                let (errs, order) = discretisation(g, &out.history[k], l.total_force_n);
+                // The peak point stress (last) may never converge: it does not hold the loop.
+                let worst = errs[..errs.len() - 1]
+                    .iter()
+                    .try_fold(0f64, |m, e| e.map(|e| m.max(e)));
+                out.estimates[k].push((worst, order));
                 r
             })
             .collect();
@@ -430,7 +745,31 @@ fn solve_levels(
     Ok(out)
 }
 
-/// The report of scene `k` from the level loop.
+/// Side of the stress-averaging square in plate thicknesses: plate theory answers for the stress
+/// only a few thicknesses from a step or a concentrated load (Saint-Venant), and a square this
+/// size is resolved by the meshes the readings need; the concentration inside it is the 3D
+/// solid's to answer.
+pub const STRESS_AVERAGING_THICKNESSES: f64 = 4.0;
+
+/// The largest principal stress over the scene's contact patch: averaged over a square
+/// [`STRESS_AVERAGING_THICKNESSES`] plate thicknesses wide ([`crate::fe::PlateSolution::averaged_principal_stress`]), and the point peak.
+fn stresses(
+    g: &SensorGeometry,
+    sol: Option<&crate::fe::PlateSolution>,
+    l: &SceneLoads,
+) -> [Option<crate::fe::StressPeak>; 2] {
+    let Some(s) = sol else {
+        return [None, None];
+    };
+    [
+        s.averaged_principal_stress(l.patch, STRESS_AVERAGING_THICKNESSES * g.plate_thickness_um),
+        s.max_principal_stress(l.patch),
+    ]
+}
+
+/// The report of scene `k` from the level loop; `model` is the rung's model error per quantity
+/// (None where no finer rung was compared).
+#[allow(clippy::too_many_arguments)]
 fn scene_report(
     g: &SensorGeometry,
     scene: &Scene,
@@ -438,36 +777,86 @@ fn scene_report(
     k: usize,
     levels: &Levels,
     tol: f64,
+    model: Option<&[f64]>,
+    reason: String,
 ) -> SceneReport {
     let sol = levels.solutions[k].as_ref();
     let r = levels.readouts[k].clone();
-    let (estimate_k, order_k) = latest(&levels.estimates[k]);
+    let (_, order_k) = latest(&levels.estimates[k]);
     let mut info = if sol.is_some() {
         levels.info.clone()
     } else {
         ModelInfo::direct()
     };
     info.observed_order = order_k;
+    if sol.is_some() {
+        info.reason = reason;
+    }
     let history = &levels.history[k];
-    let w_load = history.last().map_or(0.0, |q| q[0]);
+    let f = l.total_force_n;
+    let (disc, _) = discretisation(g, history, f);
+    let values = history.last().cloned().unwrap_or_default();
+    let quantities = if sol.is_some() {
+        quantities(g, &values, &disc, model, tol)
+    } else {
+        quantities(g, &values, &vec![Some(0.0); values.len()], None, tol)
+    };
+    let error = worst(&quantities);
+    let w_load = values.first().copied().unwrap_or(0.0);
     let peak = sol.map(|s| s.max_deflection());
     let w_max = peak.map_or(0.0, |p| p.w_m);
-    let stress_pa = sol
-        .and_then(|s| s.max_principal_stress(l.patch))
-        .map_or(0.0, |p| p.sigma_pa);
-    let f = l.total_force_n;
+    let [averaged, peak_stress] = stresses(g, sol, l);
+    // The safety factor is judged on the averaged stress, which converges.
+    let stress_pa = averaged.map_or(0.0, |p| p.sigma_pa);
     let (best, sens) = most_sensitive(&r, f);
     let ratio = sol
         .zip(peak.as_ref())
         .map_or(0.0, |(s, p)| s.linear_range_ratio_at(p));
-    let converged = sol.is_none() || estimate_k.is_some_and(|e| e < tol);
-    let mut warnings = scene_warnings(w_max, ratio, converged, estimate_k, order_k, &info, tol);
+    let converged = sol.is_none()
+        || quantities
+            .iter()
+            .filter(|q| q.name != STRESS_PEAK)
+            .all(|q| q.converged);
+    let mut warnings = scene_warnings(w_max, ratio, converged, &error, order_k, &info, tol);
+    if let (Some(p), Some(q)) = (
+        peak_stress,
+        quantities.iter().find(|q| q.name == STRESS_PEAK),
+    ) {
+        if !q.converged {
+            warnings.push(Finding::warning(
+                SceneCode::StressSingular,
+                format!(
+                    "the peak point stress {:.1} MPa at ({:.0}, {:.0}) um on the {} surface does \
+                     not converge with the mesh (estimated change {}): plate theory makes it \
+                     singular at a thickness step or a point-like load; the safety factor uses \
+                     the stress averaged over a {:.0} um square, {:.1} MPa",
+                    p.sigma_pa * 1e-6,
+                    p.x_um,
+                    p.y_um,
+                    match p.surface {
+                        crate::fe::Surface::Bottom => "bottom",
+                        crate::fe::Surface::Top => "top",
+                    },
+                    q.error
+                        .discretisation
+                        .map_or_else(|| "unknown".to_string(), |d| format!("{:.0} %", d * 100.0)),
+                    STRESS_AVERAGING_THICKNESSES * g.plate_thickness_um,
+                    stress_pa * 1e-6
+                ),
+            ));
+        }
+    }
     warnings.extend(overhang(scene, g));
     SceneReport {
         scene: scene.name.clone(),
         force_n: f,
         solve_ms: levels.elapsed_ms,
-        error_estimate: if sol.is_none() { Some(0.0) } else { estimate_k },
+        error_estimate: if sol.is_none() {
+            Some(0.0)
+        } else {
+            error.total
+        },
+        error,
         converged,
         deflection_at_load_um: w_load * 1e6,
         max_deflection_um: w_max * 1e6,
@@ -481,51 +870,63 @@ fn scene_report(
             support2: r.support2_n,
         },
         electrodes: r.electrodes,
+        quantities,
         warnings,
         convergence: convergence_records(history, &levels.cost, &levels.estimates[k]),
         model: info,
     }
 }
 
-/// What a plate answer should be read with: beyond the linear range, not converged, no estimate
-/// or no observed order.
+/// What a plate answer should be read with: the linear plate beyond its range, not converged,
+/// no estimate or no observed order.
 fn scene_warnings(
     w_max_m: f64,
     linear_range_ratio: f64,
     converged: bool,
-    estimate: Option<f64>,
+    error: &ErrorParts,
     order: Option<f64>,
     info: &ModelInfo,
     tol: f64,
 ) -> Vec<Finding> {
     let mut warnings = Vec::new();
-    if linear_range_ratio > LINEAR_RANGE_LIMIT {
+    if info.kind == ModelKind::Plate && linear_range_ratio > LINEAR_RANGE_LIMIT {
         warnings.push(Finding::warning(
             SceneCode::LinearRange,
             format!(
                 "maximum deflection {:.1} um is {linear_range_ratio:.2} x the local thickness \
-                 (limit {LINEAR_RANGE_LIMIT}): membrane stiffening is not modelled, readings \
-                 overestimate",
+                 (limit {LINEAR_RANGE_LIMIT}): the linear plate neglects membrane stiffening \
+                 (estimated model error {})",
                 w_max_m.abs() * 1e6,
+                error
+                    .model
+                    .map_or_else(|| "unknown".to_string(), |m| format!("{m:.2e}")),
             ),
         ));
     }
     if !converged {
-        warnings.push(match estimate {
-            Some(e) => Finding::warning(
+        warnings.push(match (error.total, error.discretisation) {
+            (Some(e), Some(d)) => Finding::warning(
                 SceneCode::NotConverged,
                 format!(
-                    "estimated error {e:.2e} is above the tolerance {tol:.0e} after {} mesh levels",
+                    "estimated error {e:.2e} (discretisation {d:.2e} + model {:.2e}) is above \
+                     the tolerance {tol:.0e} after {} mesh levels",
+                    error.model.unwrap_or(0.0),
                     info.levels
                 ),
             ),
-            None => Finding::warning(
+            _ => Finding::warning(
                 SceneCode::NoErrorEstimate,
                 format!("{} mesh level(s) give no three-mesh estimate", info.levels),
             ),
         });
     }
-    if order.is_none() && estimate.is_some() && info.kind == ModelKind::Plate {
+    if order.is_none()
+        && error.discretisation.is_some()
+        && matches!(
+            info.kind,
+            ModelKind::Plate | ModelKind::LargeDeflectionPlate
+        )
+    {
         warnings.push(Finding::warning(
             SceneCode::OrderUnknown,
             "the three finest meshes do not converge monotonically; the error estimate is the \
@@ -541,8 +942,9 @@ fn convergence_records(
     cost: &[(f64, usize, usize, f64)],
     estimates: &[(Option<f64>, Option<f64>)],
 ) -> Vec<LevelRecord> {
+    // Charges are entries 1 ..= len - 3 (the last two are the reactions).
     let largest = history.last().map(|q| {
-        (1..q.len())
+        (1..q.len().saturating_sub(2))
             .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
             .unwrap_or(0)
     });
@@ -560,35 +962,6 @@ fn convergence_records(
             observed_order: p,
         })
         .collect()
-}
-
-/// Relative error of the finest level: the worst quantity, each by the one three-mesh estimate
-/// ([`ThreeMesh::fine_error`]) normalised by the largest magnitude of its kind (deflection; middle
-/// charges; support charges), from the last three levels. The order is the deflection's.
-fn estimate(history: &[Vec<f64>], g: &SensorGeometry) -> (f64, Option<f64>) {
-    let n = history.len();
-    let (f3, f2, f1) = (&history[n - 3], &history[n - 2], &history[n - 1]);
-    let (r32, r21) = level_ratios(n - 1);
-    let kind = |i: usize| -> usize {
-        match i.checked_sub(1).map(|e| g.electrodes[e].side) {
-            None => 0,
-            Some(ElectrodeSide::Middle) => 1,
-            Some(_) => 2,
-        }
-    };
-    let mut scale = [0f64; 3];
-    for (i, v) in f1.iter().enumerate() {
-        scale[kind(i)] = scale[kind(i)].max(v.abs());
-    }
-    let mut worst: f64 = 0.0;
-    for i in (0..f1.len()).filter(|&i| scale[kind(i)] > 0.0) {
-        let e = ThreeMesh::new(f3[i], f2[i], f1[i], r32, r21).fine_error();
-        worst = worst.max(e / scale[kind(i)]);
-    }
-    let order = ThreeMesh::new(f3[0], f2[0], f1[0], r32, r21)
-        .richardson
-        .observed_order;
-    (worst, order)
 }
 
 /// The plate over the U-channel (or the part of it solved): clamped along the inner support

@@ -46,6 +46,27 @@ pub struct SensorGeometry {
     pub drawn_axis: Axis,
     pub fracture_strength_mpa: f64,
     pub safety_factor: f64,
+    /// Room under the plate before it touches the channel floor: the channel depth the back etch
+    /// achieves (the etch plan; the drawn depth without one) less the PVDF film bonded under the
+    /// plate.
+    pub gap_um: f64,
+}
+
+/// The channel depth the recipe etches from the back (the back-side silicon steps of the etch
+/// plan), or the drawn depth when the plan has none.
+fn channel_depth_um(design: &Design) -> f64 {
+    let back: Vec<f64> = design
+        .plan
+        .steps
+        .iter()
+        .filter(|s| s.side == crate::process::Side::Back)
+        .map(|s| s.achieved_depth_um)
+        .collect();
+    if back.is_empty() {
+        design.process.geometry.channel_depth_um
+    } else {
+        back.iter().sum()
+    }
 }
 
 impl SensorGeometry {
@@ -88,6 +109,7 @@ impl SensorGeometry {
             drawn_axis: g.electrodes.drawn_axis,
             fracture_strength_mpa: si.fracture_strength_mpa,
             safety_factor: si.safety_factor,
+            gap_um: channel_depth_um(design) - f.thickness_um,
         }
     }
 

@@ -15,6 +15,7 @@ mod evaluate;
 mod geometry;
 mod mesh_lines;
 mod readout;
+mod rung;
 mod scene;
 mod symmetry;
 
@@ -28,5 +29,6 @@ pub use evaluate::{
 pub use geometry::{silicon_material, ElectrodeArea, ElectrodeSide, SensorGeometry};
 pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
 pub use readout::{ElectrodeReading, Readout};
+pub use rung::{ErrorParts, ModelChoice, QuantityError};
 pub use scene::{DirectLoad, SceneLoads};
 pub use symmetry::{Mirror, Symmetry};

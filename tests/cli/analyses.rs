@@ -7,7 +7,7 @@ use tactfab::analysis::inverse::{held_out_errors, noise_study, Locator};
 use tactfab::analysis::orientation::{study, OrientationPlan};
 use tactfab::design::Design;
 use tactfab::process::load_str;
-use tactfab::sensor::{Accuracy, ModelKind, SensorGeometry};
+use tactfab::sensor::{Accuracy, ModelChoice, ModelKind, SensorGeometry};
 
 use std::sync::OnceLock;
 
@@ -29,7 +29,14 @@ fn reduced() -> &'static (SensorGeometry, Calibration) {
     static CAL: OnceLock<(SensorGeometry, Calibration)> = OnceLock::new();
     CAL.get_or_init(|| {
         let g = geometry();
-        let mut plan = CalibrationPlan::new(&g, 7500.0, 2500.0, 0, 250.0, Accuracy::new(0.05, 1));
+        let mut plan = CalibrationPlan::new(
+            &g,
+            7500.0,
+            2500.0,
+            0,
+            250.0,
+            Accuracy::new(0.05, 1).with_model(ModelChoice::Plate),
+        );
         plan.force_table_n = vec![0.001, 1.0, 5.0];
         plan.y_sweep_um = vec![222.0, 5074.0, 7500.0, 9926.0, 14778.0];
         plan.x_sweep_um = vec![1000.0, 29000.0];
@@ -160,7 +167,11 @@ fn the_inverse_recovers_grid_loads_exactly_and_held_out_loads_within_the_stated_
 #[test]
 fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
     let g = geometry();
-    let mut plan = OrientationPlan::paper(&g, 30.0, Accuracy::new(0.05, 1));
+    let mut plan = OrientationPlan::paper(
+        &g,
+        30.0,
+        Accuracy::new(0.05, 1).with_model(ModelChoice::Plate),
+    );
     plan.degree = 4;
     plan.fourier_degree = 2;
     plan.inverse_fractions = vec![0.3, 0.7];
@@ -234,7 +245,11 @@ fn the_four_element_sensor_reads_orientation_as_paper_000_reports() {
     let g = SensorGeometry::new(&Design::new(p).expect("design"));
     let names: Vec<&str> = g.electrodes.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, ["A", "B", "C", "D"]);
-    let mut op = OrientationPlan::paper(&g, 15.0, Accuracy::new(0.05, 1));
+    let mut op = OrientationPlan::paper(
+        &g,
+        15.0,
+        Accuracy::new(0.05, 1).with_model(ModelChoice::Plate),
+    );
     op.inverse_fractions = vec![0.25, 0.75];
     op.electrode = Some("A".into());
     let o = study(&g, &op).expect("study");
