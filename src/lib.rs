@@ -35,13 +35,20 @@
 //!    a nested-dissection order from the mesh grid) that knows nothing of sensors: meshes,
 //!    thickness regions, line supports (clamped, simple, symmetry lines), loads, reactions,
 //!    strains, mirroring a half solution back to the whole plate, and the one three-mesh error
-//!    estimate ([`fe::ThreeMesh`]).
+//!    estimate ([`fe::ThreeMesh`]). Its second rung, [`fe::VonKarman`], is the large-deflection
+//!    plate on the same mesh (bilinear in-plane displacements beside the bending field, Newton on
+//!    one symbolic analysis per mesh); [`fe::PlateSolution::averaged_principal_stress`] is the
+//!    stress a plate can answer for near a step.
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports, and reads the electrodes: thickness mode
 //!    Q = d33 F under the supports, extension mode Q = integral of (d31 s1 + d32 s2) under the
 //!    plate, V = Q / C. It refines the mesh until the estimated error is under the requested
-//!    [`sensor::Accuracy`] and says which model answered ([`sensor::ModelKind`]) and what it cost,
-//!    solving half or a quarter of the plate when the teeth and the loads are mirror-symmetric.
+//!    [`sensor::Accuracy`] and says which model answered ([`sensor::ModelKind`]), why, and what it
+//!    cost, solving half or a quarter of the plate when the teeth and the loads are
+//!    mirror-symmetric. The rung is the cheapest whose discretisation plus model error is under
+//!    the tolerance ([`sensor::ModelChoice`]); every quantity carries both parts
+//!    ([`sensor::QuantityError`]), and each scene its touch-down on the channel floor
+//!    ([`sensor::TouchDown`]).
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown

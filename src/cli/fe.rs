@@ -25,10 +25,12 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         },
     )
     .context("finite-element solve failed")?;
-    let failed = reports
-        .iter()
-        .zip(&scenes)
-        .any(|(r, s)| !limit_failures(r, &s.limits).is_empty());
+    let failed = reports.iter().zip(&scenes).any(|(r, s)| {
+        !limit_failures(r, &s.limits).is_empty()
+            || r.warnings
+                .iter()
+                .any(|w| w.severity == tactfab::finding::Severity::Error)
+    });
     if args.json {
         let mut scenes = serde_json::to_value(&reports)?;
         if !args.timings {
@@ -141,6 +143,28 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
             .map(|e| format!("{e:.1e}"))
             .unwrap_or_else(|| "n/a".into())
     );
+    if !r.model.reason.is_empty() {
+        s.push_str(&format!("  rung: {}\n", r.model.reason));
+    }
+    let part =
+        |v: Option<f64>| v.map_or_else(|| "not estimated".to_string(), |e| format!("{e:.1e}"));
+    s.push_str(&format!(
+        "  error: discretisation {} + model {} = {}\n",
+        part(r.error.discretisation),
+        part(r.error.model),
+        part(r.error.total)
+    ));
+    if let Some(t) = &r.touch_down {
+        s.push_str(&format!(
+            "  touch-down: {} (gap {} um under the plate; {})\n",
+            t.load_n.map_or_else(
+                || "none below 100x this load".to_string(),
+                |l| format!("{} N", f(l, 2))
+            ),
+            f(t.gap_um, 1),
+            t.basis
+        ));
+    }
     if let Some(sym) = &r.model.symmetry {
         s.push_str(&format!(
             "  symmetric: solved the {sym}; readings on the mirrored whole plate\n"

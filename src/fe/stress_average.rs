@@ -58,7 +58,7 @@ impl PlateSolution {
     /// The largest principal stress averaged over a square of side `side_um` whose centre lies in
     /// `rect` (either surface). The search does not depend on the mesh, so the value converges
     /// with it: centres on a grid of about `side_um` over `rect`, then from the
-    /// [`CANDIDATES`] best a pattern search (steps side/2 down to side/8). None when `rect`
+    /// four best a pattern search (steps side/2 down to side/8). None when `rect`
     /// misses the plate.
     pub fn averaged_principal_stress(&self, rect: RectUm, side_um: f64) -> Option<StressPeak> {
         let r = rect.normalised();

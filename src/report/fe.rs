@@ -31,7 +31,15 @@ pub struct FeScene {
     pub dofs: usize,
     pub levels: usize,
     pub error_estimate: Option<f64>,
+    /// The worst discretisation, model and total error over the scene's quantities.
+    pub error: crate::sensor::ErrorParts,
+    /// Why this rung answered.
+    pub rung_reason: String,
     pub converged: bool,
+    /// The load of the scene's pattern at which the plate reaches the channel floor, and the
+    /// gap under the plate.
+    pub touch_down_load_n: Option<f64>,
+    pub gap_um: Option<f64>,
     pub deflection_at_load_um: f64,
     pub max_deflection_um: f64,
     pub max_stress_mpa: f64,
@@ -91,6 +99,12 @@ impl FeSummary {
                     .iter()
                     .filter(|l| !l.passed)
                     .map(|l| format!("scene `{}`: {l}", s.name)),
+            );
+            out.extend(
+                s.warnings
+                    .iter()
+                    .filter(|w| w.severity == crate::finding::Severity::Error)
+                    .map(|w| format!("scene `{}`: {}", s.name, w.message)),
             );
         }
         out
@@ -169,7 +183,11 @@ pub fn summarise(
             dofs: r.model.dofs,
             levels: r.model.levels,
             error_estimate: r.error_estimate,
+            error: r.error.clone(),
+            rung_reason: r.model.reason.clone(),
             converged: r.converged,
+            touch_down_load_n: r.touch_down.as_ref().and_then(|t| t.load_n),
+            gap_um: r.touch_down.as_ref().map(|t| t.gap_um),
             deflection_at_load_um: r.deflection_at_load_um,
             max_deflection_um: r.max_deflection_um,
             max_stress_mpa: r.max_stress_mpa,

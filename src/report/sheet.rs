@@ -409,8 +409,14 @@ fn scene_table(fe: &FeSummary) -> Table {
             sc.name.as_str().into(),
             sc.load.as_str().into(),
             format!(
-                "{}, {} elements, {} dofs, {} levels",
-                sc.model, sc.elements, sc.dofs, sc.levels
+                "{}, {} elements, {} dofs, {} levels{}",
+                sc.model,
+                sc.elements,
+                sc.dofs,
+                sc.levels,
+                sc.touch_down_load_n
+                    .map(|f| format!("; touches the channel floor at {f:.2} N"))
+                    .unwrap_or_default()
             )
             .into(),
             err_text(sc.error_estimate, sc.converged).into(),

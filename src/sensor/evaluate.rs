@@ -29,6 +29,7 @@ use super::rung::{
 };
 use super::scene::{split, SceneLoads};
 use super::symmetry::Symmetry;
+use super::touch_down::{find_factor, scaled, TouchDown};
 
 /// How accurate an answer must be: the estimated relative error to reach, and the most mesh
 /// levels to spend on it (level k splits the coarse mesh [`SUBDIVISIONS`]`[k]` times).
@@ -182,6 +183,8 @@ pub struct SceneReport {
     /// Each quantity with its own error (deflection, charges, reactions); a voltage has its
     /// charge's relative error (V = Q / C).
     pub quantities: Vec<QuantityError>,
+    /// The load of this scene's pattern at which the plate reaches the channel floor.
+    pub touch_down: Option<TouchDown>,
     pub warnings: Vec<Finding>,
     /// Per mesh level: size, cost, values and the estimate (`tactfab fe --convergence`).
     pub convergence: Vec<LevelRecord>,
@@ -276,7 +279,7 @@ pub fn evaluate_many_with(
         evaluate_plate(g, &plate_scenes, acc, mesh)?
     }
     .into_iter();
-    Ok(scenes
+    scenes
         .iter()
         .enumerate()
         .map(|(k, s)| match (s.load.clone(), strip_error[k]) {
@@ -285,7 +288,32 @@ pub fn evaluate_many_with(
             }
             _ => plate.next().expect("one plate report per plate scene"),
         })
-        .collect())
+        .zip(scenes)
+        .map(|(mut r, scene)| {
+            let l = split(&scene.load, g);
+            r.touch_down = touch_down(g, &r, &l, acc, mesh)?;
+            if let Some(t) = r
+                .touch_down
+                .as_ref()
+                .filter(|_| r.max_deflection_um >= g.gap_um)
+            {
+                r.warnings.push(Finding::error(
+                    SceneCode::TouchDown,
+                    format!(
+                        "the largest deflection {:.1} um reaches the channel floor ({:.1} um \
+                         under the plate) at {}: beyond it the floor carries load, which is \
+                         not modelled, so these readings are not answers",
+                        r.max_deflection_um,
+                        t.gap_um,
+                        t.load_n
+                            .map_or_else(|| "an unknown load".into(), |f| format!("{f:.3} N"))
+                    ),
+                ));
+                r.converged = false;
+            }
+            Ok(r)
+        })
+        .collect()
 }
 
 /// A scene answered by the strip model.
@@ -349,9 +377,58 @@ fn beam_report(
             support2: r.support2_n,
         },
         electrodes: r.electrodes,
+        touch_down: None,
         warnings: Vec::new(),
         convergence: Vec::new(),
     }
+}
+
+/// The touch-down of a scene: the linear rungs scale with the load; the large-deflection plate
+/// is solved again at scaled loads on the coarsest mesh, each value corrected by the ratio of
+/// the answer's largest deflection to the coarse one at the scene's load.
+fn touch_down(
+    g: &SensorGeometry,
+    r: &SceneReport,
+    l: &SceneLoads,
+    acc: Accuracy,
+    mesh: MeshOptions,
+) -> Result<Option<TouchDown>, SensorError> {
+    let w1 = r.max_deflection_um;
+    if r.model.kind == ModelKind::Direct || w1.is_nan() || w1 <= 0.0 || r.force_n == 0.0 {
+        return Ok(None);
+    }
+    let gap = g.gap_um;
+    let (factor, basis) = if r.model.kind == ModelKind::LargeDeflectionPlate {
+        let rung = Rung::LargeDeflection(NonlinearOptions {
+            in_plane: r.model.in_plane.unwrap_or(acc.in_plane),
+            ..Default::default()
+        });
+        let coarse = |s: f64| -> Result<f64, SensorError> {
+            let levels = solve_levels(g, &[scaled(l, s)], acc.tol_rel, 1, mesh, rung)?;
+            Ok(levels.solutions[0]
+                .as_ref()
+                .map_or(0.0, |p| p.max_deflection().w_m.abs() * 1e6))
+        };
+        let c = w1 / coarse(1.0)?;
+        let h0 = COARSE_ELEMENT_UM;
+        (
+            find_factor(gap, w1, |s| coarse(s).map(|w| c * w))?,
+            format!(
+                "large-deflection plate at scaled loads on the {h0:.0} um mesh, scaled by the \
+                 answer's deflection ({c:.4} x)"
+            ),
+        )
+    } else {
+        (
+            (gap / w1 <= super::touch_down::MAX_FACTOR).then_some(gap / w1),
+            format!("{}: the deflection scales with the load", r.model.kind),
+        )
+    };
+    Ok(Some(TouchDown {
+        gap_um: gap,
+        load_n: factor.map(|s| s * r.force_n.abs()),
+        basis,
+    }))
 }
 
 /// Fracture strength over the stress (infinite when unstressed).
@@ -871,6 +948,7 @@ fn scene_report(
         },
         electrodes: r.electrodes,
         quantities,
+        touch_down: None,
         warnings,
         convergence: convergence_records(history, &levels.cost, &levels.estimates[k]),
         model: info,

@@ -18,6 +18,7 @@ mod readout;
 mod rung;
 mod scene;
 mod symmetry;
+mod touch_down;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use check::{check_scene, SensorError, MAX_SOLUTION_VALUES};
@@ -32,3 +33,4 @@ pub use readout::{ElectrodeReading, Readout};
 pub use rung::{ErrorParts, ModelChoice, QuantityError};
 pub use scene::{DirectLoad, SceneLoads};
 pub use symmetry::{Mirror, Symmetry};
+pub use touch_down::{find_factor, TouchDown};

@@ -757,3 +757,100 @@ fn fe_cli_states_the_symmetry_used() {
         run.stdout
     );
 }
+
+/// The channel floor: the plate touches at the same load for the same pattern whatever the
+/// scene's force (the search scales the pattern), the linear plate's touch-down is the gap over
+/// its compliance, membrane stiffening delays it, and a scene beyond it is refused (exit 1,
+/// TOUCH_DOWN).
+#[test]
+fn touch_down_is_found_and_readings_beyond_it_are_refused() {
+    let run = |force: &str, model: &str| {
+        let r = tactfab(&[
+            "fe",
+            REFERENCE,
+            "--point",
+            &format!("15,7.5,{force},0.5"),
+            "--max-levels",
+            "3",
+            "--model",
+            model,
+            "--json",
+        ]);
+        let j: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+        (r.code, j["scenes"][0].clone())
+    };
+    let (code1, s1) = run("1", "auto");
+    let (_, s4) = run("4", "auto");
+    assert_eq!(code1, 0);
+    let t1 = s1["touch_down"]["load_n"].as_f64().unwrap();
+    let t4 = s4["touch_down"]["load_n"].as_f64().unwrap();
+    assert!((t1 - t4).abs() < 0.01 * t1, "{t1} vs {t4}");
+    // 200 um channel less the 25 um film under the plate.
+    assert_eq!(s1["touch_down"]["gap_um"].as_f64(), Some(175.0));
+    let (_, lin) = run("1", "plate");
+    let tl = lin["touch_down"]["load_n"].as_f64().unwrap();
+    let w = lin["max_deflection_um"].as_f64().unwrap();
+    assert!((tl - 175.0 / w).abs() < 1e-9 * tl, "{tl} vs {}", 175.0 / w);
+    assert!(
+        t1 > 1.5 * tl,
+        "membrane stiffening delays touch-down: {t1} vs {tl}"
+    );
+    let (code, beyond) = run(&format!("{}", (1.1 * t1).ceil()), "auto");
+    assert_eq!(code, 1, "{beyond}");
+    assert_eq!(beyond["converged"], false);
+    assert!(beyond["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w["code"] == "TOUCH_DOWN" && w["severity"] == "error"));
+}
+
+/// The in-plane support condition of the large-deflection plate matters and is stated: sliding
+/// supports let the plate pull in (between the linear and the immovable answer), immovable ones
+/// stretch it, which the middle electrodes read directly.
+#[test]
+fn in_plane_support_condition_is_stated_and_matters() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "fe",
+            REFERENCE,
+            "--point",
+            "15,7.5,1,0.5",
+            "--max-levels",
+            "3",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let r = tactfab(&args);
+        r.expect_code(0);
+        let j: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+        j["scenes"][0].clone()
+    };
+    let lin = run(&["--model", "plate"]);
+    let im = run(&["--model", "large-deflection"]);
+    let sl = run(&["--model", "large-deflection", "--in-plane", "sliding"]);
+    assert_eq!(im["model"]["in_plane"], "immovable");
+    assert_eq!(sl["model"]["in_plane"], "sliding");
+    let w = |s: &serde_json::Value| s["deflection_at_load_um"].as_f64().unwrap();
+    assert!(
+        w(&im) < w(&sl) && w(&sl) < w(&lin),
+        "{} {} {}",
+        w(&im),
+        w(&sl),
+        w(&lin)
+    );
+    let m2 = |s: &serde_json::Value| s["electrodes"][4]["charge_pc"].as_f64().unwrap();
+    assert!(
+        m2(&lin) < m2(&sl) && m2(&sl) < m2(&im),
+        "{} {} {}",
+        m2(&lin),
+        m2(&sl),
+        m2(&im)
+    );
+    // Equilibrium holds in every case: the supports carry the whole load.
+    for s in [&lin, &im, &sl] {
+        let r = &s["reactions_n"];
+        let total = r["support1"].as_f64().unwrap() + r["support2"].as_f64().unwrap();
+        assert!((total - 1.0).abs() < 1e-9, "{total}");
+    }
+}
