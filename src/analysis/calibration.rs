@@ -8,7 +8,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, Accuracy, ElectrodeSide, SceneReport, SensorGeometry};
+use crate::sensor::{
+    evaluate_many, Accuracy, ElectrodeSide, ModelChoice, SceneReport, SensorGeometry,
+};
 
 use super::AnalysisError;
 
@@ -142,6 +144,11 @@ pub struct Calibration {
     pub force_table: Vec<Sample>,
     /// Largest |V(F)/F - V(1 N)| / max|V(1 N)| over the force table: 0 for a linear model.
     pub linearity_deviation: f64,
+    /// The force table answered by the fidelity ladder (`--model auto`: the large-deflection
+    /// plate where the linear one misses the tolerance), whatever rung the rest of the study uses.
+    pub force_table_ladder: Vec<Sample>,
+    /// Per electrode, the sensor's linearity error over the force table on the ladder.
+    pub linearity_by_electrode: Vec<ElectrodeLinearity>,
     pub y_sweep: Vec<Sample>,
     pub x_sweep: Vec<Sample>,
     pub grid_x_um: Vec<f64>,
@@ -249,10 +256,22 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
             .try_fold(0f64, |a, e| e.map(|e| a.max(e))),
     };
     let linearity_deviation = linearity(&force_table);
+    let force_table_ladder = if plan.accuracy.model == ModelChoice::Auto {
+        force_table.clone()
+    } else {
+        let ladder = plan.accuracy.with_model(ModelChoice::Auto);
+        evaluate_many(g, &scenes[..plan.force_table_n.len()], ladder)?
+            .iter()
+            .map(|r| sample(r, cx, cy))
+            .collect()
+    };
+    let linearity_by_electrode = linearity_by_electrode(g, &force_table_ladder);
     Ok(Calibration {
         electrodes: g.electrodes.iter().map(|e| e.name.clone()).collect(),
         force_table,
         linearity_deviation,
+        force_table_ladder,
+        linearity_by_electrode,
         y_sweep,
         x_sweep,
         grid_x_um: plan.grid_x_um.clone(),
@@ -261,6 +280,96 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         held_out,
         cost,
     })
+}
+
+/// How far one electrode (or a support's total charge) is from V proportional to F over the
+/// force table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElectrodeLinearity {
+    pub electrode: String,
+    pub side: ElectrodeSide,
+    /// Largest |V(F)/F - V(1 N)| / |V(1 N)| over the table's forces.
+    pub deviation: f64,
+    /// V(F_max)/F_max over V(1 N): above 1 the reading grows faster than the force.
+    pub top_over_unit: f64,
+}
+
+/// Each electrode's departure from V proportional to F, relative to its own 1 N reading: the
+/// support electrodes read the reactions (linear by equilibrium for a symmetric load), the middle
+/// ones the film strain (not linear once the plate stretches).
+fn linearity_by_electrode(g: &SensorGeometry, table: &[Sample]) -> Vec<ElectrodeLinearity> {
+    let Some(unit) = table.iter().find(|s| (s.force_n - 1.0).abs() < 1e-12) else {
+        return Vec::new();
+    };
+    let top = table
+        .iter()
+        .max_by(|a, b| a.force_n.total_cmp(&b.force_n))
+        .expect("the unit row is in the table");
+    // Per electrode, then each support's total charge (sum of Q = C V over its electrodes),
+    // which equilibrium ties to the force.
+    let mut rows: Vec<(String, ElectrodeSide, Vec<f64>)> = g
+        .electrodes
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            (
+                e.name.clone(),
+                e.side,
+                table.iter().map(|s| s.voltage_mv[i]).collect(),
+            )
+        })
+        .collect();
+    for (side, name) in [
+        (ElectrodeSide::Support1, "support 1 total charge"),
+        (ElectrodeSide::Support2, "support 2 total charge"),
+    ] {
+        let q: Vec<f64> = table
+            .iter()
+            .map(|s| {
+                g.electrodes
+                    .iter()
+                    .zip(&s.voltage_mv)
+                    .filter(|(e, _)| e.side == side)
+                    .map(|(e, v)| v * g.capacitance_f(e.area_um2))
+                    .sum()
+            })
+            .collect();
+        rows.push((name.to_string(), side, q));
+    }
+    let (iu, it) = (
+        table
+            .iter()
+            .position(|s| std::ptr::eq(s, unit))
+            .expect("in the table"),
+        table
+            .iter()
+            .position(|s| std::ptr::eq(s, top))
+            .expect("in the table"),
+    );
+    rows.into_iter()
+        .map(|(electrode, side, v)| {
+            let u = v[iu];
+            let deviation = if u == 0.0 {
+                0.0
+            } else {
+                table
+                    .iter()
+                    .zip(&v)
+                    .map(|(s, x)| (x / s.force_n - u).abs() / u.abs())
+                    .fold(0.0, f64::max)
+            };
+            ElectrodeLinearity {
+                electrode,
+                side,
+                deviation,
+                top_over_unit: if u == 0.0 {
+                    1.0
+                } else {
+                    v[it] / top.force_n / u
+                },
+            }
+        })
+        .collect()
 }
 
 /// Largest departure from V proportional to F, relative to the largest voltage per newton.

@@ -27,6 +27,15 @@ pub enum AnalysisError {
          finer grid (--x-step-mm, --y-step-mm)"
     )]
     Plan { reason: String },
+    #[error(
+        "the {study} sweep is solved at one force and scaled to the others, which only the \
+         linear plate allows, not --model {model}\n  hint: run it with --model plate (the default); the \
+         sensor's nonlinearity in force is in `tactfab calibrate`'s ladder table"
+    )]
+    LinearOnly {
+        study: &'static str,
+        model: &'static str,
+    },
     #[error("calibration: {reason}\n  hint: regenerate it with `tactfab calibrate FILE -o DIR`")]
     Calibration { reason: String },
     #[error(

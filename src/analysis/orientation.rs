@@ -4,8 +4,10 @@
 //! checked by re-running the FE at the estimated angle (the paper's Tables 2-3), and the
 //! normalised bivariate charge(angle, force) = N(angle) g(F) of its Eq. 12-13.
 //!
-//! The model is linear in force, so the angle sweep is solved once at the reference force and
-//! scaled; real solves at the other forces at a few angles check that (`linearity_deviation`).
+//! The linear plate is linear in force, so the angle sweep is solved once at the reference force
+//! and scaled; real solves at the other forces at a few angles check that
+//! (`linearity_deviation`). The sensor is not (the large-deflection rung, see `calibrate`), so the
+//! study runs on the linear plate only and its model error is reported with each solve.
 
 use std::time::Instant;
 
@@ -94,8 +96,9 @@ pub struct Bivariate {
     pub electrode: String,
     /// N fitted to c(angle, F) / c(0, F) of every force at once.
     pub normalised: Fit,
-    /// g(F) = slope F: the model is linear, so the paper's 6th-degree force polynomial (Eq. 10-11)
-    /// reduces to one coefficient, fitted by least squares to c(0, F).
+    /// g(F) = slope F: the linear plate is linear, so the paper's 6th-degree force polynomial
+    /// (Eq. 10-11) reduces to one coefficient, fitted by least squares to c(0, F); the sensor's
+    /// own departure from it is `calibrate`'s ladder table.
     pub slope_pc_per_n: f64,
     /// Largest |N g - c| over every (angle, force) sample, pC, and relative to max |c|.
     pub max_abs_residual_pc: f64,
@@ -204,6 +207,12 @@ pub fn invert_angle(fit: &Fit, scale: f64, charge: f64, lo: f64, hi: f64) -> Opt
 /// The whole study: the angle sweep at the reference force (and the check solves at the other
 /// forces), fits per electrode, the inverse angle checked by FE re-runs, and the bivariate fits.
 pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, AnalysisError> {
+    if plan.accuracy.model != crate::sensor::ModelChoice::Plate {
+        return Err(AnalysisError::LinearOnly {
+            study: "orientation",
+            model: plan.accuracy.model.as_str(),
+        });
+    }
     let fref = plan.reference_force_n;
     let others: Vec<f64> = plan
         .forces_n

@@ -66,6 +66,34 @@ fn summary(
          voltage",
         cal.linearity_deviation
     );
+    if !cal.linearity_by_electrode.is_empty() {
+        let models: Vec<String> = cal
+            .force_table_ladder
+            .iter()
+            .map(|s| {
+                format!(
+                    "{} N {}",
+                    s.force_n,
+                    s.model.map_or_else(|| "?".to_string(), |m| m.to_string())
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "the sensor's linearity over the force table on the fidelity ladder ({}):\n  \
+             electrode  max |V/F - V(1 N)| / V(1 N)  V/F at the top force / V(1 N)",
+            models.join(", ")
+        );
+        for e in &cal.linearity_by_electrode {
+            let _ = writeln!(
+                s,
+                "  {:<9}  {:>27}  {:>30}",
+                e.electrode,
+                format!("{:.2} %", e.deviation * 100.0),
+                f(e.top_over_unit, 3)
+            );
+        }
+    }
     let (x0, x1, y0, y1) = loc.domain_um();
     let _ = writeln!(
         s,

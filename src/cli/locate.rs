@@ -150,6 +150,8 @@ fn read_grid(path: &std::path::Path, names: &[String]) -> anyhow::Result<Calibra
         electrodes: names.to_vec(),
         force_table: vec![],
         linearity_deviation: f64::NAN,
+        force_table_ladder: vec![],
+        linearity_by_electrode: vec![],
         y_sweep: vec![],
         x_sweep: vec![],
         grid_x_um: xs,

@@ -61,6 +61,26 @@ fn calibration_is_linear_and_reads_the_supports_as_paper_002_describes() {
     // Real solves at 1 mN, 1 N and 5 N against V proportional to F.
     assert!(c.force_table[0].force_n == 0.001 && c.force_table[2].force_n == 5.0);
     assert!(c.linearity_deviation < 1e-9, "{}", c.linearity_deviation);
+    // The same table on the fidelity ladder: the large-deflection plate answers the larger
+    // forces, the middle electrodes leave V proportional to F by tens of percent, while each
+    // support's total charge (its reaction, half the load by equilibrium, less what falls
+    // between the islands) stays within a few percent.
+    let lin = |name: &str| {
+        c.linearity_by_electrode
+            .iter()
+            .find(|e| e.electrode == name)
+            .unwrap_or_else(|| panic!("no {name}"))
+            .deviation
+    };
+    assert_eq!(c.linearity_by_electrode.len(), c.electrodes.len() + 2);
+    assert!(c
+        .force_table_ladder
+        .iter()
+        .any(|s| s.model == Some(ModelKind::LargeDeflectionPlate)));
+    assert!(lin("M2") > 0.05, "{}", lin("M2"));
+    for total in ["support 1 total charge", "support 2 total charge"] {
+        assert!(lin(total) < 0.03, "{total}: {}", lin(total));
+    }
     let (s12, s22) = (idx(c, "S12"), idx(c, "S22"));
     // Fig. 12/23: over support 1 only support 1 reads (direct load), V12 = V22 at the centre,
     // the support-1 share falls monotonically across the plate.
@@ -373,4 +393,17 @@ fn calibrate_and_locate_through_the_binary() {
     bad.expect_code(2);
     assert!(bad.stderr.contains("--step-deg"), "{}", bad.stderr);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The orientation sweep scales one force's solution, which only the linear plate allows: any
+/// other rung is refused before anything is solved, naming the flag.
+#[test]
+fn orientation_refuses_a_nonlinear_rung() {
+    let g = geometry();
+    let plan = OrientationPlan::paper(&g, 30.0, Accuracy::new(0.05, 1));
+    let err = study(&g, &plan).unwrap_err().to_string();
+    assert!(
+        err.contains("--model auto") && err.contains("--model plate"),
+        "{err}"
+    );
 }
