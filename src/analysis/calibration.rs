@@ -121,7 +121,7 @@ pub struct Sample {
     pub force_n: f64,
     /// One per electrode, in [`Calibration::electrodes`] order.
     pub voltage_mv: Vec<f64>,
-    /// `plate` or `direct` (wholly over a support); None when read back from a calibration file.
+    /// `plate`, `large_deflection_plate` or `direct` (wholly over a support); None when read back from a calibration file.
     pub model: Option<crate::sensor::ModelKind>,
     pub error_estimate: Option<f64>,
 }
@@ -241,10 +241,7 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         .map(|_| take(plan.grid_x_um.len()))
         .collect();
     let held_out = take(plan.held_out.len());
-    let plate: Vec<&SceneReport> = reports
-        .iter()
-        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
-        .collect();
+    let plate: Vec<&SceneReport> = reports.iter().filter(|r| r.model.kind.is_plate()).collect();
     let cost = Cost {
         scenes: scenes.len(),
         wall_ms,

@@ -143,10 +143,7 @@ fn probe(plan: &OrientationPlan, name: String, angle_deg: f64, force_n: f64) -> 
 }
 
 fn cost_of(reports: &[SceneReport], wall_ms: f64) -> Cost {
-    let plate: Vec<&SceneReport> = reports
-        .iter()
-        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
-        .collect();
+    let plate: Vec<&SceneReport> = reports.iter().filter(|r| r.model.kind.is_plate()).collect();
     Cost {
         scenes: reports.len(),
         wall_ms,

@@ -234,6 +234,44 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Finding> {
             }
         }
     }
+    // Everything else drawn on the PVDF mask (label pixels, marks) is metal too: it keeps the
+    // electrode gap from every island, as the islands do from each other.
+    let boxes: Vec<Rect> = es
+        .iter()
+        .map(|e| e.polygon.bounding_rect().expect("island"))
+        .collect();
+    for shape in set.die_layer(LayerKind::Pvdf) {
+        let Some(sb) = shape.bounding_rect() else {
+            continue;
+        };
+        let near_ones: Vec<usize> = (0..es.len())
+            .filter(|&k| near(&sb, &boxes[k], min))
+            .collect();
+        // Part of an island (its own polygon or a pad touching it): not another shape.
+        if near_ones
+            .iter()
+            .any(|&k| gap(&shape, &es[k].polygon) <= 1e-9)
+        {
+            continue;
+        }
+        if let Some((k, d)) = near_ones
+            .iter()
+            .map(|&k| (k, gap(&shape, &es[k].polygon)))
+            .filter(|&(_, d)| d < min)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        {
+            out.push(violation(
+                DrcCode::ElectrodeGap,
+                Some(LayerKind::Pvdf),
+                centre(&sb),
+                format!(
+                    "a PVDF shape that is not an electrode (label or mark) is {d:.1} um from {} \
+                     (< {min} um)",
+                    es[k].name
+                ),
+            ));
+        }
+    }
     let m = p.geometry.electrodes.edge_margin_um;
     let film = rect(m, m, set.die_length_um - m, set.die_width_um - m);
     let fr = film.bounding_rect().expect("film");

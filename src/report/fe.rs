@@ -25,7 +25,7 @@ pub struct FeScene {
     pub name: String,
     pub load: String,
     pub force_n: f64,
-    /// `plate` or `direct`.
+    /// `beam`, `plate`, `large_deflection_plate` or `direct`.
     pub model: crate::sensor::ModelKind,
     pub elements: usize,
     pub dofs: usize,

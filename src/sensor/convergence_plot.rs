@@ -12,10 +12,7 @@ use super::evaluate::SceneReport;
 pub fn convergence_svg(reports: &[SceneReport]) -> String {
     let mut by_dofs = Vec::new();
     let mut by_time = Vec::new();
-    for r in reports
-        .iter()
-        .filter(|r| r.model.kind == crate::sensor::ModelKind::Plate)
-    {
+    for r in reports.iter().filter(|r| r.model.kind.is_plate()) {
         let levels = &r.convergence;
         let mut t_ms = 0.0;
         let cumulative: Vec<f64> = levels

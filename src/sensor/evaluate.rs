@@ -76,6 +76,13 @@ pub enum ModelKind {
     Direct,
 }
 
+impl ModelKind {
+    /// A finite-element plate rung (linear or large-deflection): the answers with mesh levels.
+    pub fn is_plate(self) -> bool {
+        matches!(self, ModelKind::Plate | ModelKind::LargeDeflectionPlate)
+    }
+}
+
 impl std::fmt::Display for ModelKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {

@@ -486,3 +486,55 @@ fn each_rule_fires_on_a_broken_design() {
         );
     }
 }
+
+/// Labels obey the rules of the layer they are drawn on: a shape on the PVDF mask that is not an
+/// electrode (a label pixel) closer to an island than the electrode gap is an ELECTRODE_GAP
+/// violation at its place, and the bundled set (whose label found no room) passes.
+#[test]
+fn pvdf_labels_keep_the_electrode_gap() {
+    use tactfab::layout::LayerKind;
+    let p = tactfab::process::load_str(
+        include_str!("../../process/mis-grasper.yaml"),
+        "mis-grasper.yaml",
+        &[],
+    )
+    .expect("valid process")
+    .process;
+    let mut d = tactfab::design::Design::new(p).expect("design");
+    let clean = tactfab::drc::check(&d.masks, &d.process, &d.plan);
+    assert!(clean.passed(), "{}", clean.summary(5));
+    let min = d.process.drc.min_electrode_gap_um;
+    let e = d.masks.electrodes[0].clone();
+    let b = geo::BoundingRect::bounding_rect(&e.polygon).unwrap();
+    // A 20 um label pixel half the gap to the right of the first island.
+    let x = b.max().x + 0.5 * min;
+    let y = 0.5 * (b.min().y + b.max().y);
+    let pixel = geo::Polygon::new(
+        geo::LineString::from(vec![
+            (x, y),
+            (x + 20.0, y),
+            (x + 20.0, y + 20.0),
+            (x, y + 20.0),
+        ]),
+        vec![],
+    );
+    let die = d.masks.die_cell.clone();
+    d.masks
+        .cells
+        .get_mut(&die)
+        .unwrap()
+        .add(LayerKind::Pvdf, [pixel]);
+    let r = tactfab::drc::check(&d.masks, &d.process, &d.plan);
+    let hit: Vec<_> = r
+        .violations
+        .iter()
+        .filter(|v| v.code.as_str() == "ELECTRODE_GAP" && v.message.contains(&e.name))
+        .collect();
+    assert_eq!(hit.len(), 1, "{}", r.summary(5));
+    assert!(
+        hit[0].message.contains("not an electrode"),
+        "{}",
+        hit[0].message
+    );
+    assert!(!r.passed());
+}
