@@ -368,7 +368,7 @@ fn label_undercut(plan: &EtchPlan, m: &MaskEntry, pixel: f64) -> Option<Finding>
     })
 }
 
-/// The wafer cell: stepped dies, alignment marks on the x axis, wafer and usable edge outlines;
+/// The wafer cell: stepped dies, alignment marks on an axis, wafer and usable edge outlines;
 /// also returns the snapped die origins.
 fn wafer_cell(
     p: &Process,

@@ -1,6 +1,8 @@
-//! Stepping dies over the wafer: only whole dies inside the wafer less its edge exclusion, on a
-//! grid symmetric about the wafer centre (so a per-die mirror is a wafer mirror), with room on
-//! the horizontal axis for the two alignment-mark sites. Rows become array references.
+//! Stepping dies over the wafer: only whole dies inside the wafer less its edge exclusion, in rows
+//! symmetric about the wafer centre (so a per-die mirror is a wafer mirror), each row centred on
+//! a die or a street, whichever holds more, with room on the horizontal axis for the two
+//! alignment-mark sites (on the x axis, or the y axis if that fits more dies). Rows become array
+//! references.
 
 use geo::Coord;
 
@@ -14,8 +16,8 @@ pub struct Stepping {
 }
 
 /// Dies of `length x width` at pitch (length + street, width + street) whose four corners lie
-/// within the usable radius, keeping two square keep-outs of half-side `keepout_um` on the x axis
-/// free.
+/// within the usable radius, keeping two square keep-outs of half-side `keepout_um` free for the
+/// alignment marks, on the x axis or, where that leaves room for more dies, on the y axis.
 pub fn step(
     length_um: f64,
     width_um: f64,
@@ -25,51 +27,73 @@ pub fn step(
 ) -> Stepping {
     let (px, py) = (length_um + street_um, width_um + street_um);
     let inside = |x: f64, y: f64| x * x + y * y <= usable_radius_um * usable_radius_um;
-    let grid = |ox: f64, oy: f64| -> Vec<Coord> {
-        let nx = (usable_radius_um / px).ceil() as i64 + 1;
-        let ny = (usable_radius_um / py).ceil() as i64 + 1;
-        let mut v = Vec::new();
-        for j in -ny..=ny {
-            for i in -nx..=nx {
-                let (x0, y0) = (ox + i as f64 * px, oy + j as f64 * py);
-                let (x1, y1) = (x0 + length_um, y0 + width_um);
-                if inside(x0, y0) && inside(x1, y0) && inside(x0, y1) && inside(x1, y1) {
-                    v.push(Coord { x: x0, y: y0 });
-                }
-            }
-        }
-        v
-    };
-    // Symmetric grids: a die centred on the axis, or a street centred on it.
-    let xs = [-length_um / 2.0, street_um / 2.0];
-    let ys = [-width_um / 2.0, street_um / 2.0];
-    let mut best: Option<Vec<Coord>> = None;
-    for ox in xs {
-        for oy in ys {
-            let g = grid(ox, oy);
-            if best.as_ref().is_none_or(|b| g.len() > b.len()) {
-                best = Some(g);
-            }
-        }
-    }
-    let mut origins = best.unwrap_or_default();
-    // Mark sites: as far out on the x axis as the usable circle allows; dies in the way give way.
+    // Mark sites: as far out on an axis as the usable circle allows; dies in the way give way.
+    // The x axis unless the y axis leaves room for more dies.
     let k = keepout_um;
-    let xm = ((usable_radius_um - k) * (usable_radius_um - k) - k * k)
+    let m = (((usable_radius_um - k) * (usable_radius_um - k) - k * k)
         .max(0.0)
         .sqrt()
-        - k;
-    let xm = xm.max(0.0);
-    let hits = |o: &Coord| -> bool {
-        [xm, -xm]
+        - k)
+        .max(0.0);
+    let arrange = |sites: [Coord; 2]| -> Vec<Coord> {
+        let hits = |o: &Coord| -> bool {
+            sites.iter().any(|c| {
+                o.x < c.x + k
+                    && o.x + length_um > c.x - k
+                    && o.y < c.y + k
+                    && o.y + width_um > c.y - k
+            })
+        };
+        // One row at y0: whole dies inside the usable circle and clear of the mark sites, on a
+        // grid centred on the vertical axis (a die or a street on it, whichever fits more: each
+        // row chooses, so every row stays mirror-symmetric and the wafer with it).
+        let nx = (usable_radius_um / px).ceil() as i64 + 1;
+        let row = |y0: f64| -> Vec<Coord> {
+            [-length_um / 2.0, street_um / 2.0]
+                .iter()
+                .map(|&ox| {
+                    (-nx..=nx)
+                        .map(|i| Coord {
+                            x: ox + i as f64 * px,
+                            y: y0,
+                        })
+                        .filter(|o| {
+                            let (x1, y1) = (o.x + length_um, o.y + width_um);
+                            inside(o.x, o.y)
+                                && inside(x1, o.y)
+                                && inside(o.x, y1)
+                                && inside(x1, y1)
+                                && !hits(o)
+                        })
+                        .collect::<Vec<_>>()
+                })
+                .max_by_key(|v| v.len())
+                .unwrap_or_default()
+        };
+        // Rows symmetric about the horizontal axis: a die row or a street centred on it.
+        let ny = (usable_radius_um / py).ceil() as i64 + 1;
+        [-width_um / 2.0, street_um / 2.0]
             .iter()
-            .any(|&c| o.x < c + k && o.x + length_um > c - k && o.y < k && o.y + width_um > -k)
+            .map(|&oy| {
+                (-ny..=ny)
+                    .flat_map(|j| row(oy + j as f64 * py))
+                    .collect::<Vec<_>>()
+            })
+            .max_by_key(|v| v.len())
+            .unwrap_or_default()
     };
-    origins.retain(|o| !hits(o));
+    let on_x = [Coord { x: -m, y: 0.0 }, Coord { x: m, y: 0.0 }];
+    let on_y = [Coord { x: 0.0, y: -m }, Coord { x: 0.0, y: m }];
+    let (dies_x, dies_y) = (arrange(on_x), arrange(on_y));
+    let (mut origins, mark_sites) = if dies_y.len() > dies_x.len() {
+        (dies_y, on_y)
+    } else {
+        (dies_x, on_x)
+    };
     origins.sort_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).expect("finite"));
     Stepping {
         origins,
-        mark_sites: [Coord { x: -xm, y: 0.0 }, Coord { x: xm, y: 0.0 }],
+        mark_sites,
     }
 }
 
@@ -121,5 +145,28 @@ mod tests {
         let a = arrays("D", &s.origins, 30300.0, 15300.0);
         let n: u32 = a.iter().map(|p| u32::from(p.cols)).sum();
         assert_eq!(n as usize, s.origins.len());
+        // By hand (usable radius 47 mm, pitch 30.3 x 15.3 mm): die-centred rows hold 3 (y = 0,
+        // half-width 46.4 mm), 2 + 2 (|y| <= 23.25 mm, street-centred) and 1 + 1 (|y| <= 38.85
+        // mm); marks on the x axis (at 45.0 mm) would cost the outer dies of the middle row (8),
+        // on the y axis they cost none.
+        assert_eq!(s.origins.len(), 9);
+        assert!(s
+            .mark_sites
+            .iter()
+            .all(|c| c.x == 0.0 && c.y.abs() > 44_000.0));
+        for o in &s.origins {
+            for c in &s.mark_sites {
+                let clear = o.x >= c.x + 1000.0
+                    || o.x + 30000.0 <= c.x - 1000.0
+                    || o.y >= c.y + 1000.0
+                    || o.y + 15000.0 <= c.y - 1000.0;
+                assert!(clear, "die at {o:?} on the mark at {c:?}");
+            }
+            // Mirror-symmetric about the vertical axis.
+            assert!(s
+                .origins
+                .iter()
+                .any(|m| (m.x + o.x + 30000.0).abs() < 1e-6 && (m.y - o.y).abs() < 1e-6));
+        }
     }
 }
