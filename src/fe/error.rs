@@ -52,6 +52,8 @@ pub enum FeError {
     NonFinite { hint: &'static str },
     #[error("mesh convergence study failed: {detail}\n  hint: {hint}")]
     Convergence { detail: String, hint: &'static str },
+    #[error("the large-deflection plate did not converge: {detail}\n  hint: {hint}")]
+    Newton { detail: String, hint: &'static str },
 }
 
 /// Result alias of the plate solver.

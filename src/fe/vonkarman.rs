@@ -582,7 +582,7 @@ impl VonKarman {
         while lambda < 1.0 {
             attempts += 1;
             if attempts > self.opts.max_load_steps {
-                return Err(FeError::Convergence {
+                return Err(FeError::Newton {
                     detail: format!(
                         "Newton did not converge within {} load steps (reached {:.1} % of the \
                          load)",
@@ -614,7 +614,7 @@ impl VonKarman {
                 None => {
                     step *= 0.5;
                     if step < 1e-4 {
-                        return Err(FeError::Convergence {
+                        return Err(FeError::Newton {
                             detail: format!(
                                 "Newton failed at {:.1} % of the load even with tiny steps",
                                 lambda * 100.0

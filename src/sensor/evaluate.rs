@@ -497,10 +497,11 @@ fn evaluate_plate(
     let tol = acc.tol_rel;
     let max_levels = acc.max_levels.min(SUBDIVISIONS.len());
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
-    let nonlinear = Rung::LargeDeflection(NonlinearOptions {
+    let opts = NonlinearOptions {
         in_plane: acc.in_plane,
         ..Default::default()
-    });
+    };
+    let nonlinear = Rung::LargeDeflection(opts);
     let report_all =
         |levels: &Levels, model: Option<&[Vec<f64>]>, reason: &dyn Fn(usize) -> String| {
             scenes
@@ -523,9 +524,6 @@ fn evaluate_plate(
     // The linear plate's model error on the coarsest mesh: every scene by the cheap estimate
     // (one factorisation for all), and by the converged nonlinear solve where that estimate is
     // not small (it is accurate only for a mild nonlinearity).
-    let Rung::LargeDeflection(opts) = nonlinear else {
-        unreachable!("built above")
-    };
     let estimate = solve_levels(g, &loads, tol, 1, mesh, Rung::Estimate(opts))?;
     let h0 = estimate.cost.first().map_or(0.0, |c| c.0);
     let mut model: Vec<Vec<f64>> = (0..scenes.len())
@@ -545,8 +543,9 @@ fn evaluate_plate(
         .filter(|_| acc.model == ModelChoice::Auto)
         .filter(|&k| model[k].iter().any(|&e| e > 0.5 * tol))
         .collect();
-    // Auto: a scene whose estimate alone is over the tolerance climbs at once (its level loop's
-    // first level gives the converged comparison); forced plate: one coarse Newton solve.
+    // A scene whose estimate alone is over the tolerance climbs at once (its level loop's first
+    // level gives the Newton-converged comparison); one between half and the whole tolerance is
+    // confirmed by a coarse Newton solve.
     let (climb_now, check): (Vec<usize>, Vec<usize>) = large
         .iter()
         .partition(|&&k| acc.model == ModelChoice::Auto && model[k].iter().any(|&e| e >= tol));
