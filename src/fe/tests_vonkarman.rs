@@ -50,44 +50,7 @@ fn strip(n_span: usize, pressure_pa: f64) -> PlateProblem {
     p
 }
 
-/// Centre deflection and membrane force of the clamped strip with immovable edges under uniform
-/// pressure q: D w'''' - N w'' = q with N = A / (2 l) int w'^2 ds (the edges do not move, so the
-/// mean membrane strain is the stretch of the deflected line). For a given N the solution is
-/// w(s) = C (cosh ks - cosh(kl/2)) + q (l^2/4 - s^2) / (2N), k^2 = N/D, C = q l / (2 N k
-/// sinh(kl/2)) (Timoshenko & Woinowsky-Krieger §3, Eq. 10 with built-in edges); N is found by
-/// bisection and the integral by composite Gauss quadrature of the closed-form slope.
-fn strip_reference(q: f64, l: f64, d: f64, a: f64) -> (f64, f64) {
-    let slope_sq_integral = |n: f64| {
-        let k = (n / d).sqrt();
-        let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
-        let mut sum = 0.0;
-        let panels = 400;
-        for p in 0..panels {
-            let (s0, s1) = (
-                -0.5 * l + l * p as f64 / panels as f64,
-                -0.5 * l + l * (p + 1) as f64 / panels as f64,
-            );
-            for (s, w) in bfs::gauss4_on(s0, s1) {
-                let ws = c * k * (k * s).sinh() - q * s / n;
-                sum += w * ws * ws;
-            }
-        }
-        sum
-    };
-    let (mut lo, mut hi) = (1e-3f64, 1e9f64);
-    for _ in 0..200 {
-        let mid = (lo * hi).sqrt();
-        if mid - a / (2.0 * l) * slope_sq_integral(mid) > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    let n = (lo * hi).sqrt();
-    let k = (n / d).sqrt();
-    let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
-    (c * (1.0 - (0.5 * k * l).cosh()) + q * l * l / (8.0 * n), n)
-}
+use super::vonkarman::clamped_strip_reference as strip_reference;
 
 /// Pressure giving a linear centre deflection of `ratio` thicknesses (w0 = q l^4 / (384 D)).
 fn pressure_for(ratio: f64) -> f64 {

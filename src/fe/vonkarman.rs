@@ -806,3 +806,51 @@ impl VonKarman {
             .with_membrane(uv))
     }
 }
+
+/// Centre deflection (m) and membrane force (N/m) of a strip of span `span_m` clamped along both
+/// edges and held there in-plane, under a uniform pressure: cylindrical bending with
+/// D w'''' - N w'' = q and the membrane force of the stretched line, N = A / (2 l) int w'^2 ds
+/// (Timoshenko & Woinowsky-Krieger, Theory of Plates and Shells, 2nd ed., sec. 3). For a given N,
+/// w(s) = C (cosh ks - cosh(kl/2)) + q (l^2/4 - s^2) / (2N) with k^2 = N / D and
+/// C = q l / (2 N k sinh(kl/2)); N is found by bisection (the stretch falls as N grows) and the
+/// integral by composite Gauss quadrature of the closed-form slope. The reference the plate is
+/// tested and benchmarked against.
+///
+/// ```
+/// use tactfab::fe::vonkarman::clamped_strip_reference;
+/// // 100 um silicon-like strip (E' = 170 GPa) over 2 mm, 10 MPa: far beyond the linear range.
+/// let (d, a) = (170e9 * 1e-12 / 12.0, 170e9 * 1e-4);
+/// let (w0, n) = clamped_strip_reference(10e6, 2e-3, d, a);
+/// let linear = 10e6 * (2e-3f64).powi(4) / (384.0 * d);
+/// assert!(w0 < linear && n > 0.0);
+/// ```
+pub fn clamped_strip_reference(q_pa: f64, span_m: f64, d_nm: f64, a_n_per_m: f64) -> (f64, f64) {
+    let (q, l, d) = (q_pa, span_m, d_nm);
+    let slope_sq_integral = |n: f64| {
+        let k = (n / d).sqrt();
+        let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+        let panels = 400;
+        let mut sum = 0.0;
+        for p in 0..panels {
+            let s0 = -0.5 * l + l * p as f64 / panels as f64;
+            for (s, w) in bfs::gauss4_on(s0, s0 + l / panels as f64) {
+                let ws = c * k * (k * s).sinh() - q * s / n;
+                sum += w * ws * ws;
+            }
+        }
+        sum
+    };
+    let (mut lo, mut hi) = (1e-3f64, 1e9f64);
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if mid - a_n_per_m / (2.0 * l) * slope_sq_integral(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let n = (lo * hi).sqrt();
+    let k = (n / d).sqrt();
+    let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+    (c * (1.0 - (0.5 * k * l).cosh()) + q * l * l / (8.0 * n), n)
+}
