@@ -135,6 +135,18 @@ impl DofMap {
         self.free_dofs.len()
     }
 
+    /// An error naming the rigid-body modes the constraints leave free, if any.
+    pub fn check_rigid_modes(&self, mesh: &RectMesh) -> FeResult<()> {
+        match self.free_rigid_modes(mesh) {
+            0 => Ok(()),
+            free_modes => Err(FeError::Underconstrained {
+                free_modes,
+                hint: "the plate is not fully constrained: check that supports exist and are not \
+                       all collinear",
+            }),
+        }
+    }
+
     /// Number of rigid-body modes (w = 1, w = x, w = y) not removed by the constraints (rank test
     /// of the constrained rows of the rigid-mode matrix by modified Gram-Schmidt).
     pub fn free_rigid_modes(&self, mesh: &RectMesh) -> usize {
@@ -158,17 +170,23 @@ impl DofMap {
                 cols[k].push(row[k]);
             }
         }
-        let mut basis: Vec<Vec<f64>> = Vec::new();
-        for mut c in cols {
-            for q in &basis {
-                let dot: f64 = c.iter().zip(q).map(|(a, b)| a * b).sum();
-                c.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
-            }
-            let norm = c.iter().map(|a| a * a).sum::<f64>().sqrt();
-            if norm > 1e-9 {
-                basis.push(c.into_iter().map(|a| a / norm).collect());
-            }
-        }
-        3 - basis.len()
+        3 - rank(cols)
     }
+}
+
+/// Rank of the columns (rigid modes restricted to the constrained dofs) by modified Gram-Schmidt:
+/// the modes a constraint set removes.
+pub(crate) fn rank(cols: Vec<Vec<f64>>) -> usize {
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for mut c in cols {
+        for q in &basis {
+            let dot: f64 = c.iter().zip(q).map(|(a, b)| a * b).sum();
+            c.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
+        }
+        let norm = c.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if norm > 1e-9 {
+            basis.push(c.into_iter().map(|a| a / norm).collect());
+        }
+    }
+    basis.len()
 }

@@ -67,14 +67,7 @@ impl Factorised {
         let mesh = &problem.mesh;
         mesh.validate();
         let dofs = DofMap::new(problem)?;
-        let free_modes = dofs.free_rigid_modes(mesh);
-        if free_modes > 0 {
-            return Err(FeError::Underconstrained {
-                free_modes,
-                hint: "the plate is not fully constrained: check that supports exist and are not \
-                       all collinear",
-            });
-        }
+        dofs.check_rigid_modes(mesh)?;
         if dofs.n_free() == 0 {
             return Err(FeError::Sparse {
                 detail: "no free dofs".into(),

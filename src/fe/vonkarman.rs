@@ -28,7 +28,7 @@ use serde::Serialize;
 use crate::fe::assemble::Pattern;
 use crate::fe::bfs;
 use crate::fe::cholesky::SymbolicFactor;
-use crate::fe::dofs::{find_line, DofMap, CONSTRAINED};
+use crate::fe::dofs::{find_line, rank, DofMap, CONSTRAINED};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
 use crate::fe::material::PlateMaterial;
@@ -313,18 +313,7 @@ fn free_in_plane_modes(mesh: &RectMesh, constrained: &[(usize, f64, usize)]) -> 
             cols[k].push(row[k]);
         }
     }
-    let mut basis: Vec<Vec<f64>> = Vec::new();
-    for mut c in cols {
-        for q in &basis {
-            let dot: f64 = c.iter().zip(q).map(|(a, b)| a * b).sum();
-            c.iter_mut().zip(q).for_each(|(a, b)| *a -= dot * b);
-        }
-        let norm = c.iter().map(|a| a * a).sum::<f64>().sqrt();
-        if norm > 1e-9 {
-            basis.push(c.into_iter().map(|a| a / norm).collect());
-        }
-    }
-    3 - basis.len()
+    3 - rank(cols)
 }
 
 /// The constrained dofs (6 per node): the bending constraints of the linear problem, plus the
@@ -401,14 +390,7 @@ impl VonKarman {
         let mesh = &problem.mesh;
         mesh.validate();
         let bending = DofMap::new(problem)?;
-        let free_modes = bending.free_rigid_modes(mesh);
-        if free_modes > 0 {
-            return Err(FeError::Underconstrained {
-                free_modes,
-                hint: "the plate is not fully constrained: check that supports exist and are not \
-                       all collinear",
-            });
-        }
+        bending.check_rigid_modes(mesh)?;
         let owner = constraints(problem, &bending, opts.in_plane)?;
         let mut free_index = vec![CONSTRAINED; owner.len()];
         let mut free_dofs = Vec::new();

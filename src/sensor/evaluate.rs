@@ -667,29 +667,20 @@ fn solve_rung(
     previous: &[Option<crate::fe::PlateSolution>],
 ) -> Result<(Vec<Option<crate::fe::PlateSolution>>, usize), SensorError> {
     let used = |l: &SceneLoads| !l.plate.is_empty();
+    // The multi-case rungs: one solution per case, kept where the scene loads the plate.
+    let expand = |solved: Vec<crate::fe::PlateSolution>| {
+        solved
+            .into_iter()
+            .zip(loads)
+            .map(|(s, l)| used(l).then(|| sym.expand(s)))
+            .collect()
+    };
     match rung {
-        Rung::Linear => {
-            let solved = Factorised::new(problem)?.solve(cases)?;
-            Ok((
-                solved
-                    .into_iter()
-                    .zip(loads)
-                    .map(|(s, l)| used(l).then(|| sym.expand(s)))
-                    .collect(),
-                0,
-            ))
-        }
-        Rung::Estimate(opts) => {
-            let solved = VonKarman::new(problem, opts)?.modified_newton(cases, 2)?;
-            Ok((
-                solved
-                    .into_iter()
-                    .zip(loads)
-                    .map(|(s, l)| used(l).then(|| sym.expand(s)))
-                    .collect(),
-                0,
-            ))
-        }
+        Rung::Linear => Ok((expand(Factorised::new(problem)?.solve(cases)?), 0)),
+        Rung::Estimate(opts) => Ok((
+            expand(VonKarman::new(problem, opts)?.modified_newton(cases, 2)?),
+            0,
+        )),
         Rung::LargeDeflection(opts) => {
             let vk = VonKarman::new(problem, opts)?;
             // Scenes in parallel (each Newton factorisation is sequential), each from the
