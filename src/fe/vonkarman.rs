@@ -27,7 +27,7 @@ use serde::Serialize;
 
 use crate::fe::assemble::Pattern;
 use crate::fe::bfs;
-use crate::fe::cholesky::SymbolicFactor;
+use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::dofs::{find_line, rank, DofMap, CONSTRAINED};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
@@ -40,6 +40,10 @@ use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionC
 /// Energy-norm ratio below which a correction that stops shrinking is round-off (the
 /// displacement correction is then ~1e-7 of the first; the discretisation error is >= 1e-4).
 const ROUND_OFF_RATIO: f64 = 1e-14;
+
+/// Energy contraction per iteration below which modified Newton keeps its factorisation (the
+/// error then falls 10x per solve, each a fraction of a factorisation's cost).
+const CHORD_CONTRACTION: f64 = 1e-2;
 
 /// Dofs per node: w, w_x, w_y, w_xy, u, v.
 const M: usize = 6;
@@ -75,7 +79,7 @@ impl Default for NonlinearOptions {
     fn default() -> Self {
         NonlinearOptions {
             in_plane: InPlane::Immovable,
-            energy_tol: 1e-20,
+            energy_tol: 1e-14,
             max_iterations: 25,
             max_load_steps: 64,
         }
@@ -87,12 +91,15 @@ impl Default for NonlinearOptions {
 pub struct NewtonStats {
     /// Load steps taken (accepted).
     pub load_steps: usize,
-    /// Newton iterations over all steps (each one numeric factorisation on the shared analysis).
+    /// Newton iterations over all steps (each one residual and one solve).
     pub iterations: usize,
+    /// Numeric factorisations on the shared analysis (one per iteration except where modified
+    /// Newton reused one).
+    pub factorisations: usize,
 }
 
 /// Per element size and thickness: the shape-function derivatives at the 4x4 Gauss points and
-/// the constant bending stiffness.
+/// the constant bending and membrane stiffnesses.
 struct ElementKind {
     /// BFS: w_x and w_y of the 16 shape functions at each Gauss point.
     wx: [[f64; 16]; 16],
@@ -103,6 +110,8 @@ struct ElementKind {
     /// Gauss weight times area Jacobian.
     wt: [f64; 16],
     kb: Box<[[f64; 16]; 16]>,
+    /// int B_m^T A B_m dA over the 8 membrane dofs (constant).
+    km: [[f64; 8]; 8],
     /// Membrane stiffness A = Q t (A11, A12, A22, A66) in N/m.
     a: [f64; 4],
 }
@@ -128,6 +137,23 @@ pub fn q4_gradients(x: f64, y: f64, a: f64, b: f64) -> ([f64; 4], [f64; 4]) {
     (dx, dy)
 }
 
+/// A B_m: the membrane resultants (N_x, N_y, N_xy) per unit of each membrane dof (u, v per
+/// corner) at one Gauss point.
+fn membrane_columns(a: &[f64; 4], mx: &[f64; 4], my: &[f64; 4]) -> [[f64; 8]; 3] {
+    let [a11, a12, a22, a66] = *a;
+    let mut s = [[0.0; 8]; 3];
+    for c in 0..4 {
+        // u_c: eps = (mx, 0, my); v_c: eps = (0, my, mx).
+        s[0][2 * c] = a11 * mx[c];
+        s[1][2 * c] = a12 * mx[c];
+        s[2][2 * c] = a66 * my[c];
+        s[0][2 * c + 1] = a12 * my[c];
+        s[1][2 * c + 1] = a22 * my[c];
+        s[2][2 * c + 1] = a66 * mx[c];
+    }
+    s
+}
+
 impl ElementKind {
     fn new(a: f64, b: f64, t_m: f64, mat: &PlateMaterial) -> Self {
         let gx = bfs::gauss4_on(0.0, a);
@@ -139,6 +165,7 @@ impl ElementKind {
             my: [[0.0; 4]; 16],
             wt: [0.0; 16],
             kb: Box::new(bfs::stiffness(a, b, &mat.bending_stiffness(t_m))),
+            km: [[0.0; 8]; 8],
             a: [
                 mat.q11_pa * t_m,
                 mat.q12_pa * t_m,
@@ -154,6 +181,15 @@ impl ElementKind {
                 k.wy[g] = s[2];
                 (k.mx[g], k.my[g]) = q4_gradients(x, y, a, b);
                 k.wt[g] = wxg * wyg;
+                // B_m^T (A B_m), B_m's rows as in membrane_columns.
+                let s = membrane_columns(&k.a, &k.mx[g], &k.my[g]);
+                for c in 0..4 {
+                    let (u, v) = (2 * c, 2 * c + 1);
+                    for j in 0..8 {
+                        k.km[u][j] += k.wt[g] * (k.mx[g][c] * s[0][j] + k.my[g][c] * s[2][j]);
+                        k.km[v][j] += k.wt[g] * (k.my[g][c] * s[1][j] + k.mx[g][c] * s[2][j]);
+                    }
+                }
             }
         }
         k
@@ -161,11 +197,22 @@ impl ElementKind {
 
     /// Internal force (24) and, if asked, the tangent (24 x 24, row-major) of one element at its
     /// dofs `ue` (16 bending, then u, v per corner).
+    ///
+    /// With B = [B_nl(w) | B_m], B_nl's rows (w_x n_x, w_y n_y, w_x n_y + w_y n_x) for the slope
+    /// shape functions n_x, n_y, the tangent's blocks are (Reddy Eq. 7.3.21 multiplied out):
+    /// K_ww = K_b + int c_xx n_x n_x^T + c_yy n_y n_y^T + c_xy (n_x n_y^T + n_y n_x^T) with
+    /// c_xx = A11 w_x^2 + A66 w_y^2 + N_x, c_yy = A22 w_y^2 + A66 w_x^2 + N_y,
+    /// c_xy = (A12 + A66) w_x w_y + N_xy (material plus initial-stress part);
+    /// K_wm = int n_x (w_x S_0 + w_y S_2) + n_y (w_y S_1 + w_x S_2) with S = A B_m; K_mm constant.
     fn evaluate(&self, ue: &[f64; NE], tangent: Option<&mut [f64]>) -> [f64; NE] {
         let mut r = [0.0; NE];
         // Bending: K_b w (linear).
         for i in 0..16 {
             r[i] = (0..16).map(|j| self.kb[i][j] * ue[j]).sum();
+        }
+        // Membrane, linear part: K_mm u.
+        for i in 0..8 {
+            r[16 + i] = (0..8).map(|j| self.km[i][j] * ue[16 + j]).sum();
         }
         let mut kt = tangent;
         if let Some(k) = kt.as_deref_mut() {
@@ -173,7 +220,11 @@ impl ElementKind {
                 k[i * NE..i * NE + 16].copy_from_slice(&self.kb[i]);
                 k[i * NE + 16..(i + 1) * NE].fill(0.0);
             }
-            k[16 * NE..].fill(0.0);
+            for i in 0..8 {
+                let row = &mut k[(16 + i) * NE..(17 + i) * NE];
+                row[..16].fill(0.0);
+                row[16..].copy_from_slice(&self.km[i]);
+            }
         }
         let [a11, a12, a22, a66] = self.a;
         for g in 0..16 {
@@ -189,50 +240,44 @@ impl ElementKind {
             }
             let e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
             let n = [a11 * e[0] + a12 * e[1], a12 * e[0] + a22 * e[1], a66 * e[2]];
-            // B (3 x 24): d eps0 / d dof.
-            let mut b = [[0.0; NE]; 3];
-            for i in 0..16 {
-                b[0][i] = wx * nx[i];
-                b[1][i] = wy * ny[i];
-                b[2][i] = wx * ny[i] + wy * nx[i];
-            }
-            for c in 0..4 {
-                b[0][16 + 2 * c] = mx[c];
-                b[2][16 + 2 * c] = my[c];
-                b[1][17 + 2 * c] = my[c];
-                b[2][17 + 2 * c] = mx[c];
-            }
             let w = self.wt[g];
-            for i in 0..NE {
-                r[i] += w * (b[0][i] * n[0] + b[1][i] * n[1] + b[2][i] * n[2]);
+            // B_nl^T N on the w dofs; the membrane part's nonlinear share, B_m^T (N - A B_m u).
+            let (fx, fy) = (w * (wx * n[0] + wy * n[2]), w * (wy * n[1] + wx * n[2]));
+            for i in 0..16 {
+                r[i] += fx * nx[i] + fy * ny[i];
             }
-            if let Some(k) = kt.as_deref_mut() {
-                // A B (3 x 24).
-                let mut ab = [[0.0; NE]; 3];
-                for j in 0..NE {
-                    ab[0][j] = w * (a11 * b[0][j] + a12 * b[1][j]);
-                    ab[1][j] = w * (a12 * b[0][j] + a22 * b[1][j]);
-                    ab[2][j] = w * a66 * b[2][j];
+            let nq = [
+                w * (a11 * 0.5 * wx * wx + a12 * 0.5 * wy * wy),
+                w * (a12 * 0.5 * wx * wx + a22 * 0.5 * wy * wy),
+                w * a66 * wx * wy,
+            ];
+            for c in 0..4 {
+                r[16 + 2 * c] += mx[c] * nq[0] + my[c] * nq[2];
+                r[17 + 2 * c] += my[c] * nq[1] + mx[c] * nq[2];
+            }
+            let Some(k) = kt.as_deref_mut() else {
+                continue;
+            };
+            let cxx = w * (a11 * wx * wx + a66 * wy * wy + n[0]);
+            let cyy = w * (a22 * wy * wy + a66 * wx * wx + n[1]);
+            let cxy = w * ((a12 + a66) * wx * wy + n[2]);
+            let s = membrane_columns(&self.a, mx, my);
+            let px: [f64; 8] = std::array::from_fn(|j| w * (wx * s[0][j] + wy * s[2][j]));
+            let py: [f64; 8] = std::array::from_fn(|j| w * (wy * s[1][j] + wx * s[2][j]));
+            for i in 0..16 {
+                let (ax, ay) = (cxx * nx[i] + cxy * ny[i], cyy * ny[i] + cxy * nx[i]);
+                let row = &mut k[i * NE..(i + 1) * NE];
+                for j in 0..16 {
+                    row[j] += ax * nx[j] + ay * ny[j];
                 }
-                for i in 0..NE {
-                    let (b0, b1, b2) = (b[0][i], b[1][i], b[2][i]);
-                    if b0 == 0.0 && b1 == 0.0 && b2 == 0.0 {
-                        continue;
-                    }
-                    let row = &mut k[i * NE..(i + 1) * NE];
-                    for j in 0..NE {
-                        row[j] += b0 * ab[0][j] + b1 * ab[1][j] + b2 * ab[2][j];
-                    }
+                for j in 0..8 {
+                    row[16 + j] += nx[i] * px[j] + ny[i] * py[j];
                 }
-                // Initial-stress (geometric) stiffness on the w dofs.
-                let (sx, sy, sxy) = (w * n[0], w * n[1], w * n[2]);
+            }
+            for j in 0..8 {
+                let row = &mut k[(16 + j) * NE..(16 + j) * NE + 16];
                 for i in 0..16 {
-                    let row = &mut k[i * NE..i * NE + 16];
-                    for j in 0..16 {
-                        row[j] += sx * nx[i] * nx[j]
-                            + sy * ny[i] * ny[j]
-                            + sxy * (nx[i] * ny[j] + ny[i] * nx[j]);
-                    }
+                    row[i] += nx[i] * px[j] + ny[i] * py[j];
                 }
             }
         }
@@ -518,13 +563,14 @@ impl VonKarman {
         let mut stats = NewtonStats {
             load_steps: 0,
             iterations: 0,
+            factorisations: 0,
         };
         // Converged relative to the work the load does on the guess, not to the (already
         // small) first correction.
         let work: f64 = f.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>().abs();
         if work > 0.0
             && self
-                .newton(&mut u, &f, 1.0, Some(work), &mut stats)
+                .newton(&mut u, &f, 1.0, Some(work), true, &mut stats)
                 .is_some()
         {
             stats.load_steps = 1;
@@ -532,6 +578,7 @@ impl VonKarman {
         }
         let (s, more) = self.solve(loads)?;
         stats.iterations += more.iterations;
+        stats.factorisations += more.factorisations;
         stats.load_steps = more.load_steps;
         Ok((s, stats))
     }
@@ -557,6 +604,7 @@ impl VonKarman {
         let mut stats = NewtonStats {
             load_steps: 0,
             iterations: 0,
+            factorisations: 0,
         };
         let (mut lambda, mut step) = (0.0f64, 1.0f64);
         let mut previous: Option<(f64, Vec<f64>)> = None;
@@ -584,7 +632,7 @@ impl VonKarman {
                     *t = a + s * (a - b);
                 }
             }
-            match self.newton(&mut trial, &f, target, None, &mut stats) {
+            match self.newton(&mut trial, &f, target, None, false, &mut stats) {
                 Some(iterations) => {
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
@@ -691,31 +739,43 @@ impl VonKarman {
 
     /// Newton iterations at load factor `lambda` from `u`; the iteration count on convergence.
     /// Corrections are measured against `reference` (an energy), else against the first one.
+    /// With `chord`, the factorisation is kept while it contracts the correction by at least
+    /// [`CHORD_CONTRACTION`] per iteration (modified Newton from a close guess: a solve costs a
+    /// fraction of a factorisation) and refreshed when it does not.
     fn newton(
         &self,
         u: &mut [f64],
         f: &[f64],
         lambda: f64,
         reference: Option<f64>,
+        chord: bool,
         stats: &mut NewtonStats,
     ) -> Option<usize> {
         let mut first_energy = reference;
         let mut last_energy = f64::INFINITY;
+        let mut llt: Option<CholeskyFactor> = None;
+        let mut contraction = 1.0;
         for it in 1..=self.opts.max_iterations {
-            let (r_int, vals) = self.internal(u, true);
+            let refactor = llt.is_none() || !chord || contraction > CHORD_CONTRACTION;
+            let (r_int, vals) = self.internal(u, refactor);
             let mut rhs = Mat::<f64>::zeros(self.free_dofs.len(), 1);
             for (i, &d) in self.free_dofs.iter().enumerate() {
                 rhs[(i, 0)] = lambda * f[d] - r_int[d];
             }
-            let llt = self
-                .symbolic
-                .factor(
-                    SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), vals?).as_ref(),
-                )
-                .ok()?;
+            if let Some(vals) = vals {
+                llt = Some(
+                    self.symbolic
+                        .factor(
+                            SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), vals)
+                                .as_ref(),
+                        )
+                        .ok()?,
+                );
+                stats.factorisations += 1;
+            }
             stats.iterations += 1;
             let r0: Vec<f64> = (0..self.free_dofs.len()).map(|i| rhs[(i, 0)]).collect();
-            llt.solve_in_place(rhs.as_mut());
+            llt.as_ref()?.solve_in_place(rhs.as_mut());
             let mut energy = 0.0;
             for (i, &d) in self.free_dofs.iter().enumerate() {
                 let du = rhs[(i, 0)];
@@ -733,6 +793,7 @@ impl VonKarman {
             if ratio <= self.opts.energy_tol || floor {
                 return Some(it);
             }
+            contraction = energy.abs() / last_energy;
             last_energy = energy.abs();
             if energy.abs() > 1e6 * e0 {
                 return None;
@@ -835,4 +896,102 @@ pub fn clamped_strip_reference(q_pa: f64, span_m: f64, d_nm: f64, a_n_per_m: f64
     let k = (n / d).sqrt();
     let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
     (c * (1.0 - (0.5 * k * l).cosh()) + q * l * l / (8.0 * n), n)
+}
+
+#[cfg(test)]
+mod element_tests {
+    use super::*;
+    use crate::fe::material::DieEdge;
+
+    /// Strain energy of one element straight from the kinematics (1/2 eps^T A eps at the Gauss
+    /// points plus the bending energy), independent of the factored force and tangent.
+    fn energy(k: &ElementKind, ue: &[f64; NE]) -> f64 {
+        let [a11, a12, a22, a66] = k.a;
+        let mut u = 0.0;
+        for i in 0..16 {
+            for j in 0..16 {
+                u += 0.5 * ue[i] * k.kb[i][j] * ue[j];
+            }
+        }
+        for g in 0..16 {
+            let wx: f64 = (0..16).map(|i| k.wx[g][i] * ue[i]).sum();
+            let wy: f64 = (0..16).map(|i| k.wy[g][i] * ue[i]).sum();
+            let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+            for c in 0..4 {
+                ux += k.mx[g][c] * ue[16 + 2 * c];
+                uy += k.my[g][c] * ue[16 + 2 * c];
+                vx += k.mx[g][c] * ue[17 + 2 * c];
+                vy += k.my[g][c] * ue[17 + 2 * c];
+            }
+            let e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            u += 0.5
+                * k.wt[g]
+                * (a11 * e[0] * e[0]
+                    + 2.0 * a12 * e[0] * e[1]
+                    + a22 * e[1] * e[1]
+                    + a66 * e[2] * e[2]);
+        }
+        u
+    }
+
+    /// A state with every dof active: deflections of a few plate thicknesses, slopes ~1e-2,
+    /// in-plane displacements of the size the membrane stretch gives.
+    fn state() -> [f64; NE] {
+        std::array::from_fn(|i| {
+            let s = ((i * 7919 % 23) as f64 / 23.0 - 0.4) * if i % 2 == 0 { 1.0 } else { -1.3 };
+            match (i < 16, i % 4) {
+                (true, 0) => 3e-4 * s,
+                (true, 3) => 20.0 * s,
+                (true, _) => 3e-2 * s,
+                (false, _) => 2e-6 * s,
+            }
+        })
+    }
+
+    #[test]
+    fn force_is_the_energy_gradient_and_tangent_its_hessian() {
+        let mat = PlateMaterial::silicon(DieEdge::Along110);
+        let k = ElementKind::new(600e-6, 400e-6, 80e-6, &mat);
+        let ue = state();
+        let mut kt = vec![0.0; NE * NE];
+        let r = k.evaluate(&ue, Some(&mut kt));
+        let r_only = k.evaluate(&ue, None);
+        assert_eq!(
+            r, r_only,
+            "the force must not depend on whether the tangent is asked"
+        );
+        let scale = |i: usize| ue[i].abs().max(1e-12);
+        let (mut worst_r, mut worst_k) = (0f64, 0f64);
+        let r_max = r.iter().fold(0f64, |m, v| m.max(v.abs() * scale(0)));
+        for j in 0..NE {
+            let h = 1e-5 * scale(j);
+            let (mut up, mut dn) = (ue, ue);
+            up[j] += h;
+            dn[j] -= h;
+            // dU/du_j by central differences (exact for a quartic up to h^2 terms).
+            let g = (energy(&k, &up) - energy(&k, &dn)) / (2.0 * h);
+            worst_r = worst_r.max((g - r[j]).abs() / r[j].abs().max(1e-3 * r_max / scale(j)));
+            let (rp, rn) = (k.evaluate(&up, None), k.evaluate(&dn, None));
+            for i in 0..NE {
+                let fd = (rp[i] - rn[i]) / (2.0 * h);
+                let kij = kt[i * NE + j];
+                let norm = (kt[i * NE + i] * kt[j * NE + j]).abs().sqrt();
+                worst_k = worst_k.max((fd - kij).abs() / norm);
+            }
+        }
+        assert!(worst_r < 1e-6, "force vs energy gradient: {worst_r:.2e}");
+        assert!(
+            worst_k < 1e-6,
+            "tangent vs force differences: {worst_k:.2e}"
+        );
+        for i in 0..NE {
+            for j in 0..i {
+                let (a, b) = (kt[i * NE + j], kt[j * NE + i]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * (a.abs() + b.abs() + 1.0),
+                    "symmetric"
+                );
+            }
+        }
+    }
 }

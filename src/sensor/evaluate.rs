@@ -29,7 +29,7 @@ use super::rung::{
 };
 use super::scene::{split, SceneLoads};
 use super::symmetry::Symmetry;
-use super::touch_down::{find_factor, scaled, TouchDown};
+use super::touch_down::{find_factor, scaled_loads, TouchDown};
 
 /// How accurate an answer must be: the estimated relative error to reach, and the most mesh
 /// levels to spend on it (level k splits the coarse mesh [`SUBDIVISIONS`]`[k]` times).
@@ -406,15 +406,30 @@ fn touch_down(
     }
     let gap = g.gap_um;
     let (factor, basis) = if r.model.kind == ModelKind::LargeDeflectionPlate {
-        let rung = Rung::LargeDeflection(NonlinearOptions {
+        let opts = NonlinearOptions {
             in_plane: r.model.in_plane.unwrap_or(acc.in_plane),
             ..Default::default()
-        });
-        let coarse = |s: f64| -> Result<f64, SensorError> {
-            let levels = solve_levels(g, &[scaled(l, s)], acc.tol_rel, 1, mesh, rung)?;
-            Ok(levels.solutions[0]
-                .as_ref()
-                .map_or(0.0, |p| p.max_deflection().w_m.abs() * 1e6))
+        };
+        // One coarse plate for the whole search, each load continued from the last one's field.
+        let cases = vec![l.plate.clone()];
+        let sym = if mesh.symmetry {
+            Symmetry::detect(g, &cases)
+        } else {
+            Symmetry::none(g)
+        };
+        let base = base_lines(g, std::slice::from_ref(l), &sym, mesh.graded);
+        let vk = VonKarman::new(&build_problem(g, &base, 0, &sym), opts)?;
+        let part = sym.restrict(&l.plate);
+        let mut last: Option<crate::fe::PlateSolution> = None;
+        let mut coarse = |s: f64| -> Result<f64, SensorError> {
+            let loads = scaled_loads(&part, s);
+            let (sol, _) = match &last {
+                Some(p) => vk.solve_from(&loads, p)?,
+                None => vk.solve(&loads)?,
+            };
+            let w = sol.max_deflection().w_m.abs() * 1e6;
+            last = Some(sol);
+            Ok(w)
         };
         let c = w1 / coarse(1.0)?;
         let h0 = COARSE_ELEMENT_UM;

@@ -6,8 +6,6 @@ use serde::Serialize;
 
 use crate::fe::Load;
 
-use super::scene::SceneLoads;
-
 /// The touch-down of one scene's load pattern.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TouchDown {
@@ -23,10 +21,10 @@ pub struct TouchDown {
 /// Loads beyond this multiple of the scene's are not searched.
 pub const MAX_FACTOR: f64 = 100.0;
 
-/// The same scene with every force scaled by `s`.
-pub(super) fn scaled(l: &SceneLoads, s: f64) -> SceneLoads {
-    let mut out = l.clone();
-    for p in &mut out.plate {
+/// Plate loads with every force scaled by `s`.
+pub(super) fn scaled_loads(loads: &[Load], s: f64) -> Vec<Load> {
+    let mut out = loads.to_vec();
+    for p in &mut out {
         match p {
             Load::Point { force_n, .. } => *force_n *= s,
             Load::Pressure { total_force_n, .. }
@@ -35,10 +33,6 @@ pub(super) fn scaled(l: &SceneLoads, s: f64) -> SceneLoads {
             | Load::Polygon { total_force_n, .. } => *total_force_n *= s,
         }
     }
-    for d in &mut out.direct {
-        d.force_n *= s;
-    }
-    out.total_force_n *= s;
     out
 }
 
