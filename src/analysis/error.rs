@@ -28,11 +28,10 @@ pub enum AnalysisError {
     )]
     Plan { reason: String },
     #[error(
-        "the {study} sweep is solved at one force and scaled to the others, which only the \
-         linear plate allows, not --model {model}\n  hint: run it with --model plate (the default); the \
-         sensor's nonlinearity in force is in `tactfab calibrate`'s ladder table"
+        "the {study} study loads the plate with a probe, which the strip (--model {model}) \
+         cannot carry\n  hint: use --model plate, large-deflection or auto"
     )]
-    LinearOnly {
+    NeedsPlate {
         study: &'static str,
         model: &'static str,
     },

@@ -4,17 +4,19 @@
 //! checked by re-running the FE at the estimated angle (the paper's Tables 2-3), and the
 //! normalised bivariate charge(angle, force) = N(angle) g(F) of its Eq. 12-13.
 //!
-//! The linear plate is linear in force, so the angle sweep is solved once at the reference force
-//! and scaled; real solves at the other forces at a few angles check that
-//! (`linearity_deviation`). The sensor is not (the large-deflection rung, see `calibrate`), so the
-//! study runs on the linear plate only and its model error is reported with each solve.
+//! On the linear plate (`--model plate`) the charges are linear in force, so the angle sweep is
+//! solved once at the reference force and scaled; real solves at the other forces at a few angles
+//! check that (`linearity_deviation`, round-off). On the large-deflection rung (`--model
+//! large-deflection`, or `auto` where the linear plate misses the tolerance) every angle is solved
+//! at every force: the charge grows faster than the force once the plate stretches, the inverse
+//! uses each force's own fit, and `linearity_deviation` measures the sensor's nonlinearity.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, Accuracy, SceneReport, SensorGeometry};
+use crate::sensor::{evaluate_many, Accuracy, ModelChoice, SceneReport, SensorGeometry};
 
 use super::calibration::Cost;
 use super::fit::{fit, monomial_condition_number, Basis, BasisKind, Fit};
@@ -96,10 +98,11 @@ pub struct Bivariate {
     pub electrode: String,
     /// N fitted to c(angle, F) / c(0, F) of every force at once.
     pub normalised: Fit,
-    /// g(F) = slope F: the linear plate is linear, so the paper's 6th-degree force polynomial
-    /// (Eq. 10-11) reduces to one coefficient, fitted by least squares to c(0, F); the sensor's
-    /// own departure from it is `calibrate`'s ladder table.
+    /// g(F) = slope F + quadratic F^2, fitted by least squares to c(0, F) over the forces (the
+    /// paper's 6th-degree force polynomial, Eq. 10-11, cut to what three forces determine); on the
+    /// linear plate the quadratic term is round-off.
     pub slope_pc_per_n: f64,
+    pub quadratic_pc_per_n2: f64,
     /// Largest |N g - c| over every (angle, force) sample, pC, and relative to max |c|.
     pub max_abs_residual_pc: f64,
     pub max_rel_residual: f64,
@@ -114,8 +117,13 @@ pub struct Orientation {
     /// `charge_pc[f][a][e]`: force index, angle index, electrode index.
     pub charge_pc: Vec<Vec<Vec<f64>>>,
     pub max_error_estimate: Option<f64>,
-    /// Largest |c_solved(F) - c_scaled(F)| / max |c| over the check angles.
+    /// Largest |c(F) - c(F_ref) F / F_ref| / (max |c(F_ref)| F / F_ref) over the solved (force,
+    /// angle) pairs: round-off on the linear plate, the sensor's nonlinearity on the
+    /// large-deflection rung.
     pub linearity_deviation: f64,
+    /// Every angle was solved at every force (a rung that may be nonlinear); false: the
+    /// reference sweep scaled, checked at `check_angles_deg`.
+    pub solved_every_force: bool,
     pub monomial_condition_number: f64,
     pub fits: Vec<ElectrodeFits>,
     pub inverse_electrode: String,
@@ -204,12 +212,13 @@ pub fn invert_angle(fit: &Fit, scale: f64, charge: f64, lo: f64, hi: f64) -> Opt
 /// The whole study: the angle sweep at the reference force (and the check solves at the other
 /// forces), fits per electrode, the inverse angle checked by FE re-runs, and the bivariate fits.
 pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, AnalysisError> {
-    if plan.accuracy.model != crate::sensor::ModelChoice::Plate {
-        return Err(AnalysisError::LinearOnly {
+    if plan.accuracy.model == ModelChoice::Beam {
+        return Err(AnalysisError::NeedsPlate {
             study: "orientation",
             model: plan.accuracy.model.as_str(),
         });
     }
+    let every = plan.accuracy.model != ModelChoice::Plate;
     let fref = plan.reference_force_n;
     let others: Vec<f64> = plan
         .forces_n
@@ -217,15 +226,26 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         .copied()
         .filter(|f| (f - fref).abs() > 1e-12)
         .collect();
-    let scenes = sweep_scenes(plan, &others);
+    let check_angles = if every {
+        &plan.angles_deg
+    } else {
+        &plan.check_angles_deg
+    };
+    let scenes = sweep_scenes(plan, &others, check_angles);
     let t0 = Instant::now();
     let reports = evaluate_many(g, &scenes, plan.accuracy)?;
     let cost = cost_of(&reports, t0.elapsed().as_secs_f64() * 1e3);
     let na = plan.angles_deg.len();
     let reference: Vec<Vec<f64>> = reports[..na].iter().map(charges).collect();
     let cmax = reference.iter().flatten().fold(0f64, |a, c| a.max(c.abs()));
-    let linearity_deviation = linearity_deviation(plan, &others, &reports[na..], &reference, cmax);
-    let charge_pc = scaled_charges(plan, &reference);
+    let checks: Vec<Vec<f64>> = reports[na..].iter().map(charges).collect();
+    let linearity_deviation =
+        linearity_deviation(plan, &others, check_angles, &checks, &reference, cmax);
+    let charge_pc = if every {
+        solved_charges(plan, &others, &reference, &checks)
+    } else {
+        scaled_charges(plan, &reference)
+    };
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     let (lo, hi) = (plan.angles_deg[0], plan.angles_deg[na - 1]);
     let (cheb, four) = bases(plan, lo, hi);
@@ -233,16 +253,33 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
     let ie = inverse_electrode(plan, &names, &reference, &fits)?;
     let f_ie = &fits[ie].chebyshev;
     let branch_deg = monotone_branch(&|a| f_ie.eval(a), lo, hi);
-    let tries = inverse_tries(plan, &others, f_ie, branch_deg);
+    // Each table force's curve of the inverse electrode: the reference fit scaled on the linear
+    // plate, the force's own fit where every force was solved.
+    let mut curves = vec![(fref, f_ie.clone(), 1.0)];
+    if let Some(f) = others.iter().copied().min_by(f64::total_cmp) {
+        let curve = if every {
+            let fi = plan
+                .forces_n
+                .iter()
+                .position(|x| *x == f)
+                .expect("one of the forces");
+            let y: Vec<f64> = charge_pc[fi].iter().map(|row| row[ie]).collect();
+            (f, fit(cheb, &plan.angles_deg, &y)?, 1.0)
+        } else {
+            (f, f_ie.clone(), f / fref)
+        };
+        curves.push(curve);
+    }
+    let tries = inverse_tries(plan, &curves, branch_deg);
     let rescenes: Vec<Scene> = tries
         .iter()
         .enumerate()
-        .map(|(k, &(f, _, a))| probe(plan, format!("inverse-{k}"), a, f))
+        .map(|(k, t)| probe(plan, format!("inverse-{k}"), t.angle_deg, t.force_n))
         .collect();
     let t1 = Instant::now();
     let rerun = evaluate_many(g, &rescenes, plan.accuracy)?;
     let inverse_cost = cost_of(&rerun, t1.elapsed().as_secs_f64() * 1e3);
-    let inverse = inverse_rows(fref, &tries, &rerun, ie, f_ie);
+    let inverse = inverse_rows(&tries, &curves, &rerun, ie);
     let bivariate = names
         .iter()
         .enumerate()
@@ -255,6 +292,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         charge_pc,
         max_error_estimate: cost.max_error_estimate,
         linearity_deviation,
+        solved_every_force: every,
         monomial_condition_number: monomial_condition_number(&plan.angles_deg, plan.degree),
         fits,
         inverse_electrode: names[ie].clone(),
@@ -271,9 +309,9 @@ fn charges(r: &SceneReport) -> Vec<f64> {
     r.electrodes.iter().map(|e| e.charge_pc).collect()
 }
 
-/// The scenes solved at once: every angle at the reference force, then the check angles at each
+/// The scenes solved at once: every angle at the reference force, then `check_angles` at each
 /// other force.
-fn sweep_scenes(plan: &OrientationPlan, others: &[f64]) -> Vec<Scene> {
+fn sweep_scenes(plan: &OrientationPlan, others: &[f64], check_angles: &[f64]) -> Vec<Scene> {
     let fref = plan.reference_force_n;
     let mut scenes: Vec<Scene> = plan
         .angles_deg
@@ -281,43 +319,59 @@ fn sweep_scenes(plan: &OrientationPlan, others: &[f64]) -> Vec<Scene> {
         .map(|&a| probe(plan, format!("probe-{a}deg-{fref}N"), a, fref))
         .collect();
     for &f in others {
-        for &a in &plan.check_angles_deg {
+        for &a in check_angles {
             scenes.push(probe(plan, format!("probe-{a}deg-{f}N"), a, f));
         }
     }
     scenes
 }
 
-/// Linearity: real solves at the other forces against the scaled reference, max |c - c_ref F /
+/// Linearity: the solves at the other forces against the scaled reference, max |c - c_ref F /
 /// F_ref| / (max |c_ref| F / F_ref).
 fn linearity_deviation(
     plan: &OrientationPlan,
     others: &[f64],
-    checks: &[SceneReport],
+    check_angles: &[f64],
+    checks: &[Vec<f64>],
     reference: &[Vec<f64>],
     cmax: f64,
 ) -> f64 {
     let fref = plan.reference_force_n;
     let mut linearity_deviation: f64 = 0.0;
-    for (k, r) in checks.iter().enumerate() {
-        let (fi, ai) = (
-            k / plan.check_angles_deg.len(),
-            k % plan.check_angles_deg.len(),
-        );
+    for (k, c) in checks.iter().enumerate() {
+        let (fi, ai) = (k / check_angles.len(), k % check_angles.len());
         let f = others[fi];
         let Some(ia) = plan
             .angles_deg
             .iter()
-            .position(|a| (a - plan.check_angles_deg[ai]).abs() < 1e-9)
+            .position(|a| (a - check_angles[ai]).abs() < 1e-9)
         else {
             continue;
         };
-        for (c, c1) in charges(r).iter().zip(&reference[ia]) {
+        for (c, c1) in c.iter().zip(&reference[ia]) {
             linearity_deviation =
                 linearity_deviation.max((c - c1 * f / fref).abs() / (cmax * f / fref));
         }
     }
     linearity_deviation
+}
+
+/// charge_pc[f][a][e] from solves at every force: the reference block and the others' blocks
+/// (in `others` order) put back in `forces_n` order.
+fn solved_charges(
+    plan: &OrientationPlan,
+    others: &[f64],
+    reference: &[Vec<f64>],
+    checks: &[Vec<f64>],
+) -> Vec<Vec<Vec<f64>>> {
+    let na = plan.angles_deg.len();
+    plan.forces_n
+        .iter()
+        .map(|f| match others.iter().position(|o| o == f) {
+            Some(k) => checks[k * na..(k + 1) * na].to_vec(),
+            None => reference.to_vec(),
+        })
+        .collect()
 }
 
 /// charge_pc[f][a][e]: the reference sweep scaled to every force (the model is linear).
@@ -417,54 +471,63 @@ fn inverse_electrode(
     }
 }
 
-/// The inverse tries (force, assumed charge, fitted angle): at the reference force and the
-/// smallest other force (Tables 2 and 3: 1 N, 0.5 N), at fractions of the branch's charge range.
+/// One inverse try: the force, the charge assumed read, the angle the force's curve gives.
+#[derive(Debug, Clone, Copy)]
+struct Try {
+    force_n: f64,
+    curve: usize,
+    assumed_pc: f64,
+    angle_deg: f64,
+}
+
+/// The inverse tries at each table force (Tables 2 and 3: 1 N, 0.5 N), at fractions of the
+/// branch's charge range on that force's curve `(force, fit, scale)` (charge = scale fit(angle)).
 fn inverse_tries(
     plan: &OrientationPlan,
-    others: &[f64],
-    f_ie: &Fit,
+    curves: &[(f64, Fit, f64)],
     branch_deg: (f64, f64),
-) -> Vec<(f64, f64, f64)> {
-    let fref = plan.reference_force_n;
-    let mut table_forces = vec![fref];
-    table_forces.extend(others.iter().copied().min_by(f64::total_cmp));
-    let (c0, c1) = (f_ie.eval(branch_deg.0), f_ie.eval(branch_deg.1));
+) -> Vec<Try> {
     let mut tries = Vec::new();
-    for &f in &table_forces {
-        let s = f / fref;
+    for (k, (f, fit, s)) in curves.iter().enumerate() {
+        let (c0, c1) = (s * fit.eval(branch_deg.0), s * fit.eval(branch_deg.1));
         for &q in &plan.inverse_fractions {
-            let assumed = s * (c0 + q * (c1 - c0));
-            let angle = invert_angle(f_ie, s, assumed, branch_deg.0, branch_deg.1)
-                .expect("inside the branch by construction");
-            tries.push((f, assumed, angle));
+            let assumed = c0 + q * (c1 - c0);
+            let angle = invert_angle(fit, *s, assumed, branch_deg.0, branch_deg.1)
+                .expect("between the branch ends' values by construction");
+            tries.push(Try {
+                force_n: *f,
+                curve: k,
+                assumed_pc: assumed,
+                angle_deg: angle,
+            });
         }
     }
     tries
 }
 
 /// The inverse table: each try's FE charge at the estimated angle, the charge error in per cent
-/// and the angle error (fe - assumed) / (dc/dangle).
+/// and the angle error (fe - assumed) / (dc/dangle) on the try's curve.
 fn inverse_rows(
-    fref: f64,
-    tries: &[(f64, f64, f64)],
+    tries: &[Try],
+    curves: &[(f64, Fit, f64)],
     rerun: &[SceneReport],
     ie: usize,
-    f_ie: &Fit,
 ) -> Vec<InverseRow> {
     tries
         .iter()
         .zip(rerun)
-        .map(|(&(f, assumed, angle), r)| {
+        .map(|(t, r)| {
             let fe = r.electrodes[ie].charge_pc;
-            let slope = (f / fref) * (f_ie.eval(angle + 0.01) - f_ie.eval(angle - 0.01)) / 0.02;
+            let (_, fit, s) = &curves[t.curve];
+            let slope = s * (fit.eval(t.angle_deg + 0.01) - fit.eval(t.angle_deg - 0.01)) / 0.02;
             InverseRow {
-                force_n: f,
-                assumed_charge_pc: assumed,
-                estimated_angle_deg: angle,
+                force_n: t.force_n,
+                assumed_charge_pc: t.assumed_pc,
+                estimated_angle_deg: t.angle_deg,
                 fe_charge_pc: fe,
-                charge_error_pct: 100.0 * (fe - assumed).abs() / assumed.abs(),
+                charge_error_pct: 100.0 * (fe - t.assumed_pc).abs() / t.assumed_pc.abs(),
                 angle_error_deg: if slope != 0.0 {
-                    (fe - assumed) / slope
+                    (fe - t.assumed_pc) / slope
                 } else {
                     f64::NAN
                 },
@@ -474,7 +537,7 @@ fn inverse_rows(
 }
 
 /// Eq. 12-13: normalise each force's curve by its value at the first angle, fit N to all of them
-/// at once, fit g(F) = k F to the first-angle values, and measure N g against every sample.
+/// at once, fit g(F) = k1 F + k2 F^2 to the first-angle values, and measure N g against every sample.
 fn bivariate(
     plan: &OrientationPlan,
     c: &[Vec<Vec<f64>>],
@@ -490,16 +553,25 @@ fn bivariate(
         }
     }
     let normalised = fit(basis, &t, &y)?;
-    let (num, den) = plan
-        .forces_n
-        .iter()
-        .zip(c)
-        .fold((0.0, 0.0), |(n, d), (f, cf)| (n + f * cf[0][e], d + f * f));
-    let slope = num / den;
+    // g(F) = k1 F + k2 F^2 by least squares on c(0, F): normal equations of the 2 x 2 system
+    // (k2 = 0 with one force).
+    let (mut s11, mut s12, mut s22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (f, cf) in plan.forces_n.iter().zip(c) {
+        let (f2, y0) = (f * f, cf[0][e]);
+        (s11, s12, s22) = (s11 + f2, s12 + f2 * f, s22 + f2 * f2);
+        (b1, b2) = (b1 + f * y0, b2 + f2 * y0);
+    }
+    let det = s11 * s22 - s12 * s12;
+    let (slope, quadratic) = if plan.forces_n.len() >= 2 && det > 1e-12 * s11 * s22 {
+        ((b1 * s22 - b2 * s12) / det, (s11 * b2 - s12 * b1) / det)
+    } else {
+        (b1 / s11, 0.0)
+    };
+    let g_of = |f: f64| slope * f + quadratic * f * f;
     let (mut worst, mut cmax, mut spread) = (0f64, 0f64, 0f64);
     for (f, cf) in plan.forces_n.iter().zip(c) {
         for (k, (a, row)) in plan.angles_deg.iter().zip(cf).enumerate() {
-            worst = worst.max((normalised.eval(*a) * slope * f - row[e]).abs());
+            worst = worst.max((normalised.eval(*a) * g_of(*f) - row[e]).abs());
             cmax = cmax.max(row[e].abs());
             spread = spread.max((row[e] / cf[0][e] - c[0][k][e] / c[0][0][e]).abs());
         }
@@ -508,6 +580,7 @@ fn bivariate(
         electrode: name.to_string(),
         normalised,
         slope_pc_per_n: slope,
+        quadratic_pc_per_n2: quadratic,
         max_abs_residual_pc: worst,
         max_rel_residual: if cmax > 0.0 { worst / cmax } else { 0.0 },
         normalised_spread: spread,

@@ -36,8 +36,8 @@ pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
 fn text(o: &Orientation) -> String {
     let p = &o.plan;
     let mut s = format!(
-        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {} N (reference {} N \
-         solved, others scaled; linearity check {:.1e})\n",
+        "orientation: {} x {} mm probe at ({}, {}) mm, {} angles, forces {} N ({}; departure \
+         from charge proportional to force {:.1e})\n",
         f(p.width_um / 1e3, 1),
         f(p.height_um / 1e3, 1),
         f(p.x_um / 1e3, 2),
@@ -48,7 +48,15 @@ fn text(o: &Orientation) -> String {
             .map(|x| x.to_string())
             .collect::<Vec<_>>()
             .join(", "),
-        p.reference_force_n,
+        if o.solved_every_force {
+            "every force solved".to_string()
+        } else {
+            format!(
+                "reference {} N solved, others scaled and checked at {} angles",
+                p.reference_force_n,
+                p.check_angles_deg.len()
+            )
+        },
         o.linearity_deviation
     );
     let c = &o.cost;
@@ -123,15 +131,17 @@ fn text(o: &Orientation) -> String {
     }
     let _ = writeln!(
         s,
-        "normalised bivariate c(angle, F) = N(angle) k F (paper 000 Eq. 12-13):\n  electrode  \
-         k_pc_per_n  max_residual_pc  rel_residual  spread_between_forces"
+        "normalised bivariate c(angle, F) = N(angle) (k1 F + k2 F^2) (paper 000 Eq. 12-13):\n  \
+         electrode  k1_pc_per_n  k2_pc_per_n2  max_residual_pc  rel_residual  \
+         spread_between_forces"
     );
     for b in &o.bivariate {
         let _ = writeln!(
             s,
-            "  {:<9} {:>11} {:>16} {:>13} {:>22}",
+            "  {:<9} {:>12} {:>13} {:>16} {:>13} {:>22}",
             b.electrode,
             f(b.slope_pc_per_n, 3),
+            format!("{:.3e}", b.quadratic_pc_per_n2),
             format!("{:.2e}", b.max_abs_residual_pc),
             format!("{:.2e}", b.max_rel_residual),
             format!("{:.2e}", b.normalised_spread)

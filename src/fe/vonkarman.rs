@@ -37,9 +37,11 @@ use crate::fe::ordering::node_dof_order;
 use crate::fe::problem::{Axis, Load, PlateProblem, SupportKind};
 use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionContext};
 
-/// Energy-norm ratio below which a correction that stops shrinking is round-off (the
-/// displacement correction is then ~1e-7 of the first; the discretisation error is >= 1e-4).
-const ROUND_OFF_RATIO: f64 = 1e-14;
+/// Energy-norm ratio below which a correction that stops shrinking is round-off: the displacement
+/// correction is then ~1e-4 of the first, under any discretisation error the ladder reports
+/// (>= 1e-3). Well-shaped meshes reach 1e-16; a batch of rotated probes leaves sliver elements
+/// whose conditioning floors the ratio near 1e-9 (measured), where Newton only stirs round-off.
+const ROUND_OFF_RATIO: f64 = 1e-8;
 
 /// Energy contraction per iteration below which modified Newton keeps its factorisation (the
 /// error then falls 10x per solve, each a fraction of a factorisation's cost).
@@ -67,7 +69,7 @@ pub enum InPlane {
 pub struct NonlinearOptions {
     pub in_plane: InPlane,
     /// Converged when the energy norm of the correction falls below this fraction of the first
-    /// correction's in the step (squared-norm ratio, so 1e-20 is ~1e-10 in displacement).
+    /// correction's in the step (squared-norm ratio, so 1e-14 is ~1e-7 in displacement).
     pub energy_tol: f64,
     /// Newton iterations per load step before the step is halved.
     pub max_iterations: usize,
@@ -787,8 +789,8 @@ impl VonKarman {
             }
             let e0 = *first_energy.get_or_insert(energy.abs());
             let ratio = if e0 > 0.0 { energy.abs() / e0 } else { 0.0 };
-            // Converged; or at the round-off floor (the correction already ~1e-7 of the first and
-            // no longer shrinking quadratically), where more iterations only stir round-off.
+            // Converged; or at the round-off floor (the correction already small and no longer
+            // shrinking quadratically), where more iterations only stir round-off.
             let floor = ratio <= ROUND_OFF_RATIO && energy.abs() > 1e-2 * last_energy;
             if ratio <= self.opts.energy_tol || floor {
                 return Some(it);

@@ -21,6 +21,10 @@ pub(super) const COARSE_ELEMENT_UM: f64 = 2000.0;
 pub const SUBDIVISIONS: [usize; 10] = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32];
 /// Feature lines closer than this are merged (the tooth edge moves to the electrode edge).
 const MIN_LINE_GAP_UM: f64 = 250.0;
+/// A rotated probe's bounding-box line closer than this to a kept line is dropped: a batch of
+/// probes at nearly the same angle (the orientation study's inverse re-runs) would otherwise leave
+/// elements a few um wide whose conditioning stalls Newton and breaks the Cholesky factorisation.
+const ROTATED_LINE_GAP_UM: f64 = 50.0;
 /// Graded meshes: spacing ratio of successive grading lines (first spacing, then x2, x4, ... until
 /// the coarse element size).
 const GRADING_GROWTH: f64 = 2.0;
@@ -58,8 +62,9 @@ impl Default for MeshOptions {
 
 /// Lines of the coarsest mesh: every feature line (electrode, tooth, support and load-patch
 /// edges) and, when graded, the grading lines; intervals no longer than [`COARSE_ELEMENT_UM`].
-/// Exact lines (plate, electrode, load patch) always stay; a tooth line or grading line closer
-/// than [`MIN_LINE_GAP_UM`] to a kept line is dropped, tooth lines taking precedence over grading.
+/// Exact lines (plate, electrode, axis-aligned load patch) always stay; a tooth line or grading
+/// line closer than [`MIN_LINE_GAP_UM`] to a kept line is dropped, tooth lines taking precedence
+/// over grading, and so is a rotated probe's bounding-box line within [`ROTATED_LINE_GAP_UM`].
 ///
 /// On a symmetric problem the lines are folded into the part solved ([`Symmetry::fold`]).
 pub(super) fn base_lines(
@@ -69,17 +74,26 @@ pub(super) fn base_lines(
     graded: bool,
 ) -> (Vec<f64>, Vec<f64>) {
     let (mut xs, mut ys) = g.exact_lines();
+    // Rotated patches' bounding boxes only where they keep clear of the other lines.
+    let (mut rx, mut ry) = (Vec::new(), Vec::new());
     for l in loads {
         let p = &l.patch;
         if p.x1_um > p.x0_um && p.y1_um > p.y0_um {
-            xs.extend([p.x0_um, p.x1_um]);
-            ys.extend([p.y0_um, p.y1_um]);
+            let (x, y) = if l.axis_aligned() {
+                (&mut xs, &mut ys)
+            } else {
+                (&mut rx, &mut ry)
+            };
+            x.extend([p.x0_um, p.x1_um]);
+            y.extend([p.y0_um, p.y1_um]);
         }
     }
     let (tx, ty) = g.tooth_lines();
     let (x0, x1, y0, y1) = sym.domain_um;
     let mut xs = merge_lines(sym.fold(true, xs), sym.fold(true, tx.clone()), x0, x1);
     let mut ys = merge_lines(sym.fold(false, ys), sym.fold(false, ty.clone()), y0, y1);
+    xs = merge_lines_within(xs, sym.fold(true, rx), x0, x1, ROTATED_LINE_GAP_UM);
+    ys = merge_lines_within(ys, sym.fold(false, ry), y0, y1, ROTATED_LINE_GAP_UM);
     if graded {
         let (mut gx, mut gy) = (Vec::new(), Vec::new());
         for l in loads {
@@ -142,6 +156,11 @@ fn grading_lines(c_um: f64, first_um: f64) -> Vec<f64> {
 /// `kept` lines first, then `extra` ones that are at least [`MIN_LINE_GAP_UM`] from every kept
 /// line: slivers between nearly coincident lines would force tiny, badly graded elements.
 fn merge_lines(kept: Vec<f64>, extra: Vec<f64>, lo: f64, hi: f64) -> Vec<f64> {
+    merge_lines_within(kept, extra, lo, hi, MIN_LINE_GAP_UM)
+}
+
+/// [`merge_lines`] with its own gap.
+fn merge_lines_within(kept: Vec<f64>, extra: Vec<f64>, lo: f64, hi: f64, gap_um: f64) -> Vec<f64> {
     let mut kept: Vec<f64> = kept.into_iter().filter(|x| *x >= lo && *x <= hi).collect();
     kept.extend([lo, hi]);
     kept.sort_by(f64::total_cmp);
@@ -149,7 +168,7 @@ fn merge_lines(kept: Vec<f64>, extra: Vec<f64>, lo: f64, hi: f64) -> Vec<f64> {
     let mut extra: Vec<f64> = extra.into_iter().filter(|x| *x > lo && *x < hi).collect();
     extra.sort_by(f64::total_cmp);
     for x in extra {
-        if kept.iter().all(|k| (k - x).abs() >= MIN_LINE_GAP_UM) {
+        if kept.iter().all(|k| (k - x).abs() >= gap_um) {
             let i = kept.partition_point(|k| *k < x);
             kept.insert(i, x);
         }

@@ -32,6 +32,24 @@ pub struct SceneLoads {
     pub patch: RectUm,
 }
 
+impl SceneLoads {
+    /// Every plate load's edges run along the mesh axes (points, rectangles, lines, probes at a
+    /// multiple of 90 deg): its patch lines are worth keeping as mesh lines. A rotated probe's
+    /// edges cross the elements whatever the lines, and the bounding boxes of a batch of them at
+    /// nearby angles would leave sliver elements.
+    pub fn axis_aligned(&self) -> bool {
+        let square = |a: f64| (a / 90.0 - (a / 90.0).round()).abs() < 1e-9;
+        self.plate.iter().all(|l| match l {
+            Load::Probe { angle_deg, .. } => square(*angle_deg),
+            Load::Polygon { points_um, .. } => points_um
+                .iter()
+                .zip(points_um.iter().cycle().skip(1))
+                .all(|(a, b)| (a.0 - b.0).abs() < 1e-9 || (a.1 - b.1).abs() < 1e-9),
+            _ => true,
+        })
+    }
+}
+
 /// Splits `load` between the plate and the supports by area.
 pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
     match *load {

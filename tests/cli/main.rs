@@ -8,6 +8,7 @@ mod harness;
 mod kill;
 mod masks;
 mod options;
+mod peer;
 mod process_cli;
 mod properties;
 mod readme;
