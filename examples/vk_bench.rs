@@ -7,11 +7,16 @@
 //!     across against [`clamped_strip_reference`] (Timoshenko & Woinowsky-Krieger sec. 3), with
 //!     the Newton iterations and the median wall time of `runs` full solves (set-up, Newton,
 //!     read-out), beside the linear plate's time and error on the same mesh.
-//! (b) The bundled sensor, 1 N at the die centre: `--model plate` against `--model
+//! (b) The bundled sensor, 1 N and 4 N at the die centre: `--model plate` against `--model
 //!     large-deflection` at `--tol 0.01` (levels, dofs, median time).
-//!
-//! No peer yet: a large-deflection plate in scikit-fem or NGSolve on the same strip is the
-//! missing column (issue 15).
+//! (c) The peer: a clamped, in-plane immovable 10 mm square (isotropic 169 GPa, nu 0.3, 100 um)
+//!     under uniform pressure and a centre point load at linear deflections of 0.25-4
+//!     thicknesses, tactfab's quarter plate (24 x 24 BFS, graded to the centre) against
+//!     scikit-fem (`benches/skfem_vk.py`: Argyris w, P2 u and v, whole plate, Newton) run here
+//!     with `python3` (skipped with a note when it or scikit-fem is missing); the deflections,
+//!     their relative difference, and each code's time per load (tactfab: set-up and Newton from
+//!     zero per load; scikit-fem: its Newton iterations for that load step from the previous
+//!     one, set-up excluded).
 
 use std::time::Instant;
 
@@ -22,6 +27,7 @@ use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::sensor::{evaluate, Accuracy, ModelChoice, SensorGeometry};
 
 const SPAN_UM: f64 = 2000.0;
+const SQUARE_UM: f64 = 10_000.0;
 const WIDTH_UM: f64 = 500.0;
 const T_UM: f64 = 100.0;
 const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
@@ -116,41 +122,155 @@ fn main() {
         .expect("valid process")
         .process;
     let g = SensorGeometry::new(&Design::new(p).expect("design"));
-    let scene = Scene {
-        name: "centre-1n".into(),
-        load: SceneLoad::Point {
-            x_um: g.length_um / 2.0,
-            y_um: g.width_um / 2.0,
-            force_n: 1.0,
-            radius_um: 500.0,
-        },
-        limits: Limits::default(),
+    for force_n in [1.0, 4.0] {
+        let scene = Scene {
+            name: format!("centre-{force_n}n"),
+            load: SceneLoad::Point {
+                x_um: g.length_um / 2.0,
+                y_um: g.width_um / 2.0,
+                force_n,
+                radius_um: 500.0,
+            },
+            limits: Limits::default(),
+        };
+        println!("(b) sensor, {force_n} N at the centre, tol 1 %; {runs} runs, medians");
+        for model in [ModelChoice::Plate, ModelChoice::LargeDeflection] {
+            let mut ms = Vec::new();
+            let mut last = None;
+            for _ in 0..runs {
+                let t0 = Instant::now();
+                let r =
+                    evaluate(&g, &scene, Accuracy::new(0.01, 8).with_model(model)).expect("solves");
+                ms.push(t0.elapsed().as_secs_f64() * 1e3);
+                last = Some(r);
+            }
+            let r = last.expect("one run");
+            let part =
+                |v: Option<f64>| v.map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}"));
+            println!(
+                "  {:<16} {} levels, {} dofs, {} Newton iterations, {:.0} ms, deflection {:.2} \
+                 um, M2 {:.1} pC, error: discretisation {} + model {}",
+                model.as_str(),
+                r.model.levels,
+                r.model.dofs,
+                r.model.newton_iterations.unwrap_or(0),
+                median(ms),
+                r.deflection_at_load_um,
+                r.electrodes[4].charge_pc,
+                part(r.error.discretisation),
+                part(r.error.model)
+            );
+        }
+    }
+    peer(runs);
+}
+
+/// The quarter of the clamped square of (c): clamped and held on x = 0 and y = 0, mirrors
+/// through the centre, lines graded towards the centre.
+fn quarter(n: usize) -> PlateProblem {
+    let h = SQUARE_UM / 2.0;
+    let lines: Vec<f64> = (0..=n)
+        .map(|k| h * (1.0 - (1.0 - k as f64 / n as f64).powf(1.5)))
+        .collect();
+    let mesh = RectMesh {
+        x_um: lines.clone(),
+        y_um: lines,
     };
-    println!("(b) sensor, 1 N at the centre, tol 1 %; {runs} runs, medians");
-    for model in [ModelChoice::Plate, ModelChoice::LargeDeflection] {
+    let mut p = PlateProblem::new(mesh, T_UM, PlateMaterial::isotropic(169e9, 0.3));
+    for (along, group) in [(Axis::X, "y0"), (Axis::Y, "x0")] {
+        p.supports.push(LineSupport {
+            group: group.into(),
+            kind: SupportKind::Clamped,
+            along,
+            at_um: 0.0,
+            from_um: 0.0,
+            to_um: h,
+        });
+        p.supports.push(LineSupport {
+            group: "mirror".into(),
+            kind: SupportKind::Symmetry,
+            along,
+            at_um: h,
+            from_um: 0.0,
+            to_um: h,
+        });
+    }
+    p
+}
+
+/// (c): scikit-fem's RESULT lines against tactfab's quarter plate, load by load.
+fn peer(runs: usize) {
+    let max_refinement = std::env::var("SKFEM_VK_REFINEMENT").unwrap_or_else(|_| "4".into());
+    println!(
+        "(c) clamped immovable square against scikit-fem (benches/skfem_vk.py {max_refinement}); \
+         {runs} runs of tactfab, medians"
+    );
+    let out = match std::process::Command::new("python3")
+        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/benches/skfem_vk.py"))
+        .arg(&max_refinement)
+        .output()
+    {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
+        Ok(o) => {
+            println!(
+                "  scikit-fem did not run (pip install -r benches/requirements.txt):\n{}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            return;
+        }
+        Err(e) => {
+            println!("  python3 did not start: {e}");
+            return;
+        }
+    };
+    let (t, a) = (T_UM * 1e-6, SQUARE_UM * 1e-6);
+    let d = 169e9 * t.powi(3) / (12.0 * (1.0 - 0.09));
+    let p = quarter(24);
+    println!(
+        "  case      wlin/t  tactfab_w/t  skfem_w/t  rel_diff  tactfab_ms  skfem_ms  skfem_dofs"
+    );
+    for line in out.lines().filter_map(|l| l.strip_prefix("RESULT ")) {
+        let field = |k: &str| -> String {
+            line.split_whitespace()
+                .find_map(|kv| kv.strip_prefix(&format!("{k}=")))
+                .unwrap_or("")
+                .to_string()
+        };
+        let num = |k: &str| field(k).parse::<f64>().unwrap_or(f64::NAN);
+        let (pressure, wlin) = (field("case") == "pressure", num("wlin_over_t"));
+        let load = if pressure {
+            Load::Pressure {
+                region: None,
+                total_force_n: wlin * t * d / (0.00126532 * a.powi(4)) * a * a / 4.0,
+            }
+        } else {
+            Load::Point {
+                x_um: SQUARE_UM / 2.0,
+                y_um: SQUARE_UM / 2.0,
+                force_n: wlin * t * d / (0.0056120 * a * a) / 4.0,
+                radius_um: 0.0,
+            }
+        };
         let mut ms = Vec::new();
-        let mut last = None;
+        let mut w = 0.0;
         for _ in 0..runs {
             let t0 = Instant::now();
-            let r = evaluate(&g, &scene, Accuracy::new(0.01, 8).with_model(model)).expect("solves");
+            let vk = VonKarman::new(&p, NonlinearOptions::default()).expect("quarter");
+            let (s, _) = vk.solve(std::slice::from_ref(&load)).expect("converges");
             ms.push(t0.elapsed().as_secs_f64() * 1e3);
-            last = Some(r);
+            w = s.deflection_m(SQUARE_UM / 2.0, SQUARE_UM / 2.0) / t;
         }
-        let r = last.expect("one run");
-        let part =
-            |v: Option<f64>| v.map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}"));
+        let peer_w = num("w_over_t");
         println!(
-            "  {:<16} {} levels, {} dofs, {} Newton iterations, {:.0} ms, deflection {:.2} um, M2 \
-             {:.1} pC, error: discretisation {} + model {}",
-            model.as_str(),
-            r.model.levels,
-            r.model.dofs,
-            r.model.newton_iterations.unwrap_or(0),
+            "  {:<8} {:>7} {:>12.6} {:>10.6} {:>9.1e} {:>11.1} {:>9.0} {:>11}",
+            field("case"),
+            wlin,
+            w,
+            peer_w,
+            (w - peer_w) / peer_w,
             median(ms),
-            r.deflection_at_load_um,
-            r.electrodes[4].charge_pc,
-            part(r.error.discretisation),
-            part(r.error.model)
+            num("seconds") * 1e3,
+            field("dofs")
         );
     }
 }

@@ -870,10 +870,48 @@ impl VonKarman {
 /// assert!(w0 < linear && n > 0.0);
 /// ```
 pub fn clamped_strip_reference(q_pa: f64, span_m: f64, d_nm: f64, a_n_per_m: f64) -> (f64, f64) {
-    let (q, l, d) = (q_pa, span_m, d_nm);
+    // w'(l/2) = 0: C k sinh(kl/2) = q l / (2N).
+    strip_reference(q_pa, span_m, d_nm, a_n_per_m, |n, k| {
+        q_pa * span_m / (2.0 * n * k * (0.5 * k * span_m).sinh())
+    })
+}
+
+/// [`clamped_strip_reference`] for a strip simply supported along both edges (w = w'' = 0 there)
+/// and held in-plane: the same w(s) with C = q / (N k^2 cosh(kl/2)) from w''(l/2) = 0 (Timoshenko
+/// & Woinowsky-Krieger sec. 2).
+///
+/// ```
+/// use tactfab::fe::vonkarman::simply_supported_strip_reference;
+/// let (d, a) = (170e9 * 1e-12 / 12.0, 170e9 * 1e-4);
+/// // w/t ~ 1.5e-3: the linear answer to ~1e-6 (much smaller loads lose digits to the
+/// // cancellation of the two terms of w(s) as kl -> 0).
+/// let (w0, _) = simply_supported_strip_reference(1e5, 2e-3, d, a);
+/// let linear = 5.0 * 1e5 * (2e-3f64).powi(4) / (384.0 * d);
+/// assert!((w0 - linear).abs() < 1e-3 * linear);
+/// ```
+pub fn simply_supported_strip_reference(
+    q_pa: f64,
+    span_m: f64,
+    d_nm: f64,
+    a_n_per_m: f64,
+) -> (f64, f64) {
+    strip_reference(q_pa, span_m, d_nm, a_n_per_m, |n, k| {
+        q_pa / (n * k * k * (0.5 * k * span_m).cosh())
+    })
+}
+
+/// Cylindrical bending with w(s) = C (cosh ks - cosh(kl/2)) + q (l^2/4 - s^2) / (2N), k^2 = N / D,
+/// `c_of(N, k)` from the edge condition; N from the stretch of the held line by bisection.
+fn strip_reference(
+    q: f64,
+    l: f64,
+    d: f64,
+    a_n_per_m: f64,
+    c_of: impl Fn(f64, f64) -> f64,
+) -> (f64, f64) {
     let slope_sq_integral = |n: f64| {
         let k = (n / d).sqrt();
-        let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+        let c = c_of(n, k);
         let panels = 400;
         let mut sum = 0.0;
         for p in 0..panels {
@@ -896,7 +934,7 @@ pub fn clamped_strip_reference(q_pa: f64, span_m: f64, d_nm: f64, a_n_per_m: f64
     }
     let n = (lo * hi).sqrt();
     let k = (n / d).sqrt();
-    let c = q * l / (2.0 * n * k * (0.5 * k * l).sinh());
+    let c = c_of(n, k);
     (c * (1.0 - (0.5 * k * l).cosh()) + q * l * l / (8.0 * n), n)
 }
 

@@ -444,6 +444,20 @@ fn out(m: bool, required: bool) -> BoxedStrategy<Vec<String>> {
     }
 }
 
+/// `--model` of a study, always given: the default (auto) climbs to the large-deflection plate,
+/// which the grid studies cannot afford under the per-process cap, so `nonlinear` only where the
+/// study is small (orient).
+fn study_model(m: bool, nonlinear: bool) -> BoxedStrategy<Vec<String>> {
+    let v = prop_oneof![
+        6 => Just("plate".to_string()),
+        if nonlinear { 1 } else { 0 } => proptest::sample::select(&["auto", "large-deflection"][..])
+            .prop_map(String::from),
+        if m { 1 } else { 0 } => proptest::sample::select(&["linear", "", "Plate", "beam"][..])
+            .prop_map(String::from),
+    ];
+    flag("model", v.boxed())
+}
+
 /// `--max-levels`, always given (the default would solve for seconds): mostly 1 or 2.
 fn max_levels(m: bool) -> BoxedStrategy<Vec<String>> {
     let v = prop_oneof![
@@ -729,6 +743,7 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
                     ),
                 )),
                 max_levels(m),
+                study_model(m, false),
                 tol(m),
                 switch("overwrite"),
             ]);
@@ -759,7 +774,7 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
                 value(m, &["@CALIB"], &["@OUT", "@CASE", "/nonexistent", "@PROC"]),
             )));
             v.extend(grid(m));
-            v.extend([max_levels(m), tol(m), switch("json")]);
+            v.extend([max_levels(m), study_model(m, false), tol(m), switch("json")]);
             v
         }
         "orient" => vec![
@@ -785,6 +800,7 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
             )),
             out(m, false),
             max_levels(m),
+            study_model(m, true),
             tol(m),
             switch("json"),
             switch("overwrite"),
