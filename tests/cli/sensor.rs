@@ -558,6 +558,63 @@ fn hard_cases_solve_with_a_stated_error() {
     rel_eq(r.reactions_n.support1, 1.0, 1e-12);
 }
 
+/// The large-deflection rung's hard cases on the bundled design: 5 N at a free corner (the plate
+/// twists and lifts along the far support), a load centred on the support edge (its patch half on
+/// the support), and the centre load just below touch-down (the deflection within a few percent of
+/// the gap). Each converges on three levels, balances the load in the deformed state, and keeps
+/// the answer under the gap.
+#[test]
+fn large_deflection_hard_cases_converge_and_balance() {
+    let g = geometry(&[]);
+    let nonlinear = Accuracy::new(0.05, 3).with_model(ModelChoice::LargeDeflection);
+    let centre_touch = evaluate(&g, &point(15.0, 7.5, 1.0), nonlinear)
+        .unwrap()
+        .touch_down
+        .and_then(|t| t.load_n)
+        .expect("touch-down of the centre pattern");
+    let cases = [
+        ("5 N at a free corner", point(0.6, 3.1, 5.0)),
+        (
+            "2 N on the support edge",
+            point(15.0, g.plate_y0_um / 1e3, 2.0),
+        ),
+        (
+            "95 % of touch-down at the centre",
+            point(15.0, 7.5, 0.95 * centre_touch),
+        ),
+    ];
+    for (what, scene) in cases {
+        let r = evaluate(&g, &scene, nonlinear).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert_eq!(r.model.kind, ModelKind::LargeDeflectionPlate, "{what}");
+        let force = match scene.load {
+            SceneLoad::Point { force_n, .. } => force_n,
+            _ => unreachable!(),
+        };
+        rel_eq(r.reactions_n.support1 + r.reactions_n.support2, force, 1e-6);
+        assert!(
+            r.error.discretisation.is_some_and(|e| e < 0.05),
+            "{what}: {:?}",
+            r.error
+        );
+        assert!(
+            r.max_deflection_um < g.gap_um,
+            "{what}: {}",
+            r.max_deflection_um
+        );
+        // Three levels, each a few (modified) Newton iterations: no load-step halving.
+        let its = r.model.newton_iterations.expect("counted");
+        assert!(its <= 30, "{what}: {its} Newton iterations");
+        if what.starts_with("95") {
+            assert!(
+                r.max_deflection_um > 0.85 * g.gap_um,
+                "{what}: {} of {} um",
+                r.max_deflection_um,
+                g.gap_um
+            );
+        }
+    }
+}
+
 /// Symmetric scenes solve half (checkered teeth: mirror in y only) or a quarter (matrix teeth);
 /// the readings agree with the whole-plate model within the two error estimates, and the mirrored
 /// field reads S1j = S2j to round-off.
