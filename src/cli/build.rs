@@ -3,16 +3,15 @@
 use tactfab::report::{build, summary, Options};
 
 use super::args::BuildArgs;
-use super::{design, process_identity, write_dir, Outcome, Progress};
+use super::{design, origin, write_dir, Outcome, Progress};
 
 /// The summary's name.
 pub const SUMMARY: &str = "build.json";
 
 pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
-    let (process_file, process_sha256) = process_identity(&args.process)?;
     let opts = Options {
-        process_file,
+        origin: origin(&args.process, &loaded)?,
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
@@ -22,7 +21,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         build(&loaded, &design, &opts, &mut |s| progress.stage(s))?
     };
     let mut files = built.files();
-    let s = summary(&built, &opts.process_file, &process_sha256, &files);
+    let s = summary(&built, &files);
     files.push((
         SUMMARY.to_string(),
         (serde_json::to_string_pretty(&s)? + "\n").into_bytes(),

@@ -13,10 +13,11 @@ use tactfab::sensor::SensorGeometry;
 
 use super::args::CalibrateArgs;
 use super::output::f;
-use super::{design, write_dir, Outcome};
+use super::{design, origin, write_dir, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
-    let (_, design) = design(&args.process)?;
+    let (loaded, design) = design(&args.process)?;
+    let origin = origin(&args.process, &loaded)?;
     let g = SensorGeometry::new(&design);
     let cp = CalibrationPlan::new(
         &g,
@@ -33,7 +34,12 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
         force_n: 1.0,
     };
     let s = calibration_study(&g, &cp, &noise).context("calibration")?;
-    write_dir(&args.out, &files(&s), args.replace, &args.process)?;
+    write_dir(
+        &args.out,
+        &files(&s, &origin, args.accuracy.into()),
+        args.replace,
+        &args.process,
+    )?;
     print!(
         "{}",
         summary(&s.calibration, &s.locator, &s.held_out, &s.noise, &args.out)

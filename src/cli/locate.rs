@@ -11,10 +11,10 @@ use tactfab::sensor::SensorGeometry;
 
 use super::args::LocateArgs;
 use super::output::f;
-use super::{design, Outcome};
+use super::{design, origin, Outcome};
 
 pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
-    let (_, design) = design(&args.process)?;
+    let (loaded, design) = design(&args.process)?;
     let g = SensorGeometry::new(&design);
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     if args.voltages.len() != names.len() {
@@ -26,7 +26,10 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
         );
     }
     let cal = match &args.calibration {
-        Some(dir) => read_grid(&dir.join("grid.csv"), &names)?,
+        Some(dir) => {
+            same_design(dir, &origin(&args.process, &loaded)?)?;
+            read_grid(&dir.join("grid.csv"), &names)?
+        }
         None => {
             let cp = CalibrationPlan::new(
                 &g,
@@ -70,6 +73,31 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
         );
     }
     Ok(Outcome::Ok)
+}
+
+/// Refuses a calibration directory made for another design (other process bytes or `--set`
+/// overrides) or without its identity file.
+fn same_design(dir: &std::path::Path, now: &tactfab::report::Origin) -> anyhow::Result<()> {
+    use tactfab::report::calibration::{CalibrationMeta, META};
+    let path = dir.join(META);
+    let bytes = std::fs::read(&path).with_context(|| {
+        format!(
+            "cannot read {}: a calibration directory carries it (regenerate it with `tactfab \
+             calibrate FILE -o DIR`)",
+            path.display()
+        )
+    })?;
+    let meta = CalibrationMeta::parse(&bytes)
+        .with_context(|| format!("{} is not a calibration identity file", path.display()))?;
+    if let Some(why) = meta.origin.design_mismatch(now) {
+        bail!(
+            "--calibration {}: made for another design: {why}\n  hint: calibrate this design \
+             (`tactfab calibrate` with the same file and --set), or run locate without \
+             --calibration to solve its grid now",
+            dir.display()
+        );
+    }
+    Ok(())
 }
 
 /// Reads `grid.csv` as written by `tactfab calibrate`: x_um,y_um,force_n,<electrode>_voltage_mv...

@@ -76,19 +76,21 @@ pub fn design(
 }
 
 /// How outputs name the process file: its name and the SHA-256 of its bytes, never the path as
-/// typed (a relative and an absolute path must give the same bytes).
-pub fn process_identity(args: &ProcessArgs) -> anyhow::Result<(String, String)> {
-    use sha2::Digest;
+/// typed (a relative and an absolute path must give the same bytes), with the overrides applied.
+pub fn origin(
+    args: &ProcessArgs,
+    loaded: &tactfab::process::Loaded,
+) -> anyhow::Result<tactfab::report::Origin> {
     let bytes = std::fs::read(&args.file)?;
     let name = args.file.file_name().map_or_else(
         || args.file.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    let hash = sha2::Sha256::digest(&bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
-    Ok((name, hash))
+    Ok(tactfab::report::Origin::new(
+        &name,
+        &tactfab::report::inventory::sha256_hex(&bytes),
+        &loaded.overrides,
+    ))
 }
 
 /// Writes `files` as the whole directory `out`: replaces only a previous output of tactfab (or

@@ -4,12 +4,12 @@
 use tactfab::report::{build, Options};
 
 use super::args::TravelerArgs;
-use super::{design, process_identity, write_dir, Outcome, Progress};
+use super::{design, origin, write_dir, Outcome, Progress};
 
 pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
     let opts = Options {
-        process_file: process_identity(&args.process)?.0,
+        origin: origin(&args.process, &loaded)?,
         fe: (!args.no_fe).then(|| args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,

@@ -41,8 +41,8 @@ pub enum ReportError {
 /// What to build.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
-    /// The process file as the user named it (printed in the traveler).
-    pub process_file: String,
+    /// The process file, its SHA-256 and the overrides (printed in the traveler and build.json).
+    pub origin: super::Origin,
     /// How accurately the declared scenes are solved; None: skip FE (the traveler says so).
     pub fe: Option<Accuracy>,
     /// GDS modification/access dates; None writes zeros (reproducible).
@@ -195,7 +195,8 @@ pub fn build(
     };
     let t = traveler(TravelerInput {
         process: p,
-        process_file: &opts.process_file,
+        origin: &opts.origin,
+        fe_accuracy: opts.fe,
         defaults_used: &loaded.defaults_used,
         overrides: &loaded.overrides,
         plan: &plan,

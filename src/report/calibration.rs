@@ -7,6 +7,8 @@ use crate::analysis::calibration::{Calibration, Sample, SupportGroups};
 use crate::analysis::inverse::NoiseRow;
 use crate::analysis::study::CalibrationStudy;
 use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
+use crate::report::Origin;
+use crate::sensor::Accuracy;
 use crate::units::fixed as f;
 
 /// Voltage columns `<electrode>_voltage_mv` in the sensor's electrode order.
@@ -33,10 +35,44 @@ fn est(e: Option<f64>) -> String {
     e.map(|e| format!("{e:.3e}")).unwrap_or_default()
 }
 
-pub fn files(study: &CalibrationStudy) -> Vec<(String, Vec<u8>)> {
+/// The calibration's identity file: which design (process bytes, overrides) and accuracy it was
+/// made for, so `locate --calibration` can refuse another design's.
+pub const META: &str = "calibration.json";
+
+/// What [`META`] holds.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CalibrationMeta {
+    #[serde(flatten)]
+    pub origin: Origin,
+    /// The study's accuracy (model rung, tolerance, levels, in-plane condition), as asked.
+    pub accuracy: serde_json::Value,
+    /// Electrode order of the voltage columns.
+    pub electrodes: Vec<String>,
+}
+
+impl CalibrationMeta {
+    /// Reads [`META`]'s bytes.
+    pub fn parse(bytes: &[u8]) -> Result<Self, serde_json::Error> {
+        serde_json::from_slice(bytes)
+    }
+}
+
+/// Every file of the calibration directory: [`META`], the CSV tables and the SVG plots.
+pub fn files(
+    study: &CalibrationStudy,
+    origin: &Origin,
+    accuracy: Accuracy,
+) -> Vec<(String, Vec<u8>)> {
     let (cal, gr) = (&study.calibration, &study.groups);
     let (held, noise) = (&study.held_out, &study.noise);
     let mut out = Vec::new();
+    let meta = CalibrationMeta {
+        origin: origin.clone(),
+        accuracy: serde_json::to_value(accuracy).unwrap_or(serde_json::Value::Null),
+        electrodes: cal.electrodes.clone(),
+    };
+    let json = serde_json::to_string_pretty(&meta).unwrap_or_default() + "\n";
+    out.push((META.to_string(), json.into_bytes()));
     let mut csv = header(cal, "force_n,x_um,y_um") + ",model,error_estimate\n";
     for s in &cal.force_table {
         let _ = writeln!(

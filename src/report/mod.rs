@@ -19,6 +19,7 @@ pub mod inventory;
 pub mod limits;
 pub mod markdown;
 pub mod orientation;
+pub mod origin;
 pub mod section;
 pub mod sheet;
 pub mod summary;
@@ -26,5 +27,6 @@ pub mod traveler;
 
 pub use build::{build, Built, Options, ReportError, Stage};
 pub use limits::{check_limits, limit_failures, LimitCheck};
+pub use origin::Origin;
 pub use summary::{summary, BuildSummary};
 pub use traveler::Traveler;

@@ -22,10 +22,12 @@ pub struct FileEntry {
 pub struct BuildSummary {
     pub device: String,
     pub revision: String,
-    /// The process file's name (not its path, which depends on where the build ran from).
-    pub process_file: String,
-    /// SHA-256 of the process file's bytes.
-    pub process_sha256: String,
+    /// Tool, process file name and SHA-256, `--set` overrides.
+    #[serde(flatten)]
+    pub origin: super::Origin,
+    /// How the declared scenes were solved (model rung, tolerance, levels, in-plane condition);
+    /// None when FE was skipped.
+    pub fe_accuracy: Option<crate::sensor::Accuracy>,
     pub passed: bool,
     /// Why it failed, one line each (etch-plan errors, DRC, FE limits).
     pub failures: Vec<String>,
@@ -41,12 +43,7 @@ pub struct BuildSummary {
 }
 
 /// The summary of `built` whose other files are `files`.
-pub fn summary(
-    built: &Built,
-    process_file: &str,
-    process_sha256: &str,
-    files: &[(String, Vec<u8>)],
-) -> BuildSummary {
+pub fn summary(built: &Built, files: &[(String, Vec<u8>)]) -> BuildSummary {
     let failures = built.failures();
     let mut entries: Vec<FileEntry> = files
         .iter()
@@ -60,8 +57,8 @@ pub fn summary(
     BuildSummary {
         device: built.set.device.clone(),
         revision: built.set.revision.clone(),
-        process_file: process_file.to_string(),
-        process_sha256: process_sha256.to_string(),
+        origin: built.traveler.origin.clone(),
+        fe_accuracy: built.traveler.fe_accuracy,
         passed: failures.is_empty(),
         failures,
         checks: built.traveler.checks.clone(),

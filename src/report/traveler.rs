@@ -167,7 +167,10 @@ pub struct Traveler {
     pub device: String,
     pub revision: String,
     pub description: String,
-    pub process_file: String,
+    /// Tool, process file name and SHA-256, `--set` overrides.
+    pub origin: super::Origin,
+    /// How the FE checks were solved; None when skipped.
+    pub fe_accuracy: Option<crate::sensor::Accuracy>,
     /// Fields the fab fills in.
     pub header_fields: Vec<String>,
     pub material: Vec<(String, String)>,
@@ -192,8 +195,9 @@ pub struct Traveler {
 /// What the traveler is made from.
 pub struct TravelerInput<'a> {
     pub process: &'a Process,
-    /// The process file as the user named it.
-    pub process_file: &'a str,
+    /// The process file, its SHA-256 and the overrides.
+    pub origin: &'a super::Origin,
+    pub fe_accuracy: Option<crate::sensor::Accuracy>,
     pub defaults_used: &'a [Provenance],
     pub overrides: &'a [(String, String)],
     pub plan: &'a EtchPlan,
@@ -224,7 +228,8 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         device: p.device.name.clone(),
         revision: p.device.revision.clone(),
         description: p.device.description.clone(),
-        process_file: input.process_file.to_string(),
+        origin: input.origin.clone(),
+        fe_accuracy: input.fe_accuracy,
         header_fields: header_fields(),
         material: material(p, plan),
         inventory: input.inventory,
@@ -972,7 +977,8 @@ mod tests {
         let inv = inventory(&set, b"gds bytes", &svgs);
         traveler(TravelerInput {
             process: p,
-            process_file: "process/mis-grasper.yaml",
+            origin: &crate::report::Origin::new("mis-grasper.yaml", "0000", &loaded.overrides),
+            fe_accuracy: None,
             defaults_used: &loaded.defaults_used,
             overrides: &loaded.overrides,
             plan: &plan,

@@ -378,6 +378,45 @@ fn calibrate_and_locate_through_the_binary() {
     let e = &j["estimate"];
     assert!((e["force_n"].as_f64().unwrap() - 3.0).abs() < 1e-4, "{e}");
     assert!((e["y_um"].as_f64().unwrap() - v[1]).abs() < 1.0, "{e}");
+    // The calibration names its design: another design's voltages are not read through it.
+    let meta = std::fs::read_to_string(dir.join("calibration.json")).unwrap();
+    let meta: serde_json::Value = serde_json::from_str(&meta).unwrap();
+    assert_eq!(meta["process_file"], "mis-grasper.yaml");
+    assert_eq!(meta["accuracy"]["max_levels"], 1);
+    let other = tactfab(&[
+        "locate",
+        "process/mis-grasper.yaml",
+        "--set",
+        "geometry.plate_thickness_um=80",
+        "--calibration",
+        d,
+        "--voltages",
+        &volts.join(","),
+    ]);
+    other.expect_code(2);
+    assert!(
+        other.stderr.contains("made for another design")
+            && other
+                .stderr
+                .contains("--set geometry.plate_thickness_um=80"),
+        "{}",
+        other.stderr
+    );
+    let renamed = dir.with_extension("copy");
+    let _ = std::fs::remove_dir_all(&renamed);
+    std::fs::create_dir(&renamed).unwrap();
+    std::fs::copy(dir.join("grid.csv"), renamed.join("grid.csv")).unwrap();
+    let bare = tactfab(&[
+        "locate",
+        "process/mis-grasper.yaml",
+        "--calibration",
+        renamed.to_str().unwrap(),
+        "--voltages",
+        &volts.join(","),
+    ]);
+    bare.expect_code(2);
+    assert!(bare.stderr.contains("calibration.json"), "{}", bare.stderr);
+    let _ = std::fs::remove_dir_all(&renamed);
     // Bad input: wrong voltage count, exit 2 and nothing half-done.
     let bad = tactfab(&[
         "locate",

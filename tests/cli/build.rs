@@ -179,8 +179,22 @@ fn build_writes_everything_and_the_html_renders() {
     assert_eq!(scenes[0]["limits"][0]["passed"], true);
     assert!(s.get("timings_ms").is_none());
     assert_eq!(s["process_file"], "mis-grasper.yaml");
-    assert_eq!(s["process_sha256"].as_str().unwrap().len(), 64);
+    let sha = s["process_sha256"].as_str().unwrap();
+    assert_eq!(sha.len(), 64);
+    // Traceability: the tool, the overrides (none here) and how the scenes were solved.
+    assert_eq!(
+        s["tool"].as_str().unwrap(),
+        format!("tactfab {}", env!("CARGO_PKG_VERSION"))
+    );
+    assert_eq!(s["overrides"], serde_json::json!([]));
+    assert_eq!(s["fe_accuracy"]["model"], "auto");
+    assert!(s["fe_accuracy"]["tol_rel"].as_f64().is_some());
     let md = String::from_utf8(files["mis-grasper-traveler.md"].clone()).unwrap();
+    assert!(
+        md.contains(sha),
+        "the traveler names the process file's SHA-256"
+    );
+    assert!(md.contains("--model auto at --tol"), "and the rung asked");
     assert!(
         md.contains("PASS safety factor") && md.contains("| centre-1n |"),
         "FE table in the traveler"
