@@ -68,6 +68,8 @@ codes! {
         NoOxideMask = "NO_OXIDE_MASK": "an oxide-masked etch with no oxidation step before it",
         ResistNotAMask = "RESIST_NOT_A_MASK":
             "photoresist used as a TMAH/KOH mask (its developer is TMAH)",
+        ResistInBath = "RESIST_IN_BATH":
+            "resist still on the wafer goes into a TMAH/KOH bath, which dissolves it",
         CompRatioFromKoh = "COMP_RATIO_FROM_KOH": "a KOH-derived compensation ratio used in TMAH",
         NoCompensation = "NO_COMPENSATION": "convex tooth corners etched without compensation",
         HillockRisk = "HILLOCK_RISK": "TMAH below ~22 wt % forms hillocks on (100)",

@@ -131,13 +131,68 @@ struct PlanState {
     warnings: Vec<Finding>,
 }
 
+impl PlanState {
+    /// A silicon etch done: the depths it adds per face and the oxide it leaves.
+    fn record(&mut self, side: Side, step: EtchStep) {
+        if matches!(side, Side::Front | Side::Both) {
+            self.front += step.achieved_depth_um;
+        }
+        if matches!(side, Side::Back | Side::Both) {
+            self.back += step.achieved_depth_um;
+        }
+        self.oxide_um = step.mask_remaining_um.max(0.0);
+        self.steps.push(step);
+    }
+}
+
+/// Resist still on the wafer going into an anisotropic bath whose mask is oxide or nitride: TMAH
+/// is a positive-resist developer and KOH strips resist (reference/process-physics.md: resist is
+/// not a mask), so the coat dissolves into the bath, loading it and leaving residue; the source's
+/// own order (paper 002: strip after the etch) is kept, with this warning.
+fn resist_in_bath(
+    index: usize,
+    name: &str,
+    e: &crate::process::SiliconEtch,
+    coats: &[&str],
+) -> Finding {
+    Finding::warning(
+        EtchCode::ResistInBath,
+        format!(
+            "step `{name}` (traveler step {}): the resist of {} is still on the wafer and \
+             dissolves in the {} bath (hot, alkaline: TMAH develops positive resist); strip it \
+             before the etch, or plan for the bath's loading and a post-etch clean",
+            index + 1,
+            coats
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            e.etchant.label()
+        ),
+    )
+}
+
 /// The plan: each step's results in order, then the plate, geometry and piezo checks.
 pub(super) fn build(p: &Process) -> EtchPlan {
     let mut st = PlanState::default();
-    for s in &p.steps {
+    // The resist coats on the wafer now (stripped by a resist strip).
+    let mut resist_on: Vec<&str> = Vec::new();
+    for (i, s) in p.steps.iter().enumerate() {
         match &s.params {
             StepParams::Oxidation(o) => oxidation(p, &s.name, o, &mut st),
-            StepParams::SpinCoat(c) => st.resists.push(spin_coat(&s.name, c)),
+            StepParams::SpinCoat(c) => {
+                resist_on.push(&s.name);
+                st.resists.push(spin_coat(&s.name, c))
+            }
+            StepParams::Strip(strip) if strip.target == crate::process::StripTarget::Resist => {
+                resist_on.clear()
+            }
+            StepParams::SiliconEtch(e) if e.mask != EtchMask::Resist && !resist_on.is_empty() => {
+                st.warnings.push(resist_in_bath(i, &s.name, e, &resist_on));
+                resist_on.clear();
+                let step = silicon_etch(p, &s.name, e, st.oxide_um, &mut st.warnings);
+                st.record(e.side, step);
+            }
             StepParams::OxideEtch(e) => {
                 let r = oxide_etch(p, &s.name, e, st.oxide_um);
                 st.oxide_etches.push(r);
@@ -147,14 +202,7 @@ pub(super) fn build(p: &Process) -> EtchPlan {
             }
             StepParams::SiliconEtch(e) => {
                 let step = silicon_etch(p, &s.name, e, st.oxide_um, &mut st.warnings);
-                if matches!(e.side, Side::Front | Side::Both) {
-                    st.front += step.achieved_depth_um;
-                }
-                if matches!(e.side, Side::Back | Side::Both) {
-                    st.back += step.achieved_depth_um;
-                }
-                st.oxide_um = step.mask_remaining_um.max(0.0);
-                st.steps.push(step);
+                st.record(e.side, step);
             }
             _ => {}
         }

@@ -209,11 +209,15 @@ fn steps(t: &Traveler) -> Section {
                 .plain(" ")
                 .and(Span::Value(format!("(hold {})", r.holds.join(", "))));
         }
+        let mut parameters = Rich::text(r.parameters.clone());
+        for line in &r.floor {
+            parameters = parameters.and(Span::Break).and(Span::Note(line.clone()));
+        }
         table.row(vec![
             step,
             r.process.as_str().into(),
             r.equipment.as_str().into(),
-            r.parameters.as_str().into(),
+            parameters,
             computed,
             target,
         ]);

@@ -63,6 +63,78 @@ pub struct StepRow {
     pub target: Option<Target>,
     /// Hold point ids that belong to this step.
     pub holds: Vec<String>,
+    /// What the floor does around the step whatever the file says: safety, rinse and dry,
+    /// inspection ([`floor_notes`]).
+    pub floor: Vec<String>,
+}
+
+/// Safety, rinse/dry and inspection lines for a step of this kind [choice: the practice of
+/// university cleanroom wet-bench SOPs; the process file's `notes` add to them]. HF (BOE, oxide
+/// strip) and hot TMAH are the two chemicals of this process that kill through skin contact.
+pub fn floor_notes(params: &StepParams) -> Vec<String> {
+    const DRY: &str = "Rinse: DI water cascade until the resistivity recovers, then N2 dry.";
+    const HF: &str = "Safety: HF (BOE): HF-rated gloves over nitrile, face shield and apron, \
+                      calcium gluconate gel at the bench; never alone.";
+    match params {
+        StepParams::Clean(_) => vec![
+            "Safety: follow the chemical's SOP (acids: face shield and apron).".into(),
+            DRY.into(),
+        ],
+        StepParams::Develop(_) => vec![
+            DRY.into(),
+            "Inspect: microscope; every opening cleared, edges sharp, no resist residue, before \
+             any etch."
+                .into(),
+        ],
+        StepParams::OxideEtch(_) => vec![
+            HF.into(),
+            DRY.into(),
+            "Inspect: the opened silicon dewets (hydrophobic) when the oxide is cleared.".into(),
+        ],
+        StepParams::SiliconEtch(e) => vec![
+            match e.etchant {
+                crate::process::Etchant::Tmah => format!(
+                    "Safety: hot TMAH ({} C) is toxic through the skin (fatal exposures \
+                     reported): face shield, chemical gloves and apron, lid and condenser on the \
+                     bath; never alone.",
+                    e.temp_c
+                ),
+                crate::process::Etchant::Koh => format!(
+                    "Safety: hot KOH ({} C) is caustic: face shield, chemical gloves and apron; \
+                     never alone.",
+                    e.temp_c
+                ),
+            },
+            "Rinse: DI water cascade, then a hot DI rinse (no residue crystallises), N2 dry; \
+             wafers stay vertical in their carrier."
+                .into(),
+        ],
+        StepParams::Strip(s) => match s.target {
+            crate::process::StripTarget::Oxide => vec![HF.into(), DRY.into()],
+            crate::process::StripTarget::Resist => vec![
+                "Safety: solvents are flammable: fume hood, no hotplate on.".into(),
+                "Rinse: IPA, then DI water, N2 dry.".into(),
+            ],
+        },
+        StepParams::MetalEtch(_) => vec![
+            "Safety: acid etchant: face shield, gloves and apron.".into(),
+            DRY.into(),
+            "Inspect: microscope; every island separated, no aluminium bridges.".into(),
+        ],
+        StepParams::Expose(_) => {
+            vec!["Safety: UV: the aligner's shield closed; no eye exposure.".into()]
+        }
+        StepParams::Oxidation(o) => vec![format!(
+            "Safety: furnace at {} C: the boat on the paddle, heat gloves, wafers cool on the \
+             boat before handling.",
+            o.temp_c
+        )],
+        StepParams::Bake(b) if b.temp_c >= 90.0 => {
+            vec!["Safety: hot plate or oven at over 90 C: tweezers, heat gloves.".into()]
+        }
+        StepParams::Bake(_) => Vec::new(),
+        StepParams::SpinCoat(_) | StepParams::Mount(_) | StepParams::Assemble(_) => Vec::new(),
+    }
 }
 
 /// A stop with engineer sign-off.
@@ -423,6 +495,13 @@ fn step_rows(input: &TravelerInput<'_>, holds: &mut Vec<HoldPoint>) -> Vec<StepR
         silicon_etches: plan.steps.iter(),
     };
     let mut steps = Vec::new();
+    // The wafer is diced before the first assembly step: the file has no kind for it, so the
+    // traveler says where it goes without renumbering the steps.
+    let first_assembly = input
+        .process
+        .steps
+        .iter()
+        .position(|s| matches!(s.params, StepParams::Assemble(_)));
     for (i, s) in input.process.steps.iter().enumerate() {
         let cells = step_cells(input, i, s, &mut rows);
         let mut step_holds = Vec::new();
@@ -444,6 +523,20 @@ fn step_rows(input: &TravelerInput<'_>, holds: &mut Vec<HoldPoint>) -> Vec<StepR
             computed: cells.computed,
             target: cells.target,
             holds: step_holds,
+            floor: {
+                let mut floor = Vec::new();
+                let dies = input.set.die_origins.len();
+                if Some(i) == first_assembly && dies > 1 {
+                    floor.push(format!(
+                        "Before this step: dice the wafer into its {dies} dies along the dicing \
+                         streets ({:.0} x {:.0} um pitch; saw with the plate side on tape), \
+                         rinse, N2 dry, inspect each die for chipping at the plate.",
+                        input.set.pitch_x_um, input.set.pitch_y_um
+                    ));
+                }
+                floor.extend(floor_notes(&s.params));
+                floor
+            },
         });
     }
     steps
@@ -468,7 +561,7 @@ fn step_cells(input: &TravelerInput<'_>, i: usize, s: &Step, rows: &mut PlanRows
         StepParams::Bake(b) => {
             StepCells::plain("bake", format!("{} C, {} min", b.temp_c, b.time_min))
         }
-        StepParams::Expose(e) => expose_cells(input, e),
+        StepParams::Expose(e) => expose_cells(input, i, e),
         StepParams::Develop(d) => {
             StepCells::plain("develop", format!("{}, {} s", d.developer, d.time_s))
         }
@@ -613,11 +706,48 @@ fn spin_coat_cells(
 }
 
 /// An exposure: each mask's file, tone, side and GDS layer from the inventory.
-fn expose_cells(input: &TravelerInput<'_>, e: &Expose) -> StepCells {
+/// S1813's broadband exposure dose window, mJ/cm² (../shared/reference/process-physics.md,
+/// lithography).
+const S1813_DOSE_MJ_PER_CM2: (f64, f64) = (60.0, 150.0);
+
+fn expose_cells(input: &TravelerInput<'_>, i: usize, e: &Expose) -> StepCells {
     let mut cells = StepCells::plain(
         "UV exposure",
         format!("masks {}; {} s", e.masks.join(", "), e.time_s),
     );
+    // Dose = intensity x time: the resist's window fixes the lamp intensity this time assumes.
+    let resist = input.process.steps[..i]
+        .iter()
+        .rev()
+        .find_map(|s| match &s.params {
+            StepParams::SpinCoat(c) => Some(c.resist.as_str()),
+            _ => None,
+        });
+    let (lo, hi) = S1813_DOSE_MJ_PER_CM2;
+    let s1813 = resist.is_some_and(|r| r.to_ascii_uppercase().contains("1813"));
+    cells.computed.push(if !s1813 {
+        Computed {
+            what: "dose".into(),
+            value: format!(
+                "intensity x {} s: the resist's datasheet dose over the measured lamp intensity \
+                 sets the time",
+                e.time_s
+            ),
+            provenance: format!("no dose window known for {}", resist.unwrap_or("no resist")),
+        }
+    } else {
+        Computed {
+            what: "dose".into(),
+            value: format!(
+            "{lo}-{hi} mJ/cm² needs {:.1}-{:.1} mW/cm² at {} s: measure the lamp, set the time to \
+             dose / intensity",
+            lo / e.time_s,
+            hi / e.time_s,
+            e.time_s
+        ),
+            provenance: "S1813 broadband dose window, reference/process-physics.md".into(),
+        }
+    });
     for name in &e.masks {
         if let Some(m) = input.inventory.masks.iter().find(|m| &m.name == name) {
             cells.computed.push(Computed {

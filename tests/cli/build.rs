@@ -195,6 +195,18 @@ fn build_writes_everything_and_the_html_renders() {
         "the traveler names the process file's SHA-256"
     );
     assert!(md.contains("--model auto at --tol"), "and the rung asked");
+    // What the floor needs beside the recipe: safety for HF and hot TMAH, rinse and dry, the
+    // dose's lamp intensity, dicing before the first assembly step.
+    for want in [
+        "Safety: hot TMAH (80 C) is toxic through the skin",
+        "Safety: HF (BOE)",
+        "Rinse: DI water cascade",
+        "dose: 60-150 mJ/cm² needs 4.0-10.0 mW/cm² at 15 s",
+        "dice the wafer into its 9 dies",
+        "RESIST_IN_BATH",
+    ] {
+        assert!(md.contains(want), "the traveler lacks {want:?}");
+    }
     assert!(
         md.contains("PASS safety factor") && md.contains("| centre-1n |"),
         "FE table in the traveler"

@@ -239,3 +239,39 @@ fn text_output_names_the_numbers() {
         assert!(run.stdout.contains(s), "missing `{s}` in\n{}", run.stdout);
     }
 }
+
+/// The paper's order takes the hard-baked resist into the hot TMAH bath (stripped after the
+/// etch): a warning naming the coats and the traveler step; stripping it first silences it.
+#[test]
+fn resist_going_into_tmah_is_a_warning() {
+    let run = tactfab(&["check", REFERENCE]);
+    run.expect_code(0);
+    let line = run
+        .stdout
+        .lines()
+        .find(|l| l.contains("warning[RESIST_IN_BATH]"))
+        .unwrap_or_else(|| panic!("no RESIST_IN_BATH:\n{}", run.stdout));
+    assert!(
+        line.contains("`tmah-etch` (traveler step 11)")
+            && line.contains("`resist-back`, `resist-front`"),
+        "{line}"
+    );
+    let text = std::fs::read_to_string(super::harness::root().join(REFERENCE)).unwrap();
+    let mut p = tactfab::process::load_str(&text, "mis-grasper.yaml", &[])
+        .expect("valid")
+        .process;
+    let at =
+        |p: &tactfab::process::Process, n: &str| p.steps.iter().position(|s| s.name == n).expect(n);
+    let strip = p.steps.remove(at(&p, "strip-resist"));
+    let etch = at(&p, "tmah-etch");
+    p.steps.insert(etch, strip);
+    let plan = tactfab::etch::plan(&p);
+    assert!(
+        !plan
+            .warnings
+            .iter()
+            .any(|w| w.code.as_str() == "RESIST_IN_BATH"),
+        "{:?}",
+        plan.warnings
+    );
+}
