@@ -7,7 +7,8 @@ pub use super::sheet::Figures;
 use super::traveler::Traveler;
 use crate::export::xml::escape;
 
-const CSS: &str = "body { font-family: sans-serif; font-size: 9pt; margin: 0 auto; max-width: 186mm; color: #111; }
+const CSS: &str = "body { font-family: sans-serif; font-size: 9pt; margin: 0 auto; color: #111; }
+@media screen { body { max-width: 186mm; } }
 h1 { font-size: 15pt; margin: 0 0 4pt; } h2 { font-size: 12pt; border-bottom: 1px solid #999; \
                    margin-top: 14pt; }
 h2 { break-after: avoid; } table { border-collapse: collapse; width: 100%; margin: 4pt 0; }
@@ -22,7 +23,7 @@ figure { margin: 4pt 0; break-inside: avoid; } figure svg { width: 100%; height:
 .pass { color: #1a7f37; font-weight: bold; } .fail { color: #b00020; font-weight: bold; }
 .error { color: #b00020; } .banner { border: 2pt solid #b00020; color: #b00020; padding: 4pt; \
                    margin: 6pt 0; font-size: 11pt; } pre { font-size: 7.5pt; white-space: pre-wrap; }
-@media print { .section-steps { break-before: page; } }";
+@media print { .section-steps { break-before: page; page: wide; } }";
 
 /// The traveler as an HTML page.
 pub fn html(t: &Traveler, fig: &Figures) -> String {
@@ -67,8 +68,9 @@ pub fn render(d: &Doc) -> String {
     )
 }
 
-/// The printed page: A4, and on every page the document, the lot and wafer to fill in, and
-/// "page x of y" (CSS paged-media margin boxes).
+/// The printed page: A4 (the run sheet's steps on landscape pages, nine columns wide), and on
+/// every page the document, the lot and wafer to fill in, and "page x of y" (CSS paged-media
+/// margin boxes).
 fn page_css(title: &str) -> String {
     // A CSS string: quotes and backslashes escaped, and `<` so the text cannot close the style.
     let quoted: String = title
@@ -82,7 +84,8 @@ fn page_css(title: &str) -> String {
     format!(
         "@page {{ size: A4; margin: 16mm 12mm 14mm;\n  @top-left {{ content: \"{quoted}\"; {font} \
          }}\n  @top-right {{ content: \"Lot ________   Wafer ________\"; {font} }}\n  \
-         @bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); {font} }} }}"
+         @bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); {font} }} }}\n\
+         @page wide {{ size: A4 landscape; }}"
     )
 }
 

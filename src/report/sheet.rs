@@ -176,10 +176,11 @@ fn steps(t: &Traveler) -> Section {
             "Computed (provenance)",
             "Target +/- tolerance",
             "Measured",
-            "Operator/date",
+            "Operator / date",
+            "Deviation / comments",
         ],
-        &[10, 9, 9, 13, 25, 12, 11, 11],
-        2,
+        &[9, 8, 8, 15, 22, 11, 9, 9, 9],
+        3,
     );
     for r in &t.steps {
         let mut computed = Rich::default();

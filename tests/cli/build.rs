@@ -286,6 +286,34 @@ fn print_to_pdf(html: &Path, work: &Path) {
             i + 1
         );
     }
+    // The nine-column run sheet prints on landscape pages, the rest portrait (pdfinfo, from
+    // poppler-utils like pdftotext).
+    let info = Command::new("pdfinfo")
+        .args(["-f", "1", "-l", &n.to_string()])
+        .arg(&pdf)
+        .output()
+        .unwrap();
+    let info = String::from_utf8_lossy(&info.stdout);
+    let landscape: Vec<usize> = info
+        .lines()
+        .filter(|l| l.starts_with("Page ") && l.contains(" size:"))
+        .filter_map(|l| {
+            let nums: Vec<f64> = l
+                .split_whitespace()
+                .filter_map(|w| w.parse().ok())
+                .collect();
+            // "Page 3 size: 841.92 x 594.96 pts": page, width, height.
+            (nums.len() >= 3 && nums[1] > nums[2]).then_some(nums[0] as usize)
+        })
+        .collect();
+    assert!(!landscape.is_empty() && landscape.len() < n, "{info}");
+    for &k in &landscape {
+        let p = pages[k - 1];
+        assert!(
+            p.contains("Deviation"),
+            "landscape page {k} is not the run sheet:\n{p}"
+        );
+    }
 }
 
 fn chromium() -> Option<PathBuf> {
