@@ -30,6 +30,8 @@ pub enum Style {
     Line,
     Markers,
     LineAndMarkers,
+    /// A dashed line: a reference level, not data (e.g. the value without noise).
+    Dashed,
 }
 
 /// One named data series.
@@ -49,8 +51,10 @@ pub struct XyPlot {
     pub series: Vec<Series>,
 }
 
-/// Colour-blind-safe palette (Okabe-Ito), cycled per series.
-const PALETTE: [RGBColor; 8] = [
+/// Colour-blind-safe palette (Okabe-Ito, its yellow dropped: unreadable on white) and four of
+/// Tol's muted colours: twelve distinct colours, enough for the nine electrodes and a reference;
+/// cycled beyond.
+pub const PALETTE: [RGBColor; 12] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -58,8 +62,34 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(230, 159, 0),
     RGBColor(86, 180, 233),
     RGBColor(0, 0, 0),
-    RGBColor(240, 228, 66),
+    RGBColor(136, 34, 85),
+    RGBColor(153, 153, 51),
+    RGBColor(68, 170, 153),
+    RGBColor(119, 119, 119),
+    RGBColor(51, 34, 136),
 ];
+
+/// A tick label: at most four significant digits, no trailing point or zeros, powers of ten as
+/// 1e4 beyond 1e4 (plotters' own "10000." ran off the right edge).
+pub fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { String::new() };
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.2e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        let m = m.trim_end_matches('0').trim_end_matches('.');
+        return format!("{m}e{e}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
 
 /// Data range of one axis over all finite points (positive only on a log axis), padded.
 fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
@@ -82,14 +112,14 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 }
 
 /// The corner whose legend box (`box_w` x `box_h`, fractions of the plot area) covers the fewest
-/// data points, so the legend hides as little as it can.
+/// data points, and how many it covers (0: the legend hides nothing there).
 fn emptiest_corner<'a>(
     points: impl Iterator<Item = &'a (f64, f64)>,
     x: (f64, f64, bool),
     y: (f64, f64, bool),
     box_w: f64,
     box_h: f64,
-) -> SeriesLabelPosition {
+) -> (SeriesLabelPosition, usize) {
     let unit = |v: f64, (lo, hi, log): (f64, f64, bool)| {
         if log {
             (v / lo).ln() / (hi / lo).ln()
@@ -116,74 +146,49 @@ fn emptiest_corner<'a>(
         SeriesLabelPosition::LowerLeft,
     ];
     let best = (0..4).min_by_key(|&i| count[i]).unwrap_or(0);
-    corners[best].clone()
+    (corners[best].clone(), count[best])
+}
+
+/// Width (px) of the legend column beside the chart when no corner is free: the longest name at
+/// ~7 px per character of 12 px sans-serif, the sample mark and margins.
+fn legend_column_px(series: &[Series]) -> u32 {
+    let longest = series
+        .iter()
+        .map(|s| s.name.chars().count())
+        .max()
+        .unwrap_or(0);
+    (longest as u32 * 7 + 44).min(320)
 }
 
 /// Draw `plot` at `width` x `height` pixels and return the SVG text.
 ///
 /// Points that cannot be drawn (NaN, or <= 0 on a log axis) are skipped, never an error: a plot
-/// is a view of results that were already checked.
+/// is a view of results that were already checked. The legend sits in the corner that hides no
+/// data, or in a column beside the chart (the SVG grows by its width) when every corner would.
 pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
+        let p = Placement::of(plot, width, height);
+        let ((x0, x1), (y0, y1), legend_corner) = (p.x, p.y, p.corner.clone());
+        let outside = plot.series.len() > 1 && p.covered > 0;
+        let extra = if outside {
+            legend_column_px(&plot.series)
+        } else {
+            0
+        };
         // Errors from the SVG backend writing to a String cannot happen; keep going regardless.
-        let _ = root.fill(&WHITE);
-        let drawable = |p: &(f64, f64)| {
-            p.0.is_finite()
-                && p.1.is_finite()
-                && (!plot.x.log || p.0 > 0.0)
-                && (!plot.y.log || p.1 > 0.0)
-        };
-        let all = || {
-            plot.series
-                .iter()
-                .flat_map(|s| s.points.iter())
-                .filter(|p| drawable(p))
-        };
-        let (x0, x1) = range(all().map(|p| p.0), plot.x.log);
-        let (y0, y1) = range(all().map(|p| p.1), plot.y.log);
-        // Legend box size as plotters lays it out (about 6 px per character, 15 px per row).
-        let longest = plot
-            .series
-            .iter()
-            .map(|s| s.name.chars().count())
-            .max()
-            .unwrap_or(0) as f64;
-        let box_w = ((longest * 6.5 + 60.0) / (width as f64 - 76.0)).min(1.0);
-        let box_h = ((plot.series.len() as f64 * 15.0 + 15.0) / (height as f64 - 80.0)).min(1.0);
-        // Lines count too: a few points along every drawn segment.
-        let mut samples: Vec<(f64, f64)> = all().copied().collect();
-        for s in plot.series.iter().filter(|s| s.style != Style::Markers) {
-            let pts: Vec<&(f64, f64)> = s.points.iter().filter(|p| drawable(p)).collect();
-            for w in pts.windows(2) {
-                let lerp = |a: f64, b: f64, t: f64, log: bool| {
-                    if log {
-                        a * (b / a).powf(t)
-                    } else {
-                        a + (b - a) * t
-                    }
-                };
-                samples.extend((1..8).map(|k| {
-                    let t = k as f64 / 8.0;
-                    (
-                        lerp(w[0].0, w[1].0, t, plot.x.log),
-                        lerp(w[0].1, w[1].1, t, plot.y.log),
-                    )
-                }));
-            }
+        let canvas = SVGBackend::with_string(&mut out, (width + extra, height)).into_drawing_area();
+        let _ = canvas.fill(&WHITE);
+        let (root, legend_area) = canvas.split_horizontally(width);
+        if outside {
+            draw_legend_column(&legend_area, &plot.series);
         }
-        let legend_corner = emptiest_corner(
-            samples.iter(),
-            (x0, x1, plot.x.log),
-            (y0, y1, plot.y.log),
-            box_w,
-            box_h,
-        );
+        let drawable = |q: &(f64, f64)| drawable(plot, q);
         let mut builder = ChartBuilder::on(&root);
         builder
             .caption(&plot.title, ("sans-serif", 18))
             .margin(12)
+            .margin_right(24)
             .x_label_area_size(42)
             .y_label_area_size(64);
         macro_rules! draw {
@@ -193,11 +198,25 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                     .configure_mesh()
                     .x_desc(&plot.x.label)
                     .y_desc(&plot.y.label)
+                    .x_label_formatter(&|v| tick(*v))
+                    .y_label_formatter(&|v| tick(*v))
                     .draw();
                 for (i, s) in plot.series.iter().enumerate() {
                     let colour = PALETTE[i % PALETTE.len()];
                     let pts: Vec<(f64, f64)> =
                         s.points.iter().copied().filter(|p| drawable(p)).collect();
+                    if s.style == Style::Dashed {
+                        if let Ok(a) = chart.draw_series(DashedLineSeries::new(
+                            pts.clone(),
+                            6,
+                            4,
+                            colour.stroke_width(1),
+                        )) {
+                            a.label(&s.name).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(1))
+                            });
+                        }
+                    }
                     if matches!(s.style, Style::Line | Style::LineAndMarkers) {
                         if let Ok(a) =
                             chart.draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
@@ -218,7 +237,7 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                         }
                     }
                 }
-                if plot.series.len() > 1 {
+                if plot.series.len() > 1 && !outside {
                     let _ = chart
                         .configure_series_labels()
                         .background_style(WHITE.mix(0.85))
@@ -252,9 +271,105 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                 }
             }
         }
-        let _ = root.present();
+        let _ = canvas.present();
     }
     out
+}
+
+/// A point the axes can show (finite, and positive on a log axis).
+fn drawable(plot: &XyPlot, p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite() && (!plot.x.log || p.0 > 0.0) && (!plot.y.log || p.1 > 0.0)
+}
+
+/// The axes' ranges and the legend's corner with the data it would cover there.
+struct Placement {
+    x: (f64, f64),
+    y: (f64, f64),
+    corner: SeriesLabelPosition,
+    covered: usize,
+}
+
+impl Placement {
+    fn of(plot: &XyPlot, width: u32, height: u32) -> Self {
+        let all = || {
+            plot.series
+                .iter()
+                .flat_map(|s| s.points.iter())
+                .filter(|p| drawable(plot, p))
+        };
+        let x = range(all().map(|p| p.0), plot.x.log);
+        let y = range(all().map(|p| p.1), plot.y.log);
+        // Legend box size as plotters lays it out (about 6 px per character, 15 px per row).
+        let longest = plot
+            .series
+            .iter()
+            .map(|s| s.name.chars().count())
+            .max()
+            .unwrap_or(0) as f64;
+        let box_w = ((longest * 6.5 + 60.0) / (width as f64 - 76.0)).min(1.0);
+        let box_h = ((plot.series.len() as f64 * 15.0 + 15.0) / (height as f64 - 80.0)).min(1.0);
+        // Lines count too: a few points along every drawn segment.
+        let mut samples: Vec<(f64, f64)> = all().copied().collect();
+        for s in plot.series.iter().filter(|s| s.style != Style::Markers) {
+            let pts: Vec<&(f64, f64)> = s.points.iter().filter(|p| drawable(plot, p)).collect();
+            for w in pts.windows(2) {
+                let lerp = |a: f64, b: f64, t: f64, log: bool| {
+                    if log {
+                        a * (b / a).powf(t)
+                    } else {
+                        a + (b - a) * t
+                    }
+                };
+                samples.extend((1..8).map(|k| {
+                    let t = k as f64 / 8.0;
+                    (
+                        lerp(w[0].0, w[1].0, t, plot.x.log),
+                        lerp(w[0].1, w[1].1, t, plot.y.log),
+                    )
+                }));
+            }
+        }
+        let (corner, covered) = emptiest_corner(
+            samples.iter(),
+            (x.0, x.1, plot.x.log),
+            (y.0, y.1, plot.y.log),
+            box_w,
+            box_h,
+        );
+        Placement {
+            x,
+            y,
+            corner,
+            covered,
+        }
+    }
+}
+
+/// The legend as a column of its own: a sample of each series' line or marker and its name.
+fn draw_legend_column<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    series: &[Series],
+) {
+    for (i, s) in series.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        let y = 48 + 18 * i as i32;
+        let _ = match s.style {
+            Style::Markers => area.draw(&Circle::new((17, y), 3, colour.filled())),
+            Style::Dashed => area.draw(&PathElement::new(
+                vec![(8, y), (14, y), (20, y), (26, y)],
+                colour.stroke_width(1),
+            )),
+            _ => area.draw(&PathElement::new(
+                vec![(8, y), (26, y)],
+                colour.stroke_width(2),
+            )),
+        };
+        let _ = area.draw(&Text::new(
+            s.name.clone(),
+            (32, y - 7),
+            ("sans-serif", 12).into_font().color(&BLACK),
+        ));
+    }
 }
 
 #[cfg(test)]
@@ -290,5 +405,70 @@ mod tests {
         // Three markers for the first series, none for the second (NaN, and 0 on a log axis), plus
         // the legend marker of the markers-only series.
         assert_eq!(a.matches("<circle").count(), 3 + 1);
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick(10000.0), "10000");
+        assert_eq!(tick(1e5), "1e5");
+        assert_eq!(tick(2.5e-4), "2.5e-4");
+        assert_eq!(tick(0.1), "0.1");
+        assert_eq!(tick(12.5), "12.5");
+        assert_eq!(tick(-3.0), "-3");
+        assert_eq!(tick(0.0), "0");
+    }
+
+    /// Nine electrodes and a reference on one chart: distinct colours, every label on the canvas
+    /// (ticks up to 1e4 on a log axis included), and the legend beside the chart when the data
+    /// fill every corner.
+    #[test]
+    fn many_series_keep_distinct_colours_and_their_text_on_the_canvas() {
+        let distinct: std::collections::BTreeSet<(u8, u8, u8)> =
+            PALETTE.iter().map(|c| (c.0, c.1, c.2)).collect();
+        assert_eq!(distinct.len(), PALETTE.len());
+        assert!(PALETTE.len() >= 10);
+        let names = ["S11", "S12", "S13", "M1", "M2", "M3", "S21", "S22", "S23"];
+        let mut series: Vec<Series> = names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| Series {
+                name: format!("{n} electrode voltage"),
+                // Lines across the whole chart, top to bottom: no corner is free.
+                points: (0..=8)
+                    .map(|i| {
+                        let x = 10f64.powf(i as f64 / 2.0);
+                        (x, ((i + k) % 9) as f64)
+                    })
+                    .collect(),
+                style: Style::LineAndMarkers,
+            })
+            .collect();
+        series.push(Series {
+            name: "no noise".into(),
+            points: vec![(1.0, 4.0), (1e4, 4.0)],
+            style: Style::Dashed,
+        });
+        let plot = XyPlot {
+            title: "voltage against something long enough to matter".into(),
+            x: Axis::log("force (N)"),
+            y: Axis::linear("voltage (mV)"),
+            series,
+        };
+        let svg = xy_svg(&plot, 640, 400);
+        let outside = crate::plot::text_outside_canvas(&svg);
+        assert!(outside.is_empty(), "{outside:?}");
+        assert!(
+            !svg.starts_with("<svg width=\"640\""),
+            "the legend moved beside the chart"
+        );
+        for (i, _) in names.iter().enumerate() {
+            let c = PALETTE[i];
+            let hex = format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+            assert!(svg.contains(&hex), "series {i} drawn in {hex}");
+        }
+        assert!(
+            svg.contains("10000") && !svg.contains("10000."),
+            "tick labels"
+        );
     }
 }

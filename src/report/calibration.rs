@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use crate::analysis::calibration::{Calibration, Sample, SupportGroups};
 use crate::analysis::inverse::NoiseRow;
 use crate::analysis::study::CalibrationStudy;
-use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
+use crate::plot::{side_by_side, xy_svg, Axis, Series, Style, XyPlot};
 use crate::report::Origin;
 use crate::sensor::Accuracy;
 use crate::units::fixed as f;
@@ -174,10 +174,73 @@ pub fn files(
         );
     }
     out.push(("noise.csv".to_string(), csv.into_bytes()));
-    for (name, plot) in plots(cal, gr, noise) {
+    for (name, plot) in plots(cal, gr) {
         out.push((name, xy_svg(&plot, 720, 460).into_bytes()));
     }
+    if let Some(svg) = noise_svg(noise) {
+        out.push(("noise.svg".to_string(), svg.into_bytes()));
+    }
     out
+}
+
+/// A named error of the noise table.
+type NoiseCurve = (&'static str, fn(&NoiseRow) -> f64);
+
+/// The inverse's error against voltage noise: position (um) and force (%) on charts of their
+/// own, noise on a log axis, the noise-free error (sigma = 0, which a log axis cannot show) as a
+/// dashed level across each.
+fn noise_svg(noise: &[NoiseRow]) -> Option<String> {
+    let noisy: Vec<&NoiseRow> = noise.iter().filter(|r| r.sigma_mv > 0.0).collect();
+    if noisy.is_empty() {
+        return None;
+    }
+    let (lo, hi) = noisy.iter().fold((f64::INFINITY, 0f64), |(a, b), r| {
+        (a.min(r.sigma_mv), b.max(r.sigma_mv))
+    });
+    let quiet = noise.iter().find(|r| r.sigma_mv == 0.0);
+    let chart = |title: &str, y: &str, what: &[NoiseCurve]| {
+        let mut series: Vec<Series> = what
+            .iter()
+            .map(|(name, g)| {
+                series(
+                    name,
+                    noisy.iter().map(|r| (r.sigma_mv, g(r))).collect(),
+                    Style::LineAndMarkers,
+                )
+            })
+            .collect();
+        if let Some(q) = quiet {
+            for (name, g) in what {
+                series.push(self::series(
+                    &format!("{name}, no noise"),
+                    vec![(lo, g(q)), (hi, g(q))],
+                    Style::Dashed,
+                ));
+            }
+        }
+        xy_svg(
+            &XyPlot {
+                title: title.into(),
+                x: Axis::log("noise sigma (mV)"),
+                y: Axis::log(y),
+                series,
+            },
+            520,
+            420,
+        )
+    };
+    Some(side_by_side(&[
+        chart(
+            "position error against noise (1 N)",
+            "RMS error (um)",
+            &[("x", |r| r.rms_error_x_um), ("y", |r| r.rms_error_y_um)],
+        ),
+        chart(
+            "force error against noise (1 N)",
+            "RMS error (%)",
+            &[("force", |r| 100.0 * r.rms_error_force_rel)],
+        ),
+    ]))
 }
 
 fn series(name: &str, points: Vec<(f64, f64)>, style: Style) -> Series {
@@ -188,7 +251,7 @@ fn series(name: &str, points: Vec<(f64, f64)>, style: Style) -> Series {
     }
 }
 
-fn plots(cal: &Calibration, gr: &SupportGroups, noise: &[NoiseRow]) -> Vec<(String, XyPlot)> {
+fn plots(cal: &Calibration, gr: &SupportGroups) -> Vec<(String, XyPlot)> {
     let idx = |n: &str| cal.electrodes.iter().position(|e| e == n);
     let mut force = Vec::new();
     for (e, name) in cal.electrodes.iter().enumerate() {
@@ -285,29 +348,6 @@ fn plots(cal: &Calibration, gr: &SupportGroups, noise: &[NoiseRow]) -> Vec<(Stri
                 x: Axis::linear("y (mm)"),
                 y: Axis::linear("voltage (mV)"),
                 series: pair,
-            },
-        ));
-    }
-    let noisy: Vec<&NoiseRow> = noise.iter().filter(|r| r.sigma_mv > 0.0).collect();
-    if !noisy.is_empty() {
-        let s = |name: &str, g: fn(&NoiseRow) -> f64| {
-            series(
-                name,
-                noisy.iter().map(|r| (r.sigma_mv, g(r))).collect(),
-                Style::LineAndMarkers,
-            )
-        };
-        out.push((
-            "noise.svg".to_string(),
-            XyPlot {
-                title: "inverse error against voltage noise (held-out positions, 1 N)".into(),
-                x: Axis::log("noise sigma (mV)"),
-                y: Axis::log("RMS error (um; force in 0.1 %)"),
-                series: vec![
-                    s("x (um)", |r| r.rms_error_x_um),
-                    s("y (um)", |r| r.rms_error_y_um),
-                    s("force (0.1 %)", |r| 1e3 * r.rms_error_force_rel),
-                ],
             },
         ));
     }

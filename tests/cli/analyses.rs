@@ -358,6 +358,7 @@ fn calibrate_and_locate_through_the_binary() {
     ] {
         assert!(dir.join(f).exists(), "{f}");
     }
+    super::harness::assert_svgs_fit(&dir);
     let grid = std::fs::read_to_string(dir.join("grid.csv")).unwrap();
     assert!(grid.starts_with("x_um,y_um,force_n,S11_voltage_mv,"));
     // A grid row at 3x its force through `locate --calibration`: the same position, 3 N.

@@ -106,6 +106,8 @@ fn build_writes_everything_and_the_html_renders() {
         "no progress when stderr is not a terminal: {stderr}"
     );
     assert!(stdout.contains("build passed"), "{stdout}");
+    // Mask drawings and FE plots alike keep their text on the canvas.
+    super::harness::assert_svgs_fit(&out);
     let files = read_all(&out);
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
     assert_eq!(

@@ -86,3 +86,19 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
         .map(|b| format!("{b:02x}"))
         .collect()
 }
+
+/// Every SVG in `dir` keeps its text on its canvas ([`tactfab::plot::text_outside_canvas`]).
+#[track_caller]
+pub fn assert_svgs_fit(dir: &std::path::Path) {
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "svg") {
+            let svg = std::fs::read_to_string(&path).unwrap();
+            let bad = tactfab::plot::text_outside_canvas(&svg);
+            assert!(bad.is_empty(), "{}: {bad:?}", path.display());
+            seen += 1;
+        }
+    }
+    assert!(seen > 0, "no SVG in {}", dir.display());
+}
