@@ -139,8 +139,17 @@ def main():
     for name, ld, mirrored in exp["masks"]:
         path = os.path.join(svg_dir, f"mis-grasper-{name}.svg")
         root = ET.parse(path).getroot()
-        size_ok = root.get("width") == f"{L / 1000:.6f}mm" and root.get("height") == f"{W / 1000:.6f}mm"
-        check(size_ok and root.get("viewBox") == f"0 0 {L:.3f} {W:.3f}", f"{name}.svg size in mm, viewBox in um")
+        # The die, and 2 mm under it for the scale bar.
+        H = W + 2000.0
+        size_ok = root.get("width") == f"{L / 1000:.6f}mm" and root.get("height") == f"{H / 1000:.6f}mm"
+        check(size_ok and root.get("viewBox") == f"0 0 {L:.3f} {H:.3f}", f"{name}.svg size in mm, viewBox in um")
+        scale = [g for g in root.iter("{http://www.w3.org/2000/svg}g") if g.get("id") == "scale"]
+        bar = scale[0].find("{http://www.w3.org/2000/svg}rect") if scale else None
+        label = scale[0].find("{http://www.w3.org/2000/svg}text") if scale else None
+        check(bar is not None and label is not None
+              and abs(float(bar.get("width")) / 1000 - float(label.text.split()[0])) < 1e-9
+              and float(bar.get("y")) > W,
+              f"{name}.svg: scale bar under the die, its label its length ({label.text if label is not None else None})")
         lnum, dnum = map(int, ld.split("/"))
         groups = [g for g in root.iter("{http://www.w3.org/2000/svg}g") if g.get("data-gds-layer") == ld]
         check(len(groups) == 1, f"{name}.svg: one group for layer {ld}")

@@ -3,7 +3,7 @@
 //! written from integer nm with fixed decimals (svg's own path data stores f32).
 
 use geo::Polygon;
-use svg::node::element::{Group, Path, Rectangle};
+use svg::node::element::{Group, Path, Rectangle, Text};
 use svg::Document;
 
 use super::{mm_text, nm, um_text, ExportError};
@@ -33,6 +33,45 @@ pub fn path_data(polys: &[Polygon], height_nm: i64) -> Result<String, ExportErro
     Ok(d)
 }
 
+/// Room below the die for the scale bar, um.
+const SCALE_MARGIN_UM: f64 = 2000.0;
+
+/// A scale bar under a drawing `length_um` long: 1, 2 or 5 x 10^k um, about a fifth of the
+/// length, with its length as text.
+fn scale_bar(length_um: f64, top_um: f64) -> Result<Group, ExportError> {
+    let target = length_um / 5.0;
+    let decade = 10f64.powf(target.log10().floor());
+    let bar = [5.0, 2.0, 1.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|b| *b <= target)
+        .unwrap_or(decade);
+    let label = if bar >= 1000.0 {
+        format!("{} mm", bar / 1000.0)
+    } else {
+        format!("{bar} um")
+    };
+    let y = top_um + 500.0;
+    Ok(Group::new()
+        .set("id", "scale")
+        .add(
+            Rectangle::new()
+                .set("x", um_text(i64::from(nm(500.0)?)))
+                .set("y", um_text(i64::from(nm(y)?)))
+                .set("width", um_text(i64::from(nm(bar)?)))
+                .set("height", "200.000")
+                .set("fill", "#000000"),
+        )
+        .add(
+            Text::new(label)
+                .set("x", um_text(i64::from(nm(700.0 + bar)?)))
+                .set("y", um_text(i64::from(nm(y + 200.0)?)))
+                .set("font-family", "sans-serif")
+                .set("font-size", "600.000")
+                .set("fill", "#000000"),
+        ))
+}
+
 impl MaskSet {
     /// The die as the shop receives `mask` (mirrored when it says so), as SVG text.
     pub fn to_svg(&self, mask: &MaskEntry) -> Result<String, ExportError> {
@@ -42,10 +81,17 @@ impl MaskSet {
         let layer = mask.layer;
         let mut doc = Document::new()
             .set("width", format!("{}mm", mm_text(i64::from(nm(l)?))))
-            .set("height", format!("{}mm", mm_text(h_nm)))
+            .set(
+                "height",
+                format!("{}mm", mm_text(i64::from(nm(w + SCALE_MARGIN_UM)?))),
+            )
             .set(
                 "viewBox",
-                format!("0 0 {} {}", um_text(i64::from(nm(l)?)), um_text(h_nm)),
+                format!(
+                    "0 0 {} {}",
+                    um_text(i64::from(nm(l)?)),
+                    um_text(i64::from(nm(w + SCALE_MARGIN_UM)?))
+                ),
             )
             .set("data-device", self.device.clone())
             .set("data-revision", self.revision.clone())
@@ -90,7 +136,7 @@ impl MaskSet {
                     .set("width", um_text(i64::from(nm(l)?)))
                     .set("height", um_text(h_nm)),
             );
-        doc = doc.add(outline);
+        doc = doc.add(outline).add(scale_bar(l, w)?);
         Ok(format!("{doc}\n"))
     }
 }

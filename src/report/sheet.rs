@@ -6,7 +6,7 @@ use super::fe::{plots, FeSummary};
 use super::section::svg as section_svg;
 use super::traveler::{CompensationRow, Traveler, DRC_PER_CODE};
 
-/// Pictures that come from outside the model: each mask as the shop receives it, and one tooth
+/// Pictures that come from outside the model: one die of each mask as drawn, and one tooth
 /// of the front mask with its compensators.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Figures {
@@ -110,7 +110,7 @@ fn material(t: &Traveler) -> Section {
     s
 }
 
-/// The mask inventory with its digests, and each mask as the shop receives it.
+/// The mask inventory with its digests, and one die of each mask as drawn.
 fn masks(t: &Traveler, fig: &Figures) -> Section {
     let mut s = Section::new("masks", "Masks");
     let inv = &t.inventory;
@@ -154,7 +154,10 @@ fn masks(t: &Traveler, fig: &Figures) -> Section {
             .iter()
             .map(|(name, svg)| Figure {
                 svg: svg.clone(),
-                caption: format!("mask {name} as the shop receives it"),
+                caption: format!(
+                    "mask {name}: one die as drawn for the shop (mirrored where the shop \
+                     receives it so); the wafer with its alignment marks is in the GDS"
+                ),
             })
             .collect(),
         grid: true,
