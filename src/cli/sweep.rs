@@ -78,7 +78,7 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
     let secs = t.elapsed().as_secs_f64();
 
     let family = shard::family(&rows);
-    write_rows(a, out, process, shard, &rows, &family)?;
+    write_rows(a, out, process, shard, &rows, &family, &proto)?;
     print_prototype(a, &matching, contact_radius_um);
     println!(
         "designs {}..{} of {}: {} in the family (elongation within {} %), {} within strength; {} \
@@ -102,10 +102,11 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
 /// `--merge DIR`: the shards into `sweep.csv` (the unsharded bytes) and `family.svg`.
 fn merge(dir: &Path, tol: f64) -> anyhow::Result<Outcome> {
     let merged = tactfab::sweep::merge_dir(dir, tol)?;
+    let proto = shard::read_prototype(dir)?;
     write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
     write_atomic(
         &dir.join("family.svg"),
-        tactfab::sweep::plot::family_svg(&merged.family, Some(tol)).as_bytes(),
+        tactfab::sweep::plot::family_svg(&merged.family, Some(tol), proto.as_ref()).as_bytes(),
     )?;
     println!(
         "merged {} designs into {}; family {} designs -> {}",
@@ -151,15 +152,21 @@ fn write_rows(
     shard: Option<Shard>,
     rows: &[Row],
     family: &[Design],
+    proto: &Design,
 ) -> anyhow::Result<()> {
+    let proto_csv = shard::prototype_csv(proto);
     match shard {
-        Some(s) => write_atomic(&out.join(s.file_name()), shard::csv(rows).as_bytes())?,
+        Some(s) => {
+            write_atomic(&out.join(s.file_name()), shard::csv(rows).as_bytes())?;
+            write_atomic(&out.join(shard::PROTOTYPE), proto_csv.as_bytes())?;
+        }
         None => {
             let files = [
                 (shard::UNSHARDED.to_string(), shard::csv(rows).into_bytes()),
+                (shard::PROTOTYPE.to_string(), proto_csv.into_bytes()),
                 (
                     "family.svg".to_string(),
-                    tactfab::sweep::plot::family_svg(family, Some(a.tol)).into_bytes(),
+                    tactfab::sweep::plot::family_svg(family, Some(a.tol), Some(proto)).into_bytes(),
                 ),
             ];
             write_dir(out, &files, a.replace, process)?;

@@ -5,8 +5,8 @@ use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
 use crate::sweep::design::Design;
 
 /// Scatter of the family: x = length (mm), y = thickness (um), one series per fifth of the width
-/// range.
-pub fn family_svg(family: &[Design], tol: Option<f64>) -> String {
+/// range, and the prototype they match as a series of its own.
+pub fn family_svg(family: &[Design], tol: Option<f64>, prototype: Option<&Design>) -> String {
     let (lo, hi) = family
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
@@ -41,6 +41,18 @@ pub fn family_svg(family: &[Design], tol: Option<f64>) -> String {
             .push((d.length_um / 1000.0, d.thickness_um));
     }
     series.retain(|s| !s.points.is_empty());
+    if let Some(p) = prototype {
+        series.push(Series {
+            name: format!(
+                "prototype {:.1} x {:.1} mm, {:.0} um",
+                p.length_um / 1000.0,
+                p.width_um / 1000.0,
+                p.thickness_um
+            ),
+            points: vec![(p.length_um / 1000.0, p.thickness_um)],
+            style: Style::Markers,
+        });
+    }
     let title = match tol {
         Some(t) => format!(
             "Designs with the prototype's elongation (+/- {:.1} %): {}",

@@ -50,6 +50,47 @@ impl Shard {
 /// Name of the unsharded CSV.
 pub const UNSHARDED: &str = "sweep.csv";
 
+/// The prototype the family is matched against, written by every run (shards write the same
+/// bytes) so a merge can mark it on the plot as the unsharded run does.
+pub const PROTOTYPE: &str = "sweep-prototype.csv";
+
+/// [`PROTOTYPE`]'s text: one design, units in the header.
+pub fn prototype_csv(d: &Design) -> String {
+    format!(
+        "length_um,width_um,thickness_um\n{:.3},{:.3},{:.3}\n",
+        d.length_um, d.width_um, d.thickness_um
+    )
+}
+
+/// The prototype a sweep in `dir` wrote, if it wrote one (older shards did not).
+pub fn read_prototype(dir: &Path) -> Result<Option<Design>, SweepError> {
+    let path = dir.join(PROTOTYPE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(cause) => return Err(SweepError::Io { path, cause }),
+    };
+    let v: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap_or("")
+        .split(',')
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    match v.as_slice() {
+        [l, w, t] if v.iter().all(|x| x.is_finite() && *x > 0.0) => Ok(Some(Design {
+            index: usize::MAX,
+            length_um: *l,
+            width_um: *w,
+            thickness_um: *t,
+        })),
+        _ => Err(SweepError::Merge {
+            detail: format!("{}: not length_um,width_um,thickness_um", path.display()),
+            hint: "rerun one shard to rewrite it",
+        }),
+    }
+}
+
 /// CSV header (units in the names).
 pub const HEADER: &str = "index,length_um,width_um,thickness_um,deflection_um,elongation_um,\
                           max_stress_mpa,elongation_ratio,matches,within_strength";

@@ -46,6 +46,8 @@ fn sharded_sweep_merges_to_the_unsharded_bytes() {
     assert_eq!(String::from_utf8(a).unwrap().lines().count(), 19);
     let svg = std::fs::read_to_string(parts.join("family.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("length (mm)"));
+    // The prototype is marked, from the shards' record of it.
+    assert!(svg.contains("prototype 30.0 x 15.0 mm, 100 um"), "{svg}");
     // The merged plot is the unsharded one, title and all.
     assert_eq!(
         svg,
