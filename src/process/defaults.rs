@@ -21,6 +21,9 @@ pub fn wafer_thickness_tolerance_um() -> f64 {
 pub fn wafer_diameter_mm() -> f64 {
     100.0
 }
+pub fn lot_wafers() -> u32 {
+    1
+}
 pub fn dicing_street_um() -> f64 {
     200.0
 }
@@ -195,6 +198,10 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "wafer.diameter_mm",
         source: "[est] 100 mm wafer",
+    },
+    DefaultSource {
+        path: "wafer.lot_wafers",
+        source: "[choice] one wafer per traveler",
     },
     DefaultSource {
         path: "geometry.dicing_street_um",

@@ -74,6 +74,10 @@ pub struct Wafer {
     pub thickness_tolerance_um: f64,
     #[serde(default = "d::wafer_diameter_mm")]
     pub diameter_mm: f64,
+    /// Wafers run together on one traveler (1-25): each hold-point reading gets a blank per
+    /// wafer.
+    #[serde(default = "d::lot_wafers")]
+    pub lot_wafers: u32,
     /// Crystal direction of the die edges.
     pub die_edge: Direction,
 }

@@ -227,6 +227,14 @@ fn wafer(v: &mut V, w: &Wafer) {
         "um",
     );
     v.range("wafer.diameter_mm", w.diameter_mm, 25.0, 450.0, false, "mm");
+    v.range(
+        "wafer.lot_wafers",
+        f64::from(w.lot_wafers),
+        1.0,
+        25.0,
+        false,
+        "wafers",
+    );
 }
 
 /// `geometry`: the die on the wafer, then its teeth and electrodes.

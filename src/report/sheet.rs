@@ -255,7 +255,13 @@ fn holds(t: &Traveler) -> Section {
             if i > 0 {
                 readings = readings.and(Span::Break);
             }
-            readings = readings.plain(format!("{r}: ______"));
+            readings = readings.plain(if t.lot_wafers > 1 {
+                let blanks: Vec<String> =
+                    (1..=t.lot_wafers).map(|w| format!("W{w} ____")).collect();
+                format!("{r}: {}", blanks.join(" "))
+            } else {
+                format!("{r}: ______")
+            });
         }
         table.row(vec![
             Rich::value(h.id.clone()),

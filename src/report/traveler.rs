@@ -245,6 +245,8 @@ pub struct Traveler {
     pub fe_accuracy: Option<crate::sensor::Accuracy>,
     /// Fields the fab fills in.
     pub header_fields: Vec<String>,
+    /// Wafers on this traveler (`wafer.lot_wafers`): blanks per wafer at the hold points.
+    pub lot_wafers: u32,
     pub material: Vec<(String, String)>,
     pub inventory: Inventory,
     pub steps: Vec<StepRow>,
@@ -303,6 +305,7 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         origin: input.origin.clone(),
         fe_accuracy: input.fe_accuracy,
         header_fields: header_fields(),
+        lot_wafers: p.wafer.lot_wafers,
         material: material(p, plan),
         inventory: input.inventory,
         steps,

@@ -92,6 +92,38 @@ fn traveler_is_one_directory_and_fe_can_be_skipped() {
     );
     let md = std::fs::read_to_string(t.path().join("sub/run/mis-grasper-traveler.md")).unwrap();
     assert!(md.contains("Not computed here (`--no-fe`)"));
+    assert!(!md.contains("W1 ____"), "one wafer: one blank per reading");
+    // A lot of three wafers: each hold-point reading gets a blank per wafer; 0 or 26 is refused.
+    let lot = t.path().join("lot");
+    let (code, stdout, stderr) = run(&[
+        "traveler",
+        REFERENCE,
+        "-o",
+        lot.to_str().unwrap(),
+        "--no-fe",
+        "--set",
+        "wafer.lot_wafers=3",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let md = std::fs::read_to_string(lot.join("mis-grasper-traveler.md")).unwrap();
+    assert!(
+        md.contains("centre: W1 ____ W2 ____ W3 ____"),
+        "{}",
+        md.lines().find(|l| l.contains("| H1 |")).unwrap_or("no H1")
+    );
+    for bad in ["0", "26", "2.5"] {
+        let (code, _, stderr) = run(&[
+            "traveler",
+            REFERENCE,
+            "-o",
+            t.path().join("bad").to_str().unwrap(),
+            "--no-fe",
+            "--set",
+            &format!("wafer.lot_wafers={bad}"),
+        ]);
+        assert_eq!(code, 2, "{bad}: {stderr}");
+        assert!(stderr.contains("wafer.lot_wafers"), "{bad}: {stderr}");
+    }
 }
 
 /// The full build, once: files, summary, hashes, FE section; then its HTML in Chromium.
