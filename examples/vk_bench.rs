@@ -165,39 +165,6 @@ fn main() {
     peer(runs);
 }
 
-/// The quarter of the clamped square of (c): clamped and held on x = 0 and y = 0, mirrors
-/// through the centre, lines graded towards the centre.
-fn quarter(n: usize) -> PlateProblem {
-    let h = SQUARE_UM / 2.0;
-    let lines: Vec<f64> = (0..=n)
-        .map(|k| h * (1.0 - (1.0 - k as f64 / n as f64).powf(1.5)))
-        .collect();
-    let mesh = RectMesh {
-        x_um: lines.clone(),
-        y_um: lines,
-    };
-    let mut p = PlateProblem::new(mesh, T_UM, PlateMaterial::isotropic(169e9, 0.3));
-    for (along, group) in [(Axis::X, "y0"), (Axis::Y, "x0")] {
-        p.supports.push(LineSupport {
-            group: group.into(),
-            kind: SupportKind::Clamped,
-            along,
-            at_um: 0.0,
-            from_um: 0.0,
-            to_um: h,
-        });
-        p.supports.push(LineSupport {
-            group: "mirror".into(),
-            kind: SupportKind::Symmetry,
-            along,
-            at_um: h,
-            from_um: 0.0,
-            to_um: h,
-        });
-    }
-    p
-}
-
 /// (c): scikit-fem's RESULT lines against tactfab's quarter plate, load by load.
 fn peer(runs: usize) {
     let max_refinement = std::env::var("SKFEM_VK_REFINEMENT").unwrap_or_else(|_| "4".into());
@@ -225,7 +192,7 @@ fn peer(runs: usize) {
     };
     let (t, a) = (T_UM * 1e-6, SQUARE_UM * 1e-6);
     let d = 169e9 * t.powi(3) / (12.0 * (1.0 - 0.09));
-    let p = quarter(24);
+    let p = quarter_square(SQUARE_UM, T_UM, PlateMaterial::isotropic(169e9, 0.3), 24);
     println!(
         "  case      wlin/t  tactfab_w/t  skfem_w/t  rel_diff  tactfab_ms  skfem_ms  skfem_dofs"
     );

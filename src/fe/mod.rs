@@ -34,6 +34,7 @@ pub mod mesh;
 pub mod mirror;
 pub mod ordering;
 pub mod problem;
+pub mod quarter_square;
 pub mod solution;
 pub mod solve;
 pub mod stress_average;
@@ -52,6 +53,7 @@ pub use mesh::{RectMesh, RefinePoint};
 pub use problem::{
     Axis, Dof, LineSupport, Load, PlateProblem, PrescribedDof, RectUm, SupportKind, ThicknessRegion,
 };
+pub use quarter_square::quarter_square;
 pub use solution::{
     DeflectionPeak, GroupReaction, PlateSolution, SolutionSummary, StressPeak, Surface,
 };

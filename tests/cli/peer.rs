@@ -3,10 +3,7 @@
 //! pressure and a central point load, at loads whose linear deflection is 0.25 to 4 thicknesses.
 //! The peer runs here (scikit-fem from tests/requirements.txt); a missing module fails the test.
 
-use tactfab::fe::{
-    Axis, LineSupport, Load, NonlinearOptions, PlateMaterial, PlateProblem, RectMesh, SupportKind,
-    VonKarman,
-};
+use tactfab::fe::{quarter_square, Load, NonlinearOptions, PlateMaterial, VonKarman};
 
 use super::harness::root;
 
@@ -58,42 +55,6 @@ fn peer(max_refinement: u32) -> Vec<Peer> {
         .collect()
 }
 
-/// The quarter plate: clamped and held in-plane on x = 0 and y = 0, mirror lines through the
-/// centre; `n` elements a side, graded towards the centre for the point load.
-fn quarter(n: usize) -> PlateProblem {
-    let h = SIDE_UM / 2.0;
-    let lines: Vec<f64> = (0..=n)
-        .map(|k| {
-            let s = k as f64 / n as f64;
-            h * (1.0 - (1.0 - s).powf(1.5))
-        })
-        .collect();
-    let mesh = RectMesh {
-        x_um: lines.clone(),
-        y_um: lines,
-    };
-    let mut p = PlateProblem::new(mesh, T_UM, PlateMaterial::isotropic(E_PA, NU));
-    for (along, group) in [(Axis::X, "y0"), (Axis::Y, "x0")] {
-        p.supports.push(LineSupport {
-            group: group.into(),
-            kind: SupportKind::Clamped,
-            along,
-            at_um: 0.0,
-            from_um: 0.0,
-            to_um: h,
-        });
-        p.supports.push(LineSupport {
-            group: "mirror".into(),
-            kind: SupportKind::Symmetry,
-            along,
-            at_um: h,
-            from_um: 0.0,
-            to_um: h,
-        });
-    }
-    p
-}
-
 #[test]
 fn large_deflection_plate_matches_scikit_fem_on_the_clamped_square() {
     let peers = peer(3);
@@ -103,7 +64,7 @@ fn large_deflection_plate_matches_scikit_fem_on_the_clamped_square() {
     let d = E_PA * t.powi(3) / (12.0 * (1.0 - NU * NU));
     // Linear coefficients of the clamped square (reference/fe-validation.md, a/b = 1).
     let (alpha_q, alpha_p) = (0.00126532, 0.0056120);
-    let p = quarter(24);
+    let p = quarter_square(SIDE_UM, T_UM, PlateMaterial::isotropic(E_PA, NU), 24);
     let vk = VonKarman::new(&p, NonlinearOptions::default()).expect("quarter plate");
     let mut worst: Vec<(bool, f64, f64)> = Vec::new();
     for case in &peers {
