@@ -134,6 +134,13 @@ def main():
         sv = r.space_check(round(exp["min_space_um"] * 1000)).count()
         check(wv == 0 and sv == 0, f"layer {l}/0: width >= {exp['min_width_um']} um and space >= {exp['min_space_um']} um (violations {wv}, {sv})")
     check(db.Texts(wafer.begin_shapes_rec(ly.find_layer(63, 0))).count() > 9, "non-printing TEXT annotations on 63/0")
+    # Repeated over the wafer, the die's texts stay short (electrode names) so they do not run
+    # into each other at wafer zoom; the die's description is the wafer cell's legend, once.
+    die_texts = [t.text.string for t in die.shapes(ly.find_layer(63, 0)).each() if t.is_text()]
+    check(die_texts and all(len(t) <= 4 for t in die_texts), f"die texts are short labels: {die_texts}")
+    wafer_texts = [t.text.string for t in wafer.shapes(ly.find_layer(63, 0)).each() if t.is_text()]
+    check(any(t.startswith("DIE TEETH") for t in wafer_texts)
+          and any("WIRE)" in t for t in wafer_texts), f"the die's legend in the wafer cell: {wafer_texts}")
 
     # SVG per mask: same polygons as the GDS layer (mirror undone for mirrored masks).
     for name, ld, mirrored in exp["masks"]:

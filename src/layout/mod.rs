@@ -94,11 +94,20 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         place_teeth(&mut die, &tooth_name, &teeth);
         tooth_name.clone()
     });
+    // The die carries short labels only (its electrodes' names): it is repeated over the wafer,
+    // where KLayout draws every text at screen size, so longer notes there overlap into clutter.
+    // The die's description goes once into the wafer cell's legend.
+    let mut legend = Vec::new();
     if let Some(c) = &comp {
-        teeth_note(&mut die, p, c);
+        legend.push(teeth_note(p, c));
     }
     add_supports(&mut die, p);
+    legend.push("U-CHANNEL ON THE BACK (ETCHED)".to_string());
     let electrodes = add_electrodes(&mut die, p)?;
+    legend.push(format!(
+        "COMMON BACK ELECTRODE: UNPATTERNED AL ON THE FILM BACK ({}TH WIRE)",
+        electrodes.len() + 1
+    ));
     die.add(LayerKind::Outline, [rect(0.0, 0.0, l, w)]);
 
     let masks = mask_entries(p);
@@ -107,7 +116,7 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
     cells.insert(die_name.clone(), die);
 
     let (px, py) = (l + g.dicing_street_um, w + g.dicing_street_um);
-    let (wafer_cell, origins) = wafer_cell(p, &masks, &die_name)?;
+    let (wafer_cell, origins) = wafer_cell(p, &masks, &die_name, &legend)?;
     cells.insert(wafer_name.clone(), wafer_cell);
 
     Ok(MaskSet {
@@ -169,22 +178,18 @@ fn place_teeth(die: &mut Cell, tooth_name: &str, teeth: &[Tooth]) {
     }
 }
 
-/// The die note naming the tooth pattern, size and compensation.
-fn teeth_note(die: &mut Cell, p: &Process, c: &CompensationDesign) {
+/// The legend line naming the tooth pattern, size and compensation.
+fn teeth_note(p: &Process, c: &CompensationDesign) -> String {
     let g = &p.geometry;
-    die.note(
-        format!(
-            "TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
-            yaml(&g.teeth.pattern),
-            g.teeth.top_um,
-            g.teeth.top_um,
-            yaml(&c.kind),
-            c.side_um
-        )
-        .to_uppercase(),
-        g.die_length_um / 2.0,
-        g.die_width_um / 2.0,
-    );
+    format!(
+        "DIE TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
+        yaml(&g.teeth.pattern),
+        g.teeth.top_um,
+        g.teeth.top_um,
+        yaml(&c.kind),
+        c.side_um
+    )
+    .to_uppercase()
 }
 
 /// Back: the supports; the U-channel is what is not drawn.
@@ -195,7 +200,6 @@ fn add_supports(die: &mut Cell, p: &Process) {
         LayerKind::BackSi,
         supports::supports(l, w, g.support_width_um),
     );
-    die.note("U-CHANNEL (BACK, ETCHED)", l / 2.0, w / 2.0 - 500.0);
 }
 
 /// The PVDF electrode islands with their names and wire pads, after checking a pad fits on each.
@@ -224,20 +228,7 @@ fn add_electrodes(die: &mut Cell, p: &Process) -> Result<Vec<Electrode>, LayoutE
             (r.min().x + r.max().x) / 2.0,
             (r.min().y + r.max().y) / 2.0,
         );
-        die.note(
-            format!("{} WIRE PAD", el.name),
-            el.pad[0] + el.pad[2] / 2.0,
-            el.pad[1] + el.pad[2] / 2.0,
-        );
     }
-    die.note(
-        format!(
-            "COMMON BACK ELECTRODE: UNPATTERNED AL ON THE FILM BACK ({}TH WIRE)",
-            electrodes.len() + 1
-        ),
-        l / 2.0,
-        w / 2.0 + 500.0,
-    );
     Ok(electrodes)
 }
 
@@ -374,6 +365,7 @@ fn wafer_cell(
     p: &Process,
     masks: &[MaskEntry],
     die_name: &str,
+    legend: &[String],
 ) -> Result<(Cell, Vec<Coord>), LayoutError> {
     let g = &p.geometry;
     let lay = &p.layout;
@@ -402,10 +394,8 @@ fn wafer_cell(
     for site in stepping.mark_sites {
         add_alignment_marks(&mut wafer_cell, masks, snap(site.x), snap(site.y));
     }
-    wafer_cell.add(
-        LayerKind::WaferOutline,
-        [circle(p.wafer.diameter_mm * 500.0), circle(r_usable)],
-    );
+    let r_wafer = p.wafer.diameter_mm * 500.0;
+    wafer_cell.add(LayerKind::WaferOutline, [circle(r_wafer), circle(r_usable)]);
     wafer_cell.note(
         format!(
             "{} REV {} WAFER {} MM",
@@ -413,9 +403,14 @@ fn wafer_cell(
             p.device.revision,
             p.wafer.diameter_mm
         ),
-        0.0,
-        -r_usable,
+        -r_wafer,
+        -r_wafer - 2000.0,
     );
+    // The die's description once, under the title, a line every 2 mm (clear of the dies and the
+    // marks on the wafer's axes).
+    for (k, line) in legend.iter().enumerate() {
+        wafer_cell.note(line.clone(), -r_wafer, -r_wafer - 2000.0 * (k as f64 + 2.0));
+    }
     Ok((wafer_cell, origins))
 }
 
@@ -434,7 +429,7 @@ fn add_alignment_marks(wafer_cell: &mut Cell, masks: &[MaskEntry], x: f64, y: f6
         front.iter().cloned().chain(back.iter().cloned()),
     );
     wafer_cell.note(
-        "ALIGNMENT MARK: FRONT CROSS 50 UM VERNIER, BACK CROSS 52 UM VERNIER",
+        "ALIGN: FRONT 50 UM, BACK 52 UM VERNIER",
         x,
         y + MARK_KEEPOUT_HALF_UM,
     );
