@@ -158,6 +158,12 @@ def main():
               and float(bar.get("y")) > W,
               f"{name}.svg: scale bar under the die, its label its length ({label.text if label is not None else None})")
         lnum, dnum = map(int, ld.split("/"))
+        if name == "pvdf":
+            notes = [g for g in root.iter("{http://www.w3.org/2000/svg}g") if g.get("id") == "notes"]
+            names = [t.text for t in notes[0].iter("{http://www.w3.org/2000/svg}text")] if notes else []
+            pads = list(notes[0].iter("{http://www.w3.org/2000/svg}rect")) if notes else []
+            check(len(names) == 9 and len(pads) == 9 and notes[0].get("data-printing") == "no",
+                  f"pvdf.svg: non-printing names and wire-pad outlines of the 9 islands ({names})")
         groups = [g for g in root.iter("{http://www.w3.org/2000/svg}g") if g.get("data-gds-layer") == ld]
         check(len(groups) == 1, f"{name}.svg: one group for layer {ld}")
         polys = []

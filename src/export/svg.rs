@@ -72,6 +72,44 @@ fn scale_bar(length_um: f64, top_um: f64) -> Result<Group, ExportError> {
         ))
 }
 
+/// Non-printing notes on the electrode mask: each island's name and its wire pad's outline (the
+/// pad is part of the island, so the chrome alone does not show it).
+fn electrode_notes(set: &MaskSet, height_um: f64) -> Result<Group, ExportError> {
+    let mut g = Group::new()
+        .set("id", "notes")
+        .set("data-printing", "no")
+        .set("fill", "none")
+        .set("stroke", "#000000");
+    for e in &set.electrodes {
+        let [x, y, side] = e.pad;
+        g = g.add(
+            Rectangle::new()
+                .set("x", um_text(i64::from(nm(x)?)))
+                .set("y", um_text(i64::from(nm(height_um - y - side)?)))
+                .set("width", um_text(i64::from(nm(side)?)))
+                .set("height", um_text(i64::from(nm(side)?)))
+                .set("stroke-width", "40.000")
+                .set("stroke-dasharray", "120 80"),
+        );
+        let r = geo::BoundingRect::bounding_rect(&e.polygon);
+        if let Some(r) = r {
+            let c = r.center();
+            g = g.add(
+                Text::new(e.name.clone())
+                    .set("x", um_text(i64::from(nm(c.x)?)))
+                    .set("y", um_text(i64::from(nm(height_um - c.y)?)))
+                    .set("text-anchor", "middle")
+                    .set("dominant-baseline", "middle")
+                    .set("font-family", "sans-serif")
+                    .set("font-size", "700.000")
+                    .set("fill", "#000000")
+                    .set("stroke", "none"),
+            );
+        }
+    }
+    Ok(g)
+}
+
 impl MaskSet {
     /// The die as the shop receives `mask` (mirrored when it says so), as SVG text.
     pub fn to_svg(&self, mask: &MaskEntry) -> Result<String, ExportError> {
@@ -137,6 +175,9 @@ impl MaskSet {
                     .set("height", um_text(h_nm)),
             );
         doc = doc.add(outline).add(scale_bar(l, w)?);
+        if layer == LayerKind::Pvdf {
+            doc = doc.add(electrode_notes(self, w)?);
+        }
         Ok(format!("{doc}\n"))
     }
 }
