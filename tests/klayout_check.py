@@ -116,6 +116,14 @@ def main():
                 n_dies += 1
     check(arrays >= 2 and n_dies > 0, f"{n_dies} dies in {arrays} AREF rows")
     check(inside, "every die lies inside the wafer less its edge exclusion")
+    # The wafer map SVG: one rectangle per GDS die, the mark sites ringed.
+    wroot = ET.parse(os.path.join(svg_dir, "mis-grasper-wafer.svg")).getroot()
+    ns = "{http://www.w3.org/2000/svg}"
+    groups = {g.get("id"): g for g in wroot.iter(ns + "g")}
+    rects = list(groups["dies"].iter(ns + "rect")) if "dies" in groups else []
+    rings = list(groups["marks"].iter(ns + "circle")) if "marks" in groups else []
+    check(len(rects) == n_dies and wroot.get("data-dies") == str(n_dies) and len(rings) >= 1,
+          f"wafer.svg: {len(rects)} dies (GDS {n_dies}), {len(rings)} mark sites ringed")
     # The wafer edge and usable circle sit on their own layer, not on the die outline.
     wo = region(wafer, 65).bbox()
     ru = exp["usable_radius_um"] * 1000

@@ -46,6 +46,10 @@ pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
                 set.to_svg(m)?.into_bytes(),
             ));
         }
+        files.push((
+            format!("{}-wafer.svg", set.device),
+            set.wafer_map_svg()?.into_bytes(),
+        ));
     }
     let mut out = set.inventory();
     if !set.warnings.is_empty() {

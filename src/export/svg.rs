@@ -3,7 +3,7 @@
 //! written from integer nm with fixed decimals (svg's own path data stores f32).
 
 use geo::Polygon;
-use svg::node::element::{Group, Path, Rectangle, Text};
+use svg::node::element::{Circle, Group, Path, Rectangle, Text};
 use svg::Document;
 
 use super::{mm_text, nm, um_text, ExportError};
@@ -111,6 +111,133 @@ fn electrode_notes(set: &MaskSet, height_um: f64) -> Result<Group, ExportError> 
 }
 
 impl MaskSet {
+    /// The wafer map: the wafer and its usable circle, every die numbered in stepping order, and
+    /// the alignment-mark sites ringed (the marks themselves, 50 um crosses, drawn to scale
+    /// inside the rings), as SVG text in mm with a viewBox in um centred on the wafer.
+    pub fn wafer_map_svg(&self) -> Result<String, ExportError> {
+        let r = self.wafer_diameter_um / 2.0;
+        let r_usable = r - self.edge_exclusion_um;
+        let t = |v: f64| -> Result<String, ExportError> { Ok(um_text(i64::from(nm(v)?))) };
+        // SVG y runs down: (x, y) on the wafer is (x + r, r - y) here.
+        let (sx, sy) = (|x: f64| x + r, |y: f64| r - y);
+        let size = 2.0 * r;
+        // 5 mm under the wafer for the caption.
+        let height = size + 5000.0;
+        let mut doc = Document::new()
+            .set("width", format!("{}mm", mm_text(i64::from(nm(size)?))))
+            .set("height", format!("{}mm", mm_text(i64::from(nm(height)?))))
+            .set("viewBox", format!("0 0 {} {}", t(size)?, t(height)?))
+            .set("data-device", self.device.clone())
+            .set("data-revision", self.revision.clone())
+            .set("data-dies", self.die_origins.len().to_string());
+        doc = doc.add(
+            Group::new()
+                .set("id", "wafer")
+                .set("fill", "none")
+                .set("stroke", "#444444")
+                .add(
+                    Circle::new()
+                        .set("cx", t(r)?)
+                        .set("cy", t(r)?)
+                        .set("r", t(r)?)
+                        .set("stroke-width", "150.000"),
+                )
+                .add(
+                    Circle::new()
+                        .set("cx", t(r)?)
+                        .set("cy", t(r)?)
+                        .set("r", t(r_usable)?)
+                        .set("stroke-width", "80.000")
+                        .set("stroke-dasharray", "800 500"),
+                ),
+        );
+        let mut dies = Group::new()
+            .set("id", "dies")
+            .set("fill", "#dbe9f6")
+            .set("stroke", "#0072b2")
+            .set("stroke-width", "100.000");
+        for (k, o) in self.die_origins.iter().enumerate() {
+            dies = dies
+                .add(
+                    Rectangle::new()
+                        .set("x", t(sx(o.x))?)
+                        .set("y", t(sy(o.y + self.die_width_um))?)
+                        .set("width", t(self.die_length_um)?)
+                        .set("height", t(self.die_width_um)?),
+                )
+                .add(
+                    Text::new((k + 1).to_string())
+                        .set("x", t(sx(o.x + self.die_length_um / 2.0))?)
+                        .set("y", t(sy(o.y + self.die_width_um / 2.0))?)
+                        .set("text-anchor", "middle")
+                        .set("dominant-baseline", "middle")
+                        .set("font-family", "sans-serif")
+                        .set("font-size", "4000.000")
+                        .set("fill", "#0072b2")
+                        .set("stroke", "none"),
+                );
+        }
+        doc = doc.add(dies);
+        // Mark sites: the marks' polygons clustered within 2 mm.
+        let marks = self.flatten(&self.wafer_cell, LayerKind::Marks);
+        let mut sites: Vec<(f64, f64, usize)> = Vec::new();
+        for p in &marks {
+            if let Some(c) = geo::Centroid::centroid(p) {
+                match sites
+                    .iter_mut()
+                    .find(|s| (s.0 / s.2 as f64 - c.x()).hypot(s.1 / s.2 as f64 - c.y()) < 2000.0)
+                {
+                    Some(s) => *s = (s.0 + c.x(), s.1 + c.y(), s.2 + 1),
+                    None => sites.push((c.x(), c.y(), 1)),
+                }
+            }
+        }
+        let mut g = Group::new()
+            .set("id", "marks")
+            .set("fill", "none")
+            .set("stroke", "#d55e00")
+            .set("stroke-width", "250.000");
+        for (x, y, n) in &sites {
+            let (x, y) = (x / *n as f64, y / *n as f64);
+            g = g.add(
+                Circle::new()
+                    .set("cx", t(sx(x))?)
+                    .set("cy", t(sy(y))?)
+                    .set("r", "1500.000"),
+            );
+        }
+        let flipped: Vec<Polygon> = marks
+            .iter()
+            .map(|p| {
+                geo::MapCoords::map_coords(p, |c| geo::Coord {
+                    x: c.x + r,
+                    y: c.y + r,
+                })
+            })
+            .collect();
+        g = g.add(
+            Path::new()
+                .set("d", path_data(&flipped, i64::from(nm(size)?))?)
+                .set("fill", "#d55e00")
+                .set("stroke", "none"),
+        );
+        doc = doc.add(g).add(
+            Text::new(format!(
+                "{} rev {}: {} dies, alignment marks ringed",
+                self.device,
+                self.revision,
+                self.die_origins.len()
+            ))
+            .set("x", t(r)?)
+            .set("y", t(size + 3500.0)?)
+            .set("text-anchor", "middle")
+            .set("font-family", "sans-serif")
+            .set("font-size", "3000.000")
+            .set("fill", "#000000"),
+        );
+        Ok(format!("{doc}\n"))
+    }
+
     /// The die as the shop receives `mask` (mirrored when it says so), as SVG text.
     pub fn to_svg(&self, mask: &MaskEntry) -> Result<String, ExportError> {
         let (l, w) = (self.die_length_um, self.die_width_um);

@@ -156,6 +156,11 @@ pub fn build(
     for (m, svg) in inv.masks.iter().zip(&svgs) {
         mask_files.push((m.svg_file.clone(), svg.clone().into_bytes()));
     }
+    let wafer_map = set.wafer_map_svg()?;
+    mask_files.push((
+        format!("{}-wafer.svg", set.device),
+        wafer_map.clone().into_bytes(),
+    ));
     progress(Stage::Drc);
     let drc = crate::drc::check(&set, p, &plan);
 
@@ -192,6 +197,7 @@ pub fn build(
     let figures = Figures {
         masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(),
         tooth: tooth_svg(&set)?,
+        wafer: Some(wafer_map),
     };
     let t = traveler(TravelerInput {
         process: p,

@@ -13,6 +13,8 @@ pub struct Figures {
     /// (mask name, SVG text) in inventory order.
     pub masks: Vec<(String, String)>,
     pub tooth: Option<String>,
+    /// The wafer map (dies and alignment marks).
+    pub wafer: Option<String>,
 }
 
 /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations, declared
@@ -159,6 +161,10 @@ fn masks(t: &Traveler, fig: &Figures) -> Section {
                      receives it so); the wafer with its alignment marks is in the GDS"
                 ),
             })
+            .chain(fig.wafer.iter().map(|svg| Figure {
+                svg: svg.clone(),
+                caption: "the wafer: dies in stepping order, alignment marks ringed".into(),
+            }))
             .collect(),
         grid: true,
         max_width_mm: None,

@@ -154,6 +154,7 @@ fn build_writes_everything_and_the_html_renders() {
             "mis-grasper-pvdf.svg",
             "mis-grasper-traveler.html",
             "mis-grasper-traveler.md",
+            "mis-grasper-wafer.svg",
             "mis-grasper.gds",
             "mis-grasper.lyp",
             "tactfab.sha256",
@@ -165,6 +166,7 @@ fn build_writes_everything_and_the_html_renders() {
         "mis-grasper-front-si.svg",
         "mis-grasper-back-si.svg",
         "mis-grasper-pvdf.svg",
+        "mis-grasper-wafer.svg",
         "mis-grasper.lyp",
     ] {
         assert!(

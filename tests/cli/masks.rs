@@ -7,7 +7,7 @@ use std::path::Path;
 use super::harness::{root, run, run_env};
 
 const PROCESS: &str = "process/mis-grasper.yaml";
-const FILES: [&str; 8] = [
+const FILES: [&str; 9] = [
     "tactfab.sha256",
     "mis-grasper.gds",
     "mis-grasper.lyp",
@@ -16,6 +16,7 @@ const FILES: [&str; 8] = [
     "mis-grasper-front-si.svg",
     "mis-grasper-back-si.svg",
     "mis-grasper-pvdf.svg",
+    "mis-grasper-wafer.svg",
 ];
 
 fn generate(dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
