@@ -69,6 +69,24 @@ pub const PALETTE: [RGBColor; 12] = [
     RGBColor(51, 34, 136),
 ];
 
+/// The marker shape of series `i`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Cross,
+}
+
+fn marker(i: usize) -> Marker {
+    [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Cross,
+    ][i % 4]
+}
+
 /// A tick label: at most four significant digits, no trailing point or zeros, powers of ten as
 /// 1e4 beyond 1e4 (plotters' own "10000." ran off the right edge).
 pub fn tick(v: f64) -> String {
@@ -227,13 +245,39 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                         }
                     }
                     if matches!(s.style, Style::Markers | Style::LineAndMarkers) {
-                        let marks = pts.iter().map(|&p| Circle::new(p, 3, colour.filled()));
-                        if let Ok(a) = chart.draw_series(marks) {
-                            if s.style == Style::Markers {
-                                a.label(&s.name).legend(move |(x, y)| {
-                                    Circle::new((x + 9, y), 3, colour.filled())
-                                });
-                            }
+                        // Shapes cycle too (circle, square, triangle, cross), so series that
+                        // coincide stay visible on top of each other.
+                        let legend = s.style == Style::Markers;
+                        macro_rules! marks {
+                            ($make:expr, $key:expr) => {{
+                                if let Ok(a) = chart.draw_series(pts.iter().map(|&p| $make(p))) {
+                                    if legend {
+                                        a.label(&s.name).legend($key);
+                                    }
+                                }
+                            }};
+                        }
+                        match marker(i) {
+                            Marker::Circle => marks!(
+                                move |p| Circle::new(p, 3, colour.filled()),
+                                move |(x, y)| Circle::new((x + 9, y), 3, colour.filled())
+                            ),
+                            Marker::Square => marks!(
+                                move |p| EmptyElement::at(p)
+                                    + Rectangle::new([(-3, -3), (3, 3)], colour.filled()),
+                                move |(x, y)| Rectangle::new(
+                                    [(x + 6, y - 3), (x + 12, y + 3)],
+                                    colour.filled()
+                                )
+                            ),
+                            Marker::Triangle => marks!(
+                                move |p| TriangleMarker::new(p, 4, colour.filled()),
+                                move |(x, y)| TriangleMarker::new((x + 9, y), 4, colour.filled())
+                            ),
+                            Marker::Cross => marks!(
+                                move |p| Cross::new(p, 4, colour.stroke_width(2)),
+                                move |(x, y)| Cross::new((x + 9, y), 4, colour.stroke_width(2))
+                            ),
                         }
                     }
                 }
@@ -354,7 +398,14 @@ fn draw_legend_column<DB: DrawingBackend>(
         let colour = PALETTE[i % PALETTE.len()];
         let y = 48 + 18 * i as i32;
         let _ = match s.style {
-            Style::Markers => area.draw(&Circle::new((17, y), 3, colour.filled())),
+            Style::Markers => match marker(i) {
+                Marker::Circle => area.draw(&Circle::new((17, y), 3, colour.filled())),
+                Marker::Square => {
+                    area.draw(&Rectangle::new([(14, y - 3), (20, y + 3)], colour.filled()))
+                }
+                Marker::Triangle => area.draw(&TriangleMarker::new((17, y), 4, colour.filled())),
+                Marker::Cross => area.draw(&Cross::new((17, y), 4, colour.stroke_width(2))),
+            },
             Style::Dashed => area.draw(&PathElement::new(
                 vec![(8, y), (14, y), (20, y), (26, y)],
                 colour.stroke_width(1),
@@ -402,9 +453,9 @@ mod tests {
         assert_eq!(a, xy_svg(&sample(), 640, 400));
         assert!(a.starts_with("<svg"));
         assert!(a.contains("error against dofs") && a.contains("sensor"));
-        // Three markers for the first series, none for the second (NaN, and 0 on a log axis), plus
-        // the legend marker of the markers-only series.
-        assert_eq!(a.matches("<circle").count(), 3 + 1);
+        // Three circles for the first series; none for the second (NaN, and 0 on a log axis),
+        // whose legend key is its own marker, a square.
+        assert_eq!(a.matches("<circle").count(), 3);
     }
 
     #[test]
