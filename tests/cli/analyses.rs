@@ -235,6 +235,13 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
         }
     }
     assert!(o.monomial_condition_number > 1e2);
+    // Its plots keep their text on the canvas.
+    for (name, bytes) in tactfab::report::orientation::files(&o) {
+        if name.ends_with(".svg") {
+            let bad = tactfab::plot::text_outside_canvas(&String::from_utf8(bytes).unwrap());
+            assert!(bad.is_empty(), "{name}: {bad:?}");
+        }
+    }
     // Inverse: one row per fraction and force; the FE re-run at the estimated angle lands near the
     // assumed charge (the residual is the fit's plus the re-meshed FE's error).
     assert_eq!(o.inverse.len(), 4);

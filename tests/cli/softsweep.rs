@@ -44,6 +44,7 @@ fn sharded_sweep_merges_to_the_unsharded_bytes() {
     let a = std::fs::read(whole.join("sweep.csv")).unwrap();
     assert_eq!(a, std::fs::read(parts.join("sweep.csv")).unwrap());
     assert_eq!(String::from_utf8(a).unwrap().lines().count(), 19);
+    super::harness::assert_svgs_fit(&parts);
     let svg = std::fs::read_to_string(parts.join("family.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("length (mm)"));
     // The prototype is marked, from the shards' record of it.
@@ -109,6 +110,7 @@ fn softness_table_plot_and_inverse() {
     let csv = std::fs::read_to_string(dir.path().join("softness.csv")).unwrap();
     assert!(csv.starts_with("tissue_e_pa,force_n,fe_voltage_mv,composite_voltage_mv"));
     assert_eq!(csv.lines().count(), 11);
+    super::harness::assert_svgs_fit(dir.path());
     assert!(std::fs::read_to_string(dir.path().join("softness.svg"))
         .unwrap()
         .contains("tissue modulus"));
