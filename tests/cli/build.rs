@@ -2,10 +2,10 @@
 //! Markdown traveler against its golden file, and the HTML traveler rendered in headless Chromium.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-use super::harness::{root, run, REFERENCE};
+use super::harness::{chromium, root, run, REFERENCE};
 
 const GOLDEN: &str = "tests/golden/mis-grasper-traveler.md";
 
@@ -350,19 +350,6 @@ fn print_to_pdf(html: &Path, work: &Path) {
             "landscape page {k} is not the run sheet:\n{p}"
         );
     }
-}
-
-fn chromium() -> Option<PathBuf> {
-    ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .find_map(|name| {
-            let ok = Command::new(name)
-                .arg("--version")
-                .output()
-                .map(|o| o.status.success())
-                .unwrap_or(false);
-            ok.then(|| PathBuf::from(name))
-        })
 }
 
 /// Renders `html` to PNG on an A4-proportioned window, fails on console errors, and checks the
@@ -782,4 +769,35 @@ fn island_count_follows_the_electrode_pattern() {
         .unwrap();
     assert!(md.contains("patterned (4 islands)"), "four islands");
     assert!(!md.contains("9 islands"));
+}
+
+/// The rendered SVG check sees what a reader would: a label running off its chart is caught, a
+/// chart of tactfab's is clean.
+#[test]
+fn rendered_svg_check_catches_text_off_the_canvas() {
+    if super::harness::chromium().is_none() && std::env::var("CI").is_err() {
+        eprintln!("SKIPPED: chromium is not on PATH");
+        return;
+    }
+    let bad = r#"<svg width="100" height="50" xmlns="http://www.w3.org/2000/svg"><text x="90" y="20" font-size="10">far too long</text></svg>"#;
+    let plot = tactfab::plot::XyPlot {
+        title: "voltage against force".into(),
+        x: tactfab::plot::Axis::log("force (N)"),
+        y: tactfab::plot::Axis::linear("voltage (mV)"),
+        series: vec![tactfab::plot::Series {
+            name: "M2".into(),
+            points: vec![(1e-3, 0.2), (10_000.0, 2000.0)],
+            style: tactfab::plot::Style::LineAndMarkers,
+        }],
+    };
+    let good = tactfab::plot::xy_svg(&plot, 640, 400);
+    let found = super::harness::rendered_text_outside(&[
+        ("bad.svg".into(), bad.into()),
+        ("good.svg".into(), good),
+    ]);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0].starts_with("bad.svg: \"far too long\""),
+        "{found:?}"
+    );
 }

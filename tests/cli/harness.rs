@@ -87,18 +87,104 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
         .collect()
 }
 
-/// Every SVG in `dir` keeps its text on its canvas ([`tactfab::plot::text_outside_canvas`]).
+/// Chromium (or Chrome) on PATH, if any.
+pub fn chromium() -> Option<PathBuf> {
+    ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find_map(|name| {
+            let ok = Command::new(name)
+                .arg("--version")
+                .output()
+                .map(|o| o.status.success())
+                .unwrap_or(false);
+            ok.then(|| PathBuf::from(name))
+        })
+}
+
+/// Every SVG in `dir` keeps its text on its canvas: estimated from the SVG
+/// ([`tactfab::plot::text_outside_canvas`]) and, where Chromium is installed (always in CI),
+/// as the browser lays it out ([`rendered_text_outside`]).
 #[track_caller]
-pub fn assert_svgs_fit(dir: &std::path::Path) {
-    let mut seen = 0;
+pub fn assert_svgs_fit(dir: &Path) {
+    let mut svgs = Vec::new();
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "svg") {
             let svg = std::fs::read_to_string(&path).unwrap();
             let bad = tactfab::plot::text_outside_canvas(&svg);
             assert!(bad.is_empty(), "{}: {bad:?}", path.display());
-            seen += 1;
+            svgs.push((path.display().to_string(), svg));
         }
     }
-    assert!(seen > 0, "no SVG in {}", dir.display());
+    assert!(!svgs.is_empty(), "no SVG in {}", dir.display());
+    let bad = rendered_text_outside(&svgs);
+    assert!(
+        bad.is_empty(),
+        "text outside its canvas in Chromium: {bad:#?}"
+    );
+}
+
+/// Lays the SVGs out in headless Chromium and lists every `<text>` whose rendered box leaves the
+/// box of the `<svg>` holding it (1 px slack), as "file: text (left, right, top, bottom margins)".
+/// Empty, with a note, when Chromium is missing outside CI.
+pub fn rendered_text_outside(svgs: &[(String, String)]) -> Vec<String> {
+    let Some(chrome) = chromium() else {
+        if std::env::var("CI").is_ok_and(|v| v == "true") {
+            panic!("chromium is not installed: `.ci/run` installs the Debian package `chromium`");
+        }
+        eprintln!("SKIPPED the rendered SVG check: chromium is not on PATH");
+        return Vec::new();
+    };
+    let work = tempfile::tempdir().unwrap();
+    let charts: String = svgs
+        .iter()
+        .map(|(_, s)| format!("<div class=\"chart\">{s}</div>\n"))
+        .collect();
+    let names = serde_json::to_string(&svgs.iter().map(|(n, _)| n).collect::<Vec<_>>()).unwrap();
+    let html = format!(
+        "<!DOCTYPE html><html><body>{charts}<pre id=\"result\"></pre><script>\n\
+         const names = {names}; const out = [];\n\
+         document.querySelectorAll('div.chart > svg').forEach((svg, i) => {{\n\
+           svg.querySelectorAll('text').forEach(t => {{\n\
+             const c = t.closest('svg').getBoundingClientRect();\n\
+             const b = t.getBoundingClientRect();\n\
+             const m = [b.left - c.left, c.right - b.right, b.top - c.top, c.bottom - b.bottom];\n\
+             if (b.width > 0 && m.some(v => v < -1))\n\
+               out.push(names[i] + ': ' + JSON.stringify(t.textContent.trim()) + ' ' +\n\
+                        m.map(v => v.toFixed(1)).join(','));\n\
+           }});\n\
+         }});\n\
+         document.getElementById('result').textContent = 'CHECKED ' + names.length + '\\n' +\n\
+           out.join('\\n');\n\
+         </script></body></html>\n"
+    );
+    let page = work.path().join("charts.html");
+    std::fs::write(&page, html).unwrap();
+    let out = Command::new(chrome)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+        ])
+        .arg(format!(
+            "--user-data-dir={}",
+            work.path().join("profile").display()
+        ))
+        .arg("--dump-dom")
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let start = dom
+        .find(&format!("CHECKED {}", svgs.len()))
+        .unwrap_or_else(|| panic!("Chromium did not run the check:\n{dom}"));
+    dom[start..]
+        .split("</pre>")
+        .next()
+        .unwrap_or("")
+        .lines()
+        .skip(1)
+        .map(str::to_string)
+        .collect()
 }
