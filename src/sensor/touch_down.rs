@@ -37,8 +37,10 @@ pub(super) fn scaled_loads(loads: &[Load], s: f64) -> Vec<Load> {
 }
 
 /// The load factor at which `w(factor)` (the largest deflection, um, increasing in the factor)
-/// reaches `gap_um`, to 0.1 % in deflection: bracketed regula falsi (Illinois) from `w1 = w(1)`.
-/// None above `MAX_FACTOR` (100); errors of `w` pass through.
+/// reaches `gap_um`, to 0.1 % in deflection, from `w1 = w(1)`. A plate's deflection follows a
+/// power of the load (w ~ F in bending, ~ F^(1/3) as a membrane), so both the bracketing steps and
+/// the search inside the bracket interpolate ln w against ln F (secant in log-log, bisection when
+/// that leaves the bracket or stalls on one side). None above `MAX_FACTOR` (100); errors of `w` pass through.
 pub fn find_factor<E>(
     gap_um: f64,
     w1: f64,
@@ -47,40 +49,58 @@ pub fn find_factor<E>(
     if !(w1 > 0.0 && gap_um > 0.0) {
         return Ok(None);
     }
-    let (mut lo, mut hi) = ((0.0, -gap_um), (1.0, w1 - gap_um));
-    // Bracket: grow by the linear guess until the deflection passes the gap.
-    while hi.1 < 0.0 {
-        lo = hi;
-        let next = (hi.0 * gap_um / (hi.1 + gap_um))
-            .max(2.0 * hi.0)
+    // (factor, deflection) below and above the gap.
+    let (mut lo, mut hi) = ((0.0f64, 0.0f64), (1.0f64, w1));
+    // Bracket: the local power law aimed 5 % past the gap, at least 1.2x the factor per step.
+    while hi.1 < gap_um {
+        let p = if lo.0 > 0.0 && lo.1 > 0.0 && hi.1 > lo.1 {
+            ((hi.1 / lo.1).ln() / (hi.0 / lo.0).ln()).clamp(0.2, 1.0)
+        } else {
+            1.0
+        };
+        let next = (hi.0 * (1.05 * gap_um / hi.1).powf(1.0 / p))
+            .max(1.2 * hi.0)
             .min(MAX_FACTOR);
         if next <= hi.0 {
             return Ok(None);
         }
-        hi = (next, w(next)? - gap_um);
-        if hi.1 < 0.0 && next >= MAX_FACTOR {
+        lo = hi;
+        hi = (next, w(next)?);
+        if hi.1 < gap_um && next >= MAX_FACTOR {
             return Ok(None);
         }
     }
-    let mut side = 0;
-    for _ in 0..40 {
-        let x = (lo.0 * hi.1 - hi.0 * lo.1) / (hi.1 - lo.1);
-        let f = w(x)? - gap_um;
-        if f.abs() <= 1e-3 * gap_um {
+    // The side the last two steps moved; twice the same side and the secant is stalling: halve.
+    let (mut last, mut before) = (0i8, 0i8);
+    for _ in 0..60 {
+        let stalled = last != 0 && last == before;
+        let x = if stalled {
+            0.5 * (lo.0 + hi.0)
+        } else if lo.0 > 0.0 && lo.1 > 0.0 {
+            let t = (gap_um / lo.1).ln() / (hi.1 / lo.1).ln();
+            (lo.0.ln() + t * (hi.0 / lo.0).ln()).exp()
+        } else {
+            lo.0 + (hi.0 - lo.0) * (gap_um - lo.1) / (hi.1 - lo.1)
+        };
+        let x = if x > lo.0 && x < hi.0 && x.is_finite() {
+            x
+        } else {
+            0.5 * (lo.0 + hi.0)
+        };
+        let f = w(x)?;
+        if (f - gap_um).abs() <= 1e-3 * gap_um {
             return Ok(Some(x));
         }
-        if f < 0.0 {
+        before = last;
+        if f < gap_um {
             lo = (x, f);
-            if side == -1 {
-                hi.1 *= 0.5;
-            }
-            side = -1;
+            last = -1;
         } else {
             hi = (x, f);
-            if side == 1 {
-                lo.1 *= 0.5;
-            }
-            side = 1;
+            last = 1;
+        }
+        if stalled {
+            (last, before) = (0, 0);
         }
     }
     Ok(Some(0.5 * (lo.0 + hi.0)))
@@ -118,5 +138,19 @@ mod tests {
             find_factor::<()>(175.0, 1.0, |s| Ok(s.min(1.5))).unwrap(),
             None
         );
+        // A membrane-like plate (w ~ F^(1/3) beyond a bending start) is found in a few
+        // evaluations, not dozens: each one is a nonlinear plate solve.
+        let mut calls = 0;
+        let membrane = |s: f64| -> Result<f64, ()> {
+            calls += 1;
+            Ok(if s <= 1.0 {
+                35.0 * s
+            } else {
+                35.0 * s.powf(1.0 / 3.0)
+            })
+        };
+        let s = find_factor(140.0, 35.0, membrane).unwrap().unwrap();
+        assert!((35.0 * s.powf(1.0 / 3.0) - 140.0).abs() <= 0.14, "{s}");
+        assert!(calls <= 6, "{calls} evaluations");
     }
 }
