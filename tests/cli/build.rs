@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
-use super::harness::{chromium, root, run, REFERENCE};
+use super::harness::{chromium, headless, root, run, REFERENCE};
 
 const GOLDEN: &str = "tests/golden/mis-grasper-traveler.md";
 
@@ -278,18 +278,8 @@ fn print_to_pdf(html: &Path, work: &Path) {
         return;
     };
     let pdf = work.join("traveler.pdf");
-    let out = Command::new(chrome)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-            "--no-pdf-header-footer",
-        ])
-        .arg(format!(
-            "--user-data-dir={}",
-            work.join("profile-pdf").display()
-        ))
+    let out = headless(&chrome, &work.join("profile-pdf"))
+        .arg("--no-pdf-header-footer")
         .arg(format!("--print-to-pdf={}", pdf.display()))
         .arg(format!("file://{}", html.canonicalize().unwrap().display()))
         .output()
@@ -368,13 +358,9 @@ fn render_in_chromium(html: &Path, work: &Path) {
     let url = format!("file://{}", html.canonicalize().unwrap().display());
     let png = work.join("traveler.png");
     let base = |profile: &str| {
-        let mut c = Command::new(&chrome);
+        let mut c = headless(&chrome, &work.join(profile));
         c.args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
             "--disable-quic",
-            "--no-first-run",
             "--disable-background-networking",
             "--disable-component-update",
             "--disable-sync",
@@ -382,7 +368,6 @@ fn render_in_chromium(html: &Path, work: &Path) {
             "--v=0",
             "--window-size=1240,1754",
         ]);
-        c.arg(format!("--user-data-dir={}", work.join(profile).display()));
         c
     };
     let shot = base("profile-shot")

@@ -101,6 +101,19 @@ pub fn chromium() -> Option<PathBuf> {
         })
 }
 
+/// Headless `chrome` with the flags every test run shares and its own profile directory.
+pub fn headless(chrome: &Path, profile: &Path) -> Command {
+    let mut c = Command::new(chrome);
+    c.args([
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+    ])
+    .arg(format!("--user-data-dir={}", profile.display()));
+    c
+}
+
 /// Every SVG in `dir` keeps its text on its canvas: estimated from the SVG
 /// ([`tactfab::plot::text_outside_canvas`]) and, where Chromium is installed (always in CI),
 /// as the browser lays it out ([`rendered_text_outside`]).
@@ -160,17 +173,7 @@ pub fn rendered_text_outside(svgs: &[(String, String)]) -> Vec<String> {
     );
     let page = work.path().join("charts.html");
     std::fs::write(&page, html).unwrap();
-    let out = Command::new(chrome)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-        ])
-        .arg(format!(
-            "--user-data-dir={}",
-            work.path().join("profile").display()
-        ))
+    let out = headless(&chrome, &work.path().join("profile"))
         .arg("--dump-dom")
         .arg(format!("file://{}", page.display()))
         .output()
