@@ -114,6 +114,8 @@ struct ElementKind {
     kb: Box<[[f64; 16]; 16]>,
     /// int B_m^T A B_m dA over the 8 membrane dofs (constant).
     km: [[f64; 8]; 8],
+    /// A B_m at each Gauss point ([`membrane_columns`]): constant, so computed once.
+    am: [[[f64; 8]; 3]; 16],
     /// Membrane stiffness A = Q t (A11, A12, A22, A66) in N/m.
     a: [f64; 4],
 }
@@ -168,6 +170,7 @@ impl ElementKind {
             wt: [0.0; 16],
             kb: Box::new(bfs::stiffness(a, b, &mat.bending_stiffness(t_m))),
             km: [[0.0; 8]; 8],
+            am: [[[0.0; 8]; 3]; 16],
             a: [
                 mat.q11_pa * t_m,
                 mat.q12_pa * t_m,
@@ -184,7 +187,8 @@ impl ElementKind {
                 (k.mx[g], k.my[g]) = q4_gradients(x, y, a, b);
                 k.wt[g] = wxg * wyg;
                 // B_m^T (A B_m), B_m's rows as in membrane_columns.
-                let s = membrane_columns(&k.a, &k.mx[g], &k.my[g]);
+                k.am[g] = membrane_columns(&k.a, &k.mx[g], &k.my[g]);
+                let s = &k.am[g];
                 for c in 0..4 {
                     let (u, v) = (2 * c, 2 * c + 1);
                     for j in 0..8 {
@@ -263,7 +267,7 @@ impl ElementKind {
             let cxx = w * (a11 * wx * wx + a66 * wy * wy + n[0]);
             let cyy = w * (a22 * wy * wy + a66 * wx * wx + n[1]);
             let cxy = w * ((a12 + a66) * wx * wy + n[2]);
-            let s = membrane_columns(&self.a, mx, my);
+            let s = &self.am[g];
             let px: [f64; 8] = std::array::from_fn(|j| w * (wx * s[0][j] + wy * s[2][j]));
             let py: [f64; 8] = std::array::from_fn(|j| w * (wy * s[1][j] + wx * s[2][j]));
             for i in 0..16 {
