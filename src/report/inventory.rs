@@ -2,18 +2,11 @@
 //! the shop receives and its SHA-256, plus the GDS holding every layer.
 
 use serde::Serialize;
-use sha2::{Digest, Sha256};
 
 use crate::layout::MaskSet;
 use crate::process::{Side, Tone};
 
-/// Lower-case hex SHA-256 of `bytes`.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
+pub use crate::export::dir::sha256_hex;
 
 /// One mask as the shop and the operator need it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
