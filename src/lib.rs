@@ -85,6 +85,7 @@
 
 pub mod analysis;
 pub mod design;
+pub mod digest;
 pub mod drc;
 pub mod etch;
 pub mod export;

@@ -11,7 +11,7 @@ pub const SUMMARY: &str = "build.json";
 pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
     let opts = Options {
-        origin: origin(&args.process, &loaded)?,
+        origin: origin(&args.process, &loaded),
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,

@@ -17,7 +17,7 @@ use super::{design, origin, write_dir, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
-    let origin = origin(&args.process, &loaded)?;
+    let origin = origin(&args.process, &loaded);
     let g = SensorGeometry::new(&design);
     let cp = CalibrationPlan::new(
         &g,

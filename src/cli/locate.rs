@@ -27,7 +27,7 @@ pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
     }
     let cal = match &args.calibration {
         Some(dir) => {
-            same_design(dir, &origin(&args.process, &loaded)?)?;
+            same_design(dir, &origin(&args.process, &loaded))?;
             read_grid(&dir.join("grid.csv"), &names)?
         }
         None => {

@@ -75,22 +75,15 @@ pub fn design(
     tactfab::design::Design::load(&args.file, &args.set).map_err(anyhow::Error::new)
 }
 
-/// How outputs name the process file: its name and the SHA-256 of its bytes, never the path as
-/// typed (a relative and an absolute path must give the same bytes), with the overrides applied.
-pub fn origin(
-    args: &ProcessArgs,
-    loaded: &tactfab::process::Loaded,
-) -> anyhow::Result<tactfab::report::Origin> {
-    let bytes = std::fs::read(&args.file)?;
+/// How outputs name the process file: its name and the SHA-256 of the bytes loaded, never the path
+/// as typed (a relative and an absolute path must give the same bytes), with the overrides
+/// applied.
+pub fn origin(args: &ProcessArgs, loaded: &tactfab::process::Loaded) -> tactfab::report::Origin {
     let name = args.file.file_name().map_or_else(
         || args.file.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    Ok(tactfab::report::Origin::new(
-        &name,
-        &tactfab::report::inventory::sha256_hex(&bytes),
-        &loaded.overrides,
-    ))
+    tactfab::report::Origin::new(&name, &loaded.source_sha256, &loaded.overrides)
 }
 
 /// Writes `files` as the whole directory `out`: replaces only a previous output of tactfab (or

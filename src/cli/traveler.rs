@@ -9,7 +9,7 @@ use super::{design, origin, write_dir, Outcome, Progress};
 pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
     let opts = Options {
-        origin: origin(&args.process, &loaded)?,
+        origin: origin(&args.process, &loaded),
         fe: (!args.no_fe).then(|| args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,

@@ -15,8 +15,6 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use sha2::{Digest, Sha256};
-
 use super::ExportError;
 
 /// The manifest every output directory holds: `<sha256>  <name>` per file, as `sha256sum` writes.
@@ -40,13 +38,7 @@ impl Guard<'_> {
     };
 }
 
-/// Lower-case hex SHA-256 of `bytes` (the manifest's, the inventory's and build.json's digests).
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
+use crate::digest::sha256_hex;
 
 /// The manifest text of `files` (sorted by name, so the bytes depend on the content only).
 pub fn manifest(files: &[(String, Vec<u8>)]) -> String {

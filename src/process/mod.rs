@@ -45,6 +45,8 @@ pub struct Loaded {
     pub defaults_used: Vec<Provenance>,
     /// `--set` overrides as applied, canonical path first.
     pub overrides: Vec<(String, String)>,
+    /// SHA-256 of the text read (the file's bytes, hashed once, as they were loaded).
+    pub source_sha256: String,
 }
 
 /// Reads, overrides, deserialises and validates a process file. At most [`MAX_FILE_BYTES`] + 1
@@ -102,6 +104,7 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Loaded, 
         process,
         defaults_used,
         overrides: applied.into_iter().map(|a| (a.path, a.arg)).collect(),
+        source_sha256: crate::digest::sha256_hex(text.as_bytes()),
     })
 }
 

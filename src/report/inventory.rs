@@ -6,7 +6,7 @@ use serde::Serialize;
 use crate::layout::MaskSet;
 use crate::process::{Side, Tone};
 
-pub use crate::export::dir::sha256_hex;
+pub use crate::digest::sha256_hex;
 
 /// One mask as the shop and the operator need it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
