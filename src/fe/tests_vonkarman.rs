@@ -207,17 +207,22 @@ fn sliding_supports_carry_no_membrane_force() {
     );
 }
 
+/// A 4 x 4 mm, 50 um silicon square on a uniform `n` x `n` mesh, unsupported.
+fn square_4mm(n: usize) -> PlateProblem {
+    let lines: Vec<f64> = (0..=n).map(|k| 4000.0 * k as f64 / n as f64).collect();
+    let m = RectMesh {
+        x_um: lines.clone(),
+        y_um: lines,
+    };
+    PlateProblem::new(m, 50.0, PlateMaterial::silicon(DieEdge::Along110))
+}
+
 /// A clamped square plate under a large off-centre point load: the supports carry the load
 /// (equilibrium holds exactly in the deformed state), the symmetric plate gives the mirrored field,
 /// and the membrane makes it stiffer than the linear plate.
 #[test]
 fn point_load_equilibrium_symmetry_and_stiffening() {
-    let lines: Vec<f64> = (0..=16).map(|k| 250.0 * k as f64).collect();
-    let m = RectMesh {
-        x_um: lines.clone(),
-        y_um: lines,
-    };
-    let mut p = PlateProblem::new(m, 50.0, PlateMaterial::silicon(DieEdge::Along110));
+    let mut p = square_4mm(16);
     p.support_all_edges(SupportKind::Clamped);
     let loads = vec![Load::Point {
         x_um: 1500.0,
@@ -396,12 +401,7 @@ fn modified_newton_estimates_a_mild_nonlinearity() {
 /// converging method at rate 0.5 would need ~45.
 #[test]
 fn newton_converges_quadratically_on_a_stepped_plate() {
-    let lines: Vec<f64> = (0..=20).map(|k| 200.0 * k as f64).collect();
-    let m = RectMesh {
-        x_um: lines.clone(),
-        y_um: lines,
-    };
-    let mut p = PlateProblem::new(m, 50.0, PlateMaterial::silicon(DieEdge::Along110));
+    let mut p = square_4mm(20);
     p.thickness_regions.push(ThicknessRegion {
         x0_um: 1600.0,
         y0_um: 1600.0,
