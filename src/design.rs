@@ -38,8 +38,16 @@ impl Design {
     /// let loaded = tactfab::process::load_str(&text, "mis-grasper.yaml", &[]).unwrap();
     /// let design = tactfab::design::Design::new(loaded.process).unwrap();
     /// assert_eq!(design.masks.electrodes.len(), 9);
-    /// // The sensor model's teeth are the drawn teeth.
-    /// assert_eq!(tactfab::sensor::SensorGeometry::new(&design).teeth.len(), design.masks.teeth.len());
+    /// // The sensor model's teeth are the drawn teeth whose etched base reaches over the channel
+    /// // floor (the others stand on the supports).
+    /// let [y0, y1] = design.plan.channel_floor_y_um;
+    /// let half_base = (design.masks.tooth_top_um + design.plan.steps[0].sidewall_run_out_um) / 2.0;
+    /// let over_floor = design.masks.teeth.iter().filter(|t| {
+    ///     let cy = t.y_um + design.masks.tooth_top_um / 2.0;
+    ///     cy + half_base > y0 && cy - half_base < y1
+    /// });
+    /// let model = tactfab::sensor::SensorGeometry::new(&design);
+    /// assert_eq!(model.teeth.len(), over_floor.count());
     /// ```
     pub fn new(process: Process) -> Result<Self, DesignError> {
         let unknown = crate::drc::unknown_waivers(&process);

@@ -100,6 +100,9 @@ codes! {
             "two electrode islands are closer than drc.min_electrode_gap_um",
         ElectrodeEdge = "ELECTRODE_EDGE":
             "an electrode island is closer to the film edge than the edge margin",
+        ElectrodeNearWall = "ELECTRODE_NEAR_WALL":
+            "a middle island is not on the etched channel floor, or a support island not under its \
+             support's etched footprint, by drc.min_wall_margin_um",
         InvalidPolygon = "INVALID_POLYGON":
             "unclosed, fewer than 3 vertices, self-intersecting, clockwise, with holes, or too many \
              vertices",

@@ -111,6 +111,14 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             f(plan.plate_range_um[1], 0),
             plan.plate_target_um
         ));
+        let [y0, y1] = plan.channel_floor_y_um;
+        out.push_str(&format!(
+            "channel floor: y {}-{} um between the etched {{111}} walls ({} um span; the plate is \
+             clamped there)\n",
+            f(y0, 1),
+            f(y1, 1),
+            f(y1 - y0, 1)
+        ));
         out.push_str(&checks(&plan.warnings));
         print!("{out}");
     }

@@ -134,6 +134,7 @@ pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
     v.extend(rules::teeth(set, p, plan));
     v.extend(rules::streets(set, p, plan));
     v.extend(rules::electrodes(set, p));
+    v.extend(rules::electrodes_on_etched(set, p, plan));
     for x in &mut v {
         if d.waive.iter().any(|w| w == x.code.as_str()) {
             x.severity = Severity::Warning;

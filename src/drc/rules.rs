@@ -292,3 +292,52 @@ pub fn electrodes(set: &MaskSet, p: &Process) -> Vec<Finding> {
     }
     out
 }
+
+/// Islands against the etched back: a middle island must lie on the channel floor (between the
+/// U-channel's {111} walls as etched, [`EtchPlan::channel_floor_y_um`]) and a support island under
+/// its support's etched footprint, each by `drc.min_wall_margin_um`. The film is flat: an island
+/// that reaches the wall is bent over its foot or left unbonded.
+pub fn electrodes_on_etched(set: &MaskSet, p: &Process, plan: &EtchPlan) -> Vec<Finding> {
+    use crate::layout::ElectrodeSide;
+    let m = p.drc.min_wall_margin_um;
+    let w = set.die_width_um;
+    let [f0, f1] = plan.channel_floor_y_um;
+    let support = plan.channel_wall_y_um[0];
+    let mut out = Vec::new();
+    // Islands are reported once per name (an island and its pad are separate polygons).
+    let mut seen = std::collections::BTreeSet::new();
+    for e in &set.electrodes {
+        let Some(r) = e.polygon.bounding_rect() else {
+            continue;
+        };
+        let (lo, hi) = (r.min().y, r.max().y);
+        let (clearance, what) = match e.side {
+            ElectrodeSide::Middle => (
+                (lo - f0).min(f1 - hi),
+                format!("the channel floor between the etched walls (y {f0:.1}-{f1:.1} um)"),
+            ),
+            ElectrodeSide::Support1 => (
+                support - hi,
+                format!("support 1's etched footprint (y < {support:.1} um)"),
+            ),
+            ElectrodeSide::Support2 => (
+                lo - (w - support),
+                format!("support 2's etched footprint (y > {:.1} um)", w - support),
+            ),
+        };
+        if clearance < m - 1e-6 && seen.insert(e.name.clone()) {
+            let reach = if clearance < 0.0 {
+                format!("crosses the edge of {what} by {:.1} um", -clearance)
+            } else {
+                format!("keeps only {clearance:.1} um inside {what}")
+            };
+            out.push(violation(
+                DrcCode::ElectrodeNearWall,
+                Some(LayerKind::Pvdf),
+                centre(&r),
+                format!("{} {reach}; drc.min_wall_margin_um is {m} um", e.name),
+            ));
+        }
+    }
+    out
+}

@@ -30,6 +30,13 @@ pub struct EtchPlan {
     pub oxide_thickness_um: f64,
     pub front_depth_um: f64,
     pub back_depth_um: f64,
+    /// The plate's underside between the U-channel's etched {111} walls, across the die (y, um):
+    /// the back mask's support edges moved inwards by the back etch's sidewall run-out. The plate
+    /// is clamped here and the middle electrodes must lie inside it.
+    pub channel_floor_y_um: [f64; 2],
+    /// The etched {111} wall along support 1 (y, um): from the support's footprint edge (the back
+    /// mask's edge less its undercut) to the channel floor's edge. Support 2's is its mirror.
+    pub channel_wall_y_um: [f64; 2],
     pub steps: Vec<EtchStep>,
     pub oxidations: Vec<OxidationResult>,
     pub resists: Vec<ResistResult>,
@@ -226,12 +233,36 @@ pub(super) fn build(p: &Process) -> EtchPlan {
         oxide_thickness_um: st.oxidations.last().map(|o| o.thickness_um).unwrap_or(0.0),
         front_depth_um: front,
         back_depth_um: back,
+        channel_floor_y_um: channel_floor_y_um(p, back, back_undercut_um(&st.steps)),
+        channel_wall_y_um: [
+            p.geometry.support_width_um - back_undercut_um(&st.steps),
+            channel_floor_y_um(p, back, back_undercut_um(&st.steps))[0],
+        ],
         steps: st.steps,
         oxidations: st.oxidations,
         resists: st.resists,
         oxide_etches: st.oxide_etches,
         warnings: st.warnings,
     }
+}
+
+/// The channel floor as etched: a <110> mask edge etched `back_depth_um` deep ends in a {111}
+/// wall whose foot lies h / tan 54.74 deg inside the edge ([`sidewall_run_out_um`]), less the
+/// edge's undercut R111 t / sin 54.74 deg ([`undercut_um`]), both from process-physics.md. The
+/// supports are drawn `support_width_um` wide on both long edges.
+pub fn channel_floor_y_um(p: &Process, back_depth_um: f64, back_undercut_um: f64) -> [f64; 2] {
+    let g = &p.geometry;
+    let edge = g.support_width_um - back_undercut_um + sidewall_run_out_um(back_depth_um.max(0.0));
+    [edge, g.die_width_um - edge]
+}
+
+/// Undercut of the back mask's edges summed over the back-side silicon etches.
+fn back_undercut_um(steps: &[EtchStep]) -> f64 {
+    steps
+        .iter()
+        .filter(|s| matches!(s.side, Side::Back | Side::Both))
+        .map(|s| s.undercut_um)
+        .sum()
 }
 
 /// An oxidation: Deal-Grove growth from the oxide already there, checked against the thickness

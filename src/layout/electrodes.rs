@@ -1,7 +1,8 @@
 //! PVDF electrodes: `units` sensing units along x, each with an Al island over support 1 (S1k),
 //! over the U-channel (Mk) and over support 2 (S2k). Islands are separated by `gap_um` (in x
-//! between units; in y centred on the support edges) and kept `edge_margin_um` from the film
-//! edge. Each island holds a square wire pad at its outer edge (part of the island).
+//! between units; in y centred on the U-channel's etched {111} wall, between the support's
+//! footprint and the channel floor, so both keep the same margin from it) and kept
+//! `edge_margin_um` from the film edge. Each island holds a square wire pad at its outer edge (part of the island).
 //! `pattern: four_cross` draws paper 000's four islands instead ([`four_cross`]).
 
 use crate::process::{ElectrodePattern, Electrodes};
@@ -9,30 +10,47 @@ use crate::process::{ElectrodePattern, Electrodes};
 use super::boolean::{rect, union};
 use super::maskset::{Electrode, ElectrodeSide};
 
+/// The etched wall of the U-channel along support 1, across the die (y, um): from the support's
+/// footprint edge (the back mask's edge less its undercut) to the channel floor's edge (where the
+/// {111} wall meets the plate). Support 2's wall is its mirror about the die's centre line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wall {
+    pub support_edge_um: f64,
+    pub floor_edge_um: f64,
+}
+
+impl Wall {
+    /// The split between the support and middle islands: the wall's middle.
+    pub fn middle_um(self) -> f64 {
+        (self.support_edge_um + self.floor_edge_um) / 2.0
+    }
+}
+
 /// The islands in die (= film) coordinates, named S11.., M1.., S21.. .
 pub fn islands(
     e: &Electrodes,
     die_length_um: f64,
     die_width_um: f64,
-    support_width_um: f64,
+    wall: Wall,
 ) -> Vec<Electrode> {
     if e.pattern == ElectrodePattern::FourCross {
-        return four_cross(e, die_length_um, die_width_um, support_width_um);
+        return four_cross(e, die_length_um, die_width_um, wall.floor_edge_um);
     }
     let n = e.units.max(1);
     let m = e.edge_margin_um;
     let g = e.gap_um;
     let unit_w = (die_length_um - 2.0 * m - f64::from(n - 1) * g) / f64::from(n);
+    let split = wall.middle_um();
     let rows = [
-        (ElectrodeSide::Support1, m, support_width_um - g / 2.0),
+        (ElectrodeSide::Support1, m, split - g / 2.0),
         (
             ElectrodeSide::Middle,
-            support_width_um + g / 2.0,
-            die_width_um - support_width_um - g / 2.0,
+            split + g / 2.0,
+            die_width_um - split - g / 2.0,
         ),
         (
             ElectrodeSide::Support2,
-            die_width_um - support_width_um + g / 2.0,
+            die_width_um - split + g / 2.0,
             die_width_um - m,
         ),
     ];
@@ -73,17 +91,18 @@ pub fn islands(
 }
 
 /// Four rectangular islands over the plate in a cross about the die centre: A (+x), B (+y),
-/// C (-x), D (-y). With s the span between the supports: width s / 4, inner end s / 8 + gap from
+/// C (-x), D (-y). With s the channel floor's span (between the etched walls, whose feet lie at
+/// `floor_edge_um` from the die's long edges): width s / 4, inner end s / 8 + gap from
 /// the centre (so neighbouring corners stay `gap_um` apart in x and y), outer end s / 2 - gap (so
-/// B and D keep `gap_um` from the support edges). The wire pad sits at each island's outer end.
+/// B and D keep `gap_um` from the etched walls). The wire pad sits at each island's outer end.
 pub fn four_cross(
     e: &Electrodes,
     die_length_um: f64,
     die_width_um: f64,
-    support_width_um: f64,
+    floor_edge_um: f64,
 ) -> Vec<Electrode> {
     let (cx, cy) = (die_length_um / 2.0, die_width_um / 2.0);
-    let span = die_width_um - 2.0 * support_width_um;
+    let span = die_width_um - 2.0 * floor_edge_um;
     let (half_w, r0, r1) = (span / 8.0, span / 8.0 + e.gap_um, span / 2.0 - e.gap_um);
     let p = e.wire_pad_um;
     // (name, island rectangle, pad lower-left)

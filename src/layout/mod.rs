@@ -103,7 +103,7 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
     }
     add_supports(&mut die, p);
     legend.push("U-CHANNEL ON THE BACK (ETCHED)".to_string());
-    let electrodes = add_electrodes(&mut die, p)?;
+    let electrodes = add_electrodes(&mut die, p, plan)?;
     legend.push(format!(
         "COMMON BACK ELECTRODE: UNPATTERNED AL ON THE FILM BACK ({}TH WIRE)",
         electrodes.len() + 1
@@ -203,23 +203,29 @@ fn add_supports(die: &mut Cell, p: &Process) {
 }
 
 /// The PVDF electrode islands with their names and wire pads, after checking a pad fits on each.
-fn add_electrodes(die: &mut Cell, p: &Process) -> Result<Vec<Electrode>, LayoutError> {
+fn add_electrodes(
+    die: &mut Cell,
+    p: &Process,
+    plan: &EtchPlan,
+) -> Result<Vec<Electrode>, LayoutError> {
     let g = &p.geometry;
     let (l, w) = (g.die_length_um, g.die_width_um);
     let e = &g.electrodes;
+    let wall = electrodes::Wall {
+        support_edge_um: plan.channel_wall_y_um[0],
+        floor_edge_um: plan.channel_wall_y_um[1],
+    };
     let unit_w = (l - 2.0 * e.edge_margin_um - f64::from(e.units.saturating_sub(1)) * e.gap_um)
         / f64::from(e.units.max(1));
-    if unit_w < e.wire_pad_um
-        || g.support_width_um - e.gap_um / 2.0 - e.edge_margin_um < e.wire_pad_um
-    {
+    let across = wall.middle_um() - e.gap_um / 2.0 - e.edge_margin_um;
+    if unit_w < e.wire_pad_um || across < e.wire_pad_um {
         return Err(LayoutError::Electrodes(format!(
-            "islands of {unit_w:.0} um along x and {:.0} um across the supports cannot hold a {} \
-             um wire pad",
-            g.support_width_um - e.gap_um / 2.0 - e.edge_margin_um,
+            "islands of {unit_w:.0} um along x and {across:.0} um across the supports cannot hold \
+             a {} um wire pad",
             e.wire_pad_um
         )));
     }
-    let electrodes = electrodes::islands(e, l, w, g.support_width_um);
+    let electrodes = electrodes::islands(e, l, w, wall);
     for el in &electrodes {
         die.add(LayerKind::Pvdf, [el.polygon.clone()]);
         let r = geo::BoundingRect::bounding_rect(&el.polygon).expect("island");

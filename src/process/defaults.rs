@@ -189,6 +189,10 @@ pub fn drc_min_electrode_gap_um() -> f64 {
     200.0
 }
 
+pub fn drc_min_wall_margin_um() -> f64 {
+    100.0
+}
+
 /// Every default with its provenance (reference/README.md tags).
 pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
@@ -352,6 +356,12 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "drc.min_electrode_gap_um",
         source: "[est] 200 um: Al wet-etch undercut and conductive-epoxy spread between islands",
+    },
+    DefaultSource {
+        path: "drc.min_wall_margin_um",
+        source:
+            "[est] 100 um: aligning the film to the die by hand under a microscope, and the epoxy \
+                 fillet where the etched wall meets the plate",
     },
     DefaultSource {
         path: "drc.max_vertices",

@@ -746,6 +746,11 @@ pub struct Drc {
     /// Smallest gap between two electrode islands (isolation, Al wet-etch undercut, epoxy spread).
     #[serde(default = "d::drc_min_electrode_gap_um")]
     pub min_electrode_gap_um: f64,
+    /// Smallest distance from a middle island to the U-channel's etched {111} wall (it must lie on
+    /// the flat channel floor, bonded under the plate) and from a support island to its support's
+    /// etched footprint edge.
+    #[serde(default = "d::drc_min_wall_margin_um")]
+    pub min_wall_margin_um: f64,
 }
 
 impl Default for Drc {
@@ -756,6 +761,7 @@ impl Default for Drc {
             min_space_um: d::drc_min_space_um(),
             max_vertices: d::drc_max_vertices(),
             min_electrode_gap_um: d::drc_min_electrode_gap_um(),
+            min_wall_margin_um: d::drc_min_wall_margin_um(),
         }
     }
 }

@@ -1006,4 +1006,12 @@ fn drc(v: &mut V, p: &Process) {
         false,
         "um",
     );
+    v.range(
+        "drc.min_wall_margin_um",
+        d.min_wall_margin_um,
+        0.0,
+        p.geometry.die_width_um,
+        false,
+        "um",
+    );
 }

@@ -1054,8 +1054,8 @@ fn convergence_records(
         .collect()
 }
 
-/// The plate over the U-channel (or the part of it solved): clamped along the inner support
-/// edges, teeth as thicker regions, symmetry lines on the mirrors.
+/// The plate over the U-channel (or the part of it solved): clamped where the etched {111}
+/// walls meet it, teeth as thicker regions, symmetry lines on the mirrors.
 fn build_problem(
     g: &SensorGeometry,
     base: &(Vec<f64>, Vec<f64>),

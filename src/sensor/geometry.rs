@@ -26,7 +26,8 @@ pub struct ElectrodeArea {
 pub struct SensorGeometry {
     pub length_um: f64,
     pub width_um: f64,
-    /// Inner edges of the supports: the plate spans y in [y0_um, y1_um] and is clamped there.
+    /// The channel floor as etched ([`crate::etch::EtchPlan::channel_floor_y_um`]): the plate
+    /// spans y in [y0_um, y1_um] and is clamped there, where the {111} walls meet it.
     pub plate_y0_um: f64,
     pub plate_y1_um: f64,
     /// Plate thickness the recipe leaves (from the etch plan, not the drawing's target).
@@ -77,7 +78,8 @@ impl SensorGeometry {
     pub fn new(design: &Design) -> Self {
         let (p, plan) = (&design.process, &design.plan);
         let g = &p.geometry;
-        let (py0, py1) = (g.support_width_um, g.die_width_um - g.support_width_um);
+        // Clamped where the U-channel's {111} walls meet the plate, as etched.
+        let [py0, py1] = plan.channel_floor_y_um;
         let plate = plan.plate_thickness_um;
         let t = &g.teeth;
         let front = plan.steps.iter().find(|s| s.mesa_base_um.is_some());

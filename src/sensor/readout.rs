@@ -26,7 +26,7 @@ pub struct Readout {
     pub support2_n: f64,
 }
 
-/// Reaction group of a support's clamped inner edge.
+/// Reaction group of a support's clamped edge (where its etched wall meets the plate).
 pub fn group_for(side: ElectrodeSide) -> &'static str {
     match side {
         ElectrodeSide::Support1 => "support1",

@@ -1,6 +1,6 @@
 //! Mirror symmetry of the sensor and its scenes: which half (or quarter) of the plate to solve.
 //!
-//! The plate is clamped along both support edges and free at its ends, so its outline and
+//! The plate is clamped along both etched channel walls and free at its ends, so its outline and
 //! supports are symmetric about y = (y0 + y1) / 2 and about x = length / 2; the material is
 //! orthotropic in die axes (no Q16, Q26), so it is too. What can break a mirror is the thickness
 //! map (teeth) and the loads. When every scene is symmetric, the solution is (uniqueness of the

@@ -65,7 +65,7 @@ pub const TISSUE_THICKNESS_UM: f64 = 5000.0;
 /// The cross-section both models share (SI units).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SoftnessSetup {
-    /// Clamped span between the supports' inner edges (m).
+    /// Clamped span: the channel floor between the etched {111} walls (m).
     pub span_m: f64,
     /// Die length over which the load is distributed (m): pressure = F / (span x length).
     pub loaded_length_m: f64,

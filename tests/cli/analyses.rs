@@ -204,9 +204,9 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
         assert!((a - b).abs() <= 1e-9 * a.abs().max(1.0), "{a} vs {b}");
     }
     // Fitted values against the FE values (never coefficients): every electrode within 12 % of its
-    // charge range (measured up to 8 %: degree 4 on 7 angles, and the 14 mm probe is wider than
-    // the 10 mm span, so its corners cross the support edges: kinks in angle no smooth basis
-    // follows), the large middle electrode M2 within 6 % (measured 4.6 %).
+    // charge range (measured up to 8.7 %: degree 4 on 7 angles, and the 14 mm probe is wider than
+    // the 9.7 mm etched span, so its corners cross the clamped edges: kinks in angle no smooth
+    // basis follows), the large middle electrode M2 within 9 % (measured 7.3 %).
     let worst: Vec<(String, f64, f64)> = o
         .fits
         .iter()
@@ -221,7 +221,7 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
     for f in &o.fits {
         assert!(f.chebyshev.condition_number < 10.0 && f.fourier.condition_number < 3.0);
         let e = o.electrodes.iter().position(|n| *n == f.electrode).unwrap();
-        let share = if f.electrode == "M2" { 0.06 } else { 0.12 };
+        let share = if f.electrode == "M2" { 0.09 } else { 0.12 };
         for (a, row) in plan.angles_deg.iter().zip(&o.charge_pc[1]) {
             let tol = share * f.range_pc;
             assert!(
@@ -250,14 +250,14 @@ fn orientation_fits_reproduce_the_fe_and_the_inverse_angle_is_checked_by_fe() {
         assert!(r.angle_error_deg.abs() < 10.0, "{:#?}", o.inverse);
     }
     // The bivariate N(angle) k F reproduces every (angle, force) sample of the well-fitted
-    // electrodes.
+    // electrodes (M2: measured 1.03 %, the degree-4 angle fit's own residual).
     let m2 = o
         .bivariate
         .iter()
         .find(|b| b.electrode == "M2")
         .expect("M2");
     assert!(
-        m2.max_rel_residual < 0.01 && m2.normalised_spread < 1e-12,
+        m2.max_rel_residual < 0.015 && m2.normalised_spread < 1e-12,
         "{m2:?}"
     );
 }

@@ -246,11 +246,29 @@ fn klayout_verifies_the_mask_set() {
     let e = &g.electrodes;
     let n = f64::from(e.units);
     let unit_w = (g.die_length_um - 2.0 * e.edge_margin_um - (n - 1.0) * e.gap_um) / n;
-    let s_h = g.support_width_um - e.gap_um / 2.0 - e.edge_margin_um;
-    let m_h = g.die_width_um - 2.0 * g.support_width_um - e.gap_um;
-    let mut areas = vec![unit_w * s_h; 3];
-    areas.extend(vec![unit_w * m_h; 3]);
-    areas.extend(vec![unit_w * s_h; 3]);
+    // The support/middle gap is centred on the etched {111} wall: from the support's footprint
+    // (back mask edge less the undercut) to its foot, a run-out h / tan 54.74 deg = h / sqrt 2 on.
+    let undercut: f64 = plan
+        .steps
+        .iter()
+        .filter(|s| s.side != tactfab::process::Side::Front)
+        .map(|s| s.undercut_um)
+        .sum();
+    let split = g.support_width_um - undercut + plan.back_depth_um / 2f64.sqrt() / 2.0;
+    // Edges land on the 1 nm grid when written.
+    let nm = |v: f64| (v * 1e3).round() / 1e3;
+    let (w, m) = (g.die_width_um, e.edge_margin_um);
+    let s_h = nm(split - e.gap_um / 2.0) - m;
+    let m_h = nm(w - split - e.gap_um / 2.0) - nm(split + e.gap_um / 2.0);
+    let widths: Vec<f64> = (0..e.units)
+        .map(|k| {
+            let x0 = m + f64::from(k) * (unit_w + e.gap_um);
+            nm(x0 + unit_w) - nm(x0)
+        })
+        .collect();
+    let mut areas: Vec<f64> = widths.iter().map(|x| x * s_h).collect();
+    areas.extend(widths.iter().map(|x| x * m_h));
+    areas.extend(widths.iter().map(|x| x * s_h));
     let ov = p.layout.compensation_overlap_um;
     let expected = serde_json::json!({
         "die_length_um": g.die_length_um,
@@ -538,4 +556,55 @@ fn pvdf_labels_keep_the_electrode_gap() {
         hit[0].message
     );
     assert!(!r.passed());
+}
+
+#[test]
+fn electrodes_sit_on_the_etched_back_and_the_rule_fires_when_they_do_not() {
+    // Bundled design: each support/middle gap is centred on the etched {111} wall, so a middle
+    // island keeps the same margin to the wall's foot as its support island to the wall's top.
+    let loaded = tactfab::process::load(&root().join(PROCESS), &[]).unwrap();
+    let design = tactfab::design::Design::new(loaded.process).unwrap();
+    let plan = &design.plan;
+    let [f0, f1] = plan.channel_floor_y_um;
+    let foot = plan.channel_wall_y_um[0];
+    // Independent of the layout code: run-out h / sqrt 2 (tan 54.74 deg = sqrt 2) less undercut.
+    let undercut = plan.steps[0].undercut_um;
+    assert!((f0 - (2500.0 - undercut + plan.back_depth_um / 2f64.sqrt())).abs() < 1e-9);
+    assert!((f1 - (15_000.0 - f0)).abs() < 1e-9 && (foot - (2500.0 - undercut)).abs() < 1e-9);
+    let geo = tactfab::sensor::SensorGeometry::new(&design);
+    assert_eq!(
+        (geo.plate_y0_um, geo.plate_y1_um),
+        (f0, f1),
+        "clamped at the walls' feet"
+    );
+    let min = design.process.drc.min_wall_margin_um;
+    for e in &geo.electrodes {
+        let margin = match e.side {
+            tactfab::sensor::ElectrodeSide::Middle => (e.y0_um - f0).min(f1 - e.y1_um),
+            tactfab::sensor::ElectrodeSide::Support1 => foot - e.y1_um,
+            tactfab::sensor::ElectrodeSide::Support2 => e.y0_um - (15_000.0 - foot),
+        };
+        let want = (design.process.geometry.electrodes.gap_um - (f0 - foot)) / 2.0;
+        // Within the 1 nm grid the edges are snapped to.
+        assert!(
+            (margin - want).abs() < 1e-3 && margin >= min,
+            "{}: {margin} vs {want}",
+            e.name
+        );
+    }
+    // A 250 um gap leaves (250 - 144.2 + 8.3) / 2 = 57 um on either side of the wall: all nine
+    // islands violate the 100 um margin; a 50 um margin releases them.
+    let t = tempfile::tempdir().unwrap();
+    let narrow = ["--set", "geometry.electrodes.gap_um=250"];
+    let (code, stdout, _) = generate(&t.path().join("a"), &narrow, &[]);
+    assert_eq!(code, 1, "{stdout}");
+    assert_eq!(
+        stdout.matches("    ELECTRODE_NEAR_WALL [pvdf]").count(),
+        9,
+        "{stdout}"
+    );
+    let mut relaxed = narrow.to_vec();
+    relaxed.extend(["--set", "drc.min_wall_margin_um=50"]);
+    let (code, stdout, _) = generate(&t.path().join("b"), &relaxed, &[]);
+    assert_eq!(code, 0, "{stdout}");
 }
