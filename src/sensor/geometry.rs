@@ -51,6 +51,40 @@ pub struct SensorGeometry {
     /// achieves (the etch plan; the drawn depth without one) less the PVDF film bonded under the
     /// plate.
     pub gap_um: f64,
+    /// The etched 3D shape the solid rung builds (the plate rungs use `teeth` and the clamp).
+    pub etched: EtchedShape,
+    /// Silicon's elastic constants as the process gives them (the solid rung rotates them).
+    pub silicon: SiliconStiffness,
+}
+
+/// What the etch leaves in 3D, in die coordinates (um).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EtchedShape {
+    /// Drawn tooth tops `[x0, y0, x1, y1]`: the top faces of the {111} frusta.
+    pub tooth_tops_um: Vec<[f64; 4]>,
+    /// Tooth height (the front etch depth) and its {111} sidewall run-out.
+    pub tooth_height_um: f64,
+    pub tooth_run_out_um: f64,
+    /// Support height (the back etch depth) and support 1's footprint edge: the back mask's
+    /// edge less its undercut, where the etched wall leaves the support's bottom face. The wall
+    /// runs from there to the channel floor's edge (`plate_y0_um`); support 2 mirrors it.
+    pub support_height_um: f64,
+    pub support_edge_y_um: f64,
+}
+
+/// Silicon stiffness as given: a cubic crystal with the die-edge direction, or isotropic.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum SiliconStiffness {
+    Cubic {
+        c11_pa: f64,
+        c12_pa: f64,
+        c44_pa: f64,
+        die_edge: DieEdge,
+    },
+    Isotropic {
+        e_pa: f64,
+        nu: f64,
+    },
 }
 
 /// The channel depth the recipe etches from the back (the back-side silicon steps of the etch
@@ -88,6 +122,22 @@ impl SensorGeometry {
             None => (t.height_um, t.height_um / 2f64.sqrt()),
         };
         let teeth = tooth_footprints(&design.masks, run_out, plate + height, (py0, py1));
+        let top = design.masks.tooth_top_um;
+        let etched = EtchedShape {
+            tooth_tops_um: match design.masks.tooth_cell {
+                Some(_) => design
+                    .masks
+                    .teeth
+                    .iter()
+                    .map(|t| [t.x_um, t.y_um, t.x_um + top, t.y_um + top])
+                    .collect(),
+                None => Vec::new(),
+            },
+            tooth_height_um: height,
+            tooth_run_out_um: run_out,
+            support_height_um: channel_depth_um(design),
+            support_edge_y_um: plan.channel_wall_y_um[0],
+        };
         let electrodes = Self::electrodes_from_masks(&design.masks);
         let si = &p.materials.silicon;
         let material = silicon_material(p);
@@ -112,6 +162,8 @@ impl SensorGeometry {
             fracture_strength_mpa: si.fracture_strength_mpa,
             safety_factor: si.safety_factor,
             gap_um: channel_depth_um(design) - f.thickness_um,
+            etched,
+            silicon: silicon_stiffness(p),
         }
     }
 
@@ -206,6 +258,26 @@ fn tooth_footprints(
             })
         })
         .collect()
+}
+
+/// Silicon's stiffness as the process file gives it.
+pub fn silicon_stiffness(p: &Process) -> SiliconStiffness {
+    let si = &p.materials.silicon;
+    match si.model {
+        SiliconModel::Anisotropic => SiliconStiffness::Cubic {
+            c11_pa: si.c11_gpa * 1e9,
+            c12_pa: si.c12_gpa * 1e9,
+            c44_pa: si.c44_gpa * 1e9,
+            die_edge: match p.wafer.die_edge {
+                Direction::D110 => DieEdge::Along110,
+                Direction::D100 => DieEdge::Along100,
+            },
+        },
+        SiliconModel::Isotropic => SiliconStiffness::Isotropic {
+            e_pa: si.e_gpa * 1e9,
+            nu: si.nu,
+        },
+    }
 }
 
 /// The silicon plate material the process asks for: orthotropic in die axes from C11, C12, C44
