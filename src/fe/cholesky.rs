@@ -61,6 +61,17 @@ impl SymbolicFactor {
         })
     }
 
+    /// Analyse `pattern` (lower triangle) in faer's approximate-minimum-degree order (to compare
+    /// with a geometric order).
+    pub fn amd(pattern: SymbolicSparseColMatRef<'_, usize>) -> FeResult<Self> {
+        factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params())
+            .map(|s| SymbolicFactor(Arc::new(s)))
+            .map_err(|e| FeError::Sparse {
+                detail: format!("{e:?}"),
+                hint: "out of memory or index overflow: use a coarser mesh",
+            })
+    }
+
     /// Entries of L (the memory the numeric factor takes, in f64s).
     pub fn factor_len(&self) -> usize {
         self.0.len_val()

@@ -1,4 +1,4 @@
-//! Errors of the plate solver; every variant carries a hint on how to fix the input.
+//! Errors of the plate and solid solvers; every variant carries a hint on how to fix the input.
 
 use thiserror::Error;
 
@@ -52,6 +52,22 @@ pub enum FeError {
     NonFinite { hint: &'static str },
     #[error("mesh convergence study failed: {detail}\n  hint: {hint}")]
     Convergence { detail: String, hint: &'static str },
+    #[error("solid model input is invalid: {detail}\n  hint: {hint}")]
+    SolidInput { detail: String, hint: &'static str },
+    #[error("solid element ({i}, {j}, {k}) is inverted or degenerate ({detail})\n  hint: {hint}")]
+    DegenerateElement {
+        i: usize,
+        j: usize,
+        k: usize,
+        detail: String,
+        hint: &'static str,
+    },
+    #[error("the model is too large: {detail} (limit {limit})\n  hint: {hint}")]
+    TooLarge {
+        detail: String,
+        limit: usize,
+        hint: &'static str,
+    },
     #[error("the large-deflection plate did not converge: {detail}\n  hint: {hint}")]
     Newton { detail: String, hint: &'static str },
 }

@@ -35,6 +35,7 @@ pub mod mirror;
 pub mod ordering;
 pub mod problem;
 pub mod quarter_square;
+pub mod solid;
 pub mod solution;
 pub mod solve;
 pub mod stress_average;

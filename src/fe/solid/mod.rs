@@ -1,0 +1,48 @@
+//! Linear 3-D elasticity on structured grids of triquadratic 27-node hexahedra: the solid rung
+//! that measures the Kirchhoff plate's model error (issue 16). It knows nothing of sensors: a
+//! grid of tensor lines with void elements and a node map, anisotropic materials, clamps and
+//! symmetry planes, point forces and face pressures, several load cases on one factorisation.
+//!
+//! Units: positions in um, forces in N, pressures and stresses in Pa, displacements in m; SI
+//! inside. Stresses in Voigt order xx, yy, zz, yz, xz, xy.
+//!
+//! ```
+//! use tactfab::fe::solid::*;
+//! // A 1000 x 100 x 100 um isotropic bar clamped at x = 0, 1 mN along -z at the free end.
+//! let grid = HexGrid::new(&uniform_lines(0.0, 1000.0, 10), &[0.0, 100.0], &[0.0, 100.0]).unwrap();
+//! let mut p = SolidProblem::new(grid, vec![Elasticity::isotropic(169e9, 0.0)]);
+//! p.constraints.push(Constraint::clamp("root", NodeSet::Plane { axis: Axis3::X, at_um: 0.0 }));
+//! p.load_cases.push(vec![SolidLoad::Point {
+//!     at_um: [1000.0, 50.0, 50.0],
+//!     force_n: [0.0, 0.0, -1e-3],
+//!     snap: Snap::Exact,
+//! }]);
+//! let s = &p.solve().unwrap()[0];
+//! let r = s.reaction_n("root").unwrap();
+//! assert!((r[2] - 1e-3).abs() < 1e-12); // K u - f: the clamp pushes back
+//! assert!(s.displacement_m([1000.0, 50.0, 50.0]).unwrap()[2] < 0.0);
+//! ```
+
+pub mod assemble;
+pub mod dofs;
+pub mod elasticity;
+pub mod grid;
+pub mod hex27;
+pub mod loads;
+pub mod ordering;
+pub mod principal;
+pub mod problem;
+pub mod solution;
+pub mod solve;
+
+#[cfg(test)]
+mod tests;
+
+pub use elasticity::Elasticity;
+pub use grid::{uniform_lines, HexGrid, NodeMap, MAX_DOFS};
+pub use principal::principal_stresses_pa;
+pub use problem::{
+    Axis3, Constraint, FaceRect, NodeSet, Outward, Prescribed, Snap, SolidLoad, SolidProblem,
+};
+pub use solution::{PrincipalPeak, SolidReaction, SolidSolution};
+pub use solve::{BuildTimings, Ordering, SolidModel};
