@@ -515,3 +515,81 @@ fn bad_input_is_an_error() {
     }];
     assert!(p.solve().is_ok());
 }
+
+/// Consistent pressure forces on a slanted (mapped) face: their sum is -p times the face's area
+/// vector, here the top z = 100 + 0.2 x over 100 x 100 um (the base stays flat), n dA =
+/// (-0.2, 0, 1) dx dy.
+#[test]
+fn pressure_on_a_mapped_face_sums_to_p_times_area_vector() {
+    let mut p = small_problem();
+    p.grid = p.grid.clone().with_map(Arc::new(|q: [f64; 3]| {
+        [q[0], q[1], q[2] * (1.0 + 0.002 * q[0])]
+    }));
+    p.load_cases[0] = vec![SolidLoad::Pressure {
+        face: FaceRect {
+            axis: Axis3::Z,
+            at_um: 100.0,
+            outward: Outward::Plus,
+            from_um: [0.0, 0.0],
+            to_um: [100.0, 100.0],
+        },
+        pressure_pa: 1e6,
+    }];
+    let s = &p.solve().unwrap()[0];
+    let f = s.applied_force_n();
+    let a_m2 = 1e-8;
+    let expect = [0.2 * 1e6 * a_m2, 0.0, -1e6 * a_m2];
+    assert!(
+        (0..3).all(|d| (f[d] - expect[d]).abs() < 1e-12 * 1e-2),
+        "{f:?}"
+    );
+    // And the base carries it.
+    let r = s.reaction_n("base").unwrap();
+    assert!((0..3).all(|d| (r[d] + f[d]).abs() < 1e-9 * 1e-2), "{r:?}");
+    // Every axis and side of a box pushes into the material: x = 100 (outward +x) gives -x,
+    // y = 0 (outward -y) gives +y, over half of each face.
+    let mut p = small_problem();
+    let face = |axis, at_um, outward| FaceRect {
+        axis,
+        at_um,
+        outward,
+        from_um: [0.0, 50.0],
+        to_um: [100.0, 100.0],
+    };
+    p.load_cases[0] = vec![
+        SolidLoad::Pressure {
+            face: face(Axis3::X, 100.0, Outward::Plus),
+            pressure_pa: 1e6,
+        },
+        SolidLoad::Pressure {
+            face: face(Axis3::Y, 0.0, Outward::Minus),
+            pressure_pa: 2e6,
+        },
+    ];
+    let f = p.solve().unwrap()[0].applied_force_n();
+    let expect = [-1e6 * 0.5e-8, 2e6 * 0.5e-8, 0.0];
+    assert!((0..3).all(|d| (f[d] - expect[d]).abs() < 1e-14), "{f:?}");
+}
+
+/// New materials on the same factorised pattern: twice the stiffness, half the displacement.
+#[test]
+fn refactor_materials_scales_the_field() {
+    let p = small_problem();
+    let mut m = SolidModel::new(&p).unwrap();
+    let u1 = m.solve(&p.load_cases).unwrap()[0]
+        .displacements_m()
+        .to_vec();
+    m.refactor_materials(&[Elasticity::isotropic(6e9, 0.35)])
+        .unwrap();
+    let u2 = m.solve(&p.load_cases).unwrap()[0]
+        .displacements_m()
+        .to_vec();
+    let umax = u1.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    assert!(u1
+        .iter()
+        .zip(&u2)
+        .all(|(a, b)| (a - 2.0 * b).abs() < 1e-10 * umax));
+    assert!(m
+        .refactor_materials(&[Elasticity::isotropic(6e9, 0.7)])
+        .is_err());
+}
