@@ -39,8 +39,7 @@
 //!    plate on the same mesh (bilinear in-plane displacements beside the bending field, Newton on
 //!    one symbolic analysis per mesh); [`fe::PlateSolution::averaged_principal_stress`] is the
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
-//!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si),
-//!    the rung that will measure the plate's model error; no sensor uses it yet.
+//!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports, and reads the electrodes: thickness mode
 //!    Q = d33 F under the supports, extension mode Q = integral of (d31 s1 + d32 s2) under the
@@ -50,7 +49,9 @@
 //!    mirror-symmetric. The rung is the cheapest whose discretisation plus model error is under
 //!    the tolerance ([`sensor::ModelChoice`]); every quantity carries both parts
 //!    ([`sensor::QuantityError`]), and each scene its touch-down on the channel floor
-//!    ([`sensor::TouchDown`]).
+//!    ([`sensor::TouchDown`]). [`sensor::solid`] is the top rung: the etched shape as a 3-D solid
+//!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
+//!    their own film's stresses, compared quantity by quantity with the linear plate.
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown

@@ -79,7 +79,8 @@ pub struct AccuracyArgs {
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "8")]
     pub max_levels: u8,
     /// Model rung: auto (the cheapest meeting --tol: strip, linear plate, large-deflection
-    /// plate), or force beam, plate or large-deflection.
+    /// plate), or force beam, plate or large-deflection; `fe` also takes solid (the 3D rung, at
+    /// most 3 levels, each quantity compared with the linear plate).
     #[arg(long, value_enum, default_value = "auto")]
     pub model: ModelArg,
     /// In-plane support condition of the large-deflection plate: immovable (the supports hold
@@ -379,6 +380,8 @@ pub enum ModelArg {
     Beam,
     Plate,
     LargeDeflection,
+    /// The 3D solid (`fe` only): linear, at most 3 levels, compared with the linear plate.
+    Solid,
 }
 
 impl From<ModelArg> for tactfab::sensor::ModelChoice {
@@ -389,6 +392,7 @@ impl From<ModelArg> for tactfab::sensor::ModelChoice {
             ModelArg::Beam => C::Beam,
             ModelArg::Plate => C::Plate,
             ModelArg::LargeDeflection => C::LargeDeflection,
+            ModelArg::Solid => C::Solid,
         }
     }
 }

@@ -63,6 +63,18 @@ pub fn pvdf_nu() -> f64 {
 pub fn pvdf_density_g_per_cm3() -> f64 {
     1.76
 }
+pub fn base_kind() -> super::schema::BaseKind {
+    super::schema::BaseKind::Plexiglas
+}
+pub fn base_thickness_um() -> f64 {
+    2000.0
+}
+pub fn base_e_gpa() -> f64 {
+    3.0
+}
+pub fn base_nu() -> f64 {
+    0.37
+}
 pub fn d31_pc_per_n() -> f64 {
     20.0
 }
@@ -254,6 +266,22 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "materials.pvdf.nu",
         source: "[paper] 002 sec. VI.B",
+    },
+    DefaultSource {
+        path: "materials.base.kind",
+        source: "reference/fe-validation.md: Plexiglas base 30 x 15 x 2 mm [paper 001]",
+    },
+    DefaultSource {
+        path: "materials.base.thickness_um",
+        source: "reference/fe-validation.md: Plexiglas base 30 x 15 x 2 mm [paper 001]",
+    },
+    DefaultSource {
+        path: "materials.base.e_gpa",
+        source: "[lit] PMMA (Plexiglas) datasheets, 2.4-3.3 GPa; not in reference/",
+    },
+    DefaultSource {
+        path: "materials.base.nu",
+        source: "[lit] PMMA (Plexiglas) datasheets, 0.35-0.40; not in reference/",
     },
     DefaultSource {
         path: "materials.pvdf.density_g_per_cm3",

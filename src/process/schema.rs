@@ -193,6 +193,41 @@ impl Electrodes {
 pub struct Materials {
     pub silicon: Silicon,
     pub pvdf: Pvdf,
+    /// What the sensor stands on (the solid rung models it).
+    #[serde(default)]
+    pub base: BaseMaterial,
+}
+
+/// The base under the PVDF film: paper 002's Plexiglas plate, or rigid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseKind {
+    Plexiglas,
+    Rigid,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BaseMaterial {
+    #[serde(default = "d::base_kind")]
+    pub kind: BaseKind,
+    #[serde(default = "d::base_thickness_um")]
+    pub thickness_um: f64,
+    #[serde(default = "d::base_e_gpa")]
+    pub e_gpa: f64,
+    #[serde(default = "d::base_nu")]
+    pub nu: f64,
+}
+
+impl Default for BaseMaterial {
+    fn default() -> Self {
+        BaseMaterial {
+            kind: d::base_kind(),
+            thickness_um: d::base_thickness_um(),
+            e_gpa: d::base_e_gpa(),
+            nu: d::base_nu(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]

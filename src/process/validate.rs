@@ -477,6 +477,15 @@ fn materials(v: &mut V, m: &Materials) {
     v.positive("materials.pvdf.thickness_um", f.thickness_um, 1000.0, "um");
     v.positive("materials.pvdf.e_gpa", f.e_gpa, 100.0, "GPa");
     v.range("materials.pvdf.nu", f.nu, 0.0, 0.499, false, "");
+    let b = &m.base;
+    v.positive(
+        "materials.base.thickness_um",
+        b.thickness_um,
+        100_000.0,
+        "um",
+    );
+    v.positive("materials.base.e_gpa", b.e_gpa, 1000.0, "GPa");
+    v.range("materials.base.nu", b.nu, 0.0, 0.499, false, "");
     v.positive(
         "materials.pvdf.density_g_per_cm3",
         f.density_g_per_cm3,

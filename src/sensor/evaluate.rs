@@ -239,6 +239,14 @@ pub fn evaluate_many_with(
         SceneLoad::Line { y_um, .. } => beam_applies(g, y_um),
         _ => false,
     };
+    if acc.model == ModelChoice::Solid {
+        return Err(SensorError::Scene {
+            scene: scenes.first().map_or_else(String::new, |s| s.name.clone()),
+            problem: "the solid rung answers single scenes (`fe --model solid`), not studies"
+                .into(),
+            hint: "use --model auto, plate or large-deflection here",
+        });
+    }
     if acc.model == ModelChoice::Beam {
         if let Some(s) = scenes.iter().find(|s| !beam_fits(s)) {
             return Err(SensorError::Scene {

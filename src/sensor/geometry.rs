@@ -55,6 +55,8 @@ pub struct SensorGeometry {
     pub etched: EtchedShape,
     /// Silicon's elastic constants as the process gives them (the solid rung rotates them).
     pub silicon: SiliconStiffness,
+    /// What the sensor stands on (the solid rung models it; the plate rungs clamp the plate).
+    pub base: Base,
 }
 
 /// What the etch leaves in 3D, in die coordinates (um).
@@ -70,6 +72,19 @@ pub struct EtchedShape {
     /// runs from there to the channel floor's edge (`plate_y0_um`); support 2 mirrors it.
     pub support_height_um: f64,
     pub support_edge_y_um: f64,
+}
+
+/// What the support film stands on (`materials.base`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum Base {
+    /// A rigid base: the film's bottom face is held.
+    Rigid,
+    /// An elastic base plate held on its bottom face (paper 002: 2 mm Plexiglas).
+    Elastic {
+        thickness_um: f64,
+        e_pa: f64,
+        nu: f64,
+    },
 }
 
 /// Silicon stiffness as given: a cubic crystal with the die-edge direction, or isotropic.
@@ -164,6 +179,14 @@ impl SensorGeometry {
             gap_um: channel_depth_um(design) - f.thickness_um,
             etched,
             silicon: silicon_stiffness(p),
+            base: match p.materials.base.kind {
+                crate::process::BaseKind::Rigid => Base::Rigid,
+                crate::process::BaseKind::Plexiglas => Base::Elastic {
+                    thickness_um: p.materials.base.thickness_um,
+                    e_pa: p.materials.base.e_gpa * 1e9,
+                    nu: p.materials.base.nu,
+                },
+            },
         }
     }
 

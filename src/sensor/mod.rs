@@ -20,6 +20,10 @@ mod scene;
 mod symmetry;
 mod touch_down;
 
+pub mod solid;
+pub mod solid_mesh;
+pub mod solid_readout;
+
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use check::{check_scene, SensorError, MAX_SOLUTION_VALUES};
 pub use convergence_plot::convergence_svg;

@@ -23,6 +23,9 @@ pub enum ModelChoice {
     Plate,
     /// The von Karman (large-deflection) plate.
     LargeDeflection,
+    /// The 3D solid (`fe --model solid`, [`crate::sensor::solid`]): linear, the etched shape, the
+    /// films and the base; it measures the plate rungs' model error.
+    Solid,
 }
 
 impl ModelChoice {
@@ -33,6 +36,7 @@ impl ModelChoice {
             ModelChoice::Beam => "beam",
             ModelChoice::Plate => "plate",
             ModelChoice::LargeDeflection => "large-deflection",
+            ModelChoice::Solid => "solid",
         }
     }
 }

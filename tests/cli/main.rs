@@ -14,3 +14,4 @@ mod properties;
 mod readme;
 mod sensor;
 mod softsweep;
+mod solid;

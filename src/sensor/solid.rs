@@ -1,0 +1,375 @@
+//! The solid rung (issue 16): the sensor as a 3D solid on a sequence of meshes, each quantity
+//! with its own three-mesh error estimate, and its difference from the linear plate rung, which
+//! is that rung's model error measured rather than assumed.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::fe::solid::SolidModel;
+use crate::fe::ThreeMesh;
+use crate::process::{Scene, SceneLoad};
+
+use super::check::{check_scene, SensorError};
+use super::geometry::{ElectrodeSide, SensorGeometry};
+use super::solid_mesh::{build, Base, SolidMeshOptions, TopLoad};
+use super::solid_readout::{read, SolidReadout};
+
+/// Coarsest in-plane element of the solid rung (um) \[choice\]: the tooth pitch's third, so the
+/// first level already resolves each tooth and street.
+pub const COARSE_ELEMENT_UM: f64 = 1000.0;
+
+/// Largest number of levels (each sqrt 2 finer in plane) \[choice\]: the fifth is 250 um.
+pub const MAX_SOLID_LEVELS: usize = 5;
+
+/// Width of the strip a line load acts on in the solid (a line force is singular in 3D): the
+/// plate's thickness, over which plate theory spreads it anyway.
+fn line_strip_um(g: &SensorGeometry) -> f64 {
+    g.plate_thickness_um
+}
+
+/// One mesh level of the solid rung.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolidLevel {
+    pub element_um: f64,
+    pub dofs: usize,
+    /// Entries of the Cholesky factor (f64), a measure of the memory it takes.
+    pub factor_entries: usize,
+    #[serde(skip)]
+    pub seconds: f64,
+    pub readout: SolidReadout,
+}
+
+/// One quantity of the solid rung with its discretisation estimate and the linear plate's value.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolidQuantity {
+    pub name: String,
+    pub unit: &'static str,
+    pub value: f64,
+    /// Three-mesh estimate relative to the quantity's scale; None before three levels.
+    pub discretisation: Option<f64>,
+    /// The linear plate rung's value and its difference from the solid's, relative to the
+    /// quantity's scale: the plate's model error as the solid sees it.
+    pub plate_value: Option<f64>,
+    pub plate_difference: Option<f64>,
+}
+
+/// The solid rung's answer to one scene.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolidReport {
+    pub scene: String,
+    pub force_n: f64,
+    /// "quarter, mirrors x = 15 mm and y = 7.5 mm" or "whole die".
+    pub part_solved: String,
+    pub base: String,
+    pub levels: Vec<SolidLevel>,
+    pub quantities: Vec<SolidQuantity>,
+    /// Every quantity's discretisation estimate under the tolerance.
+    pub converged: bool,
+    /// The smallest fraction of a contact that lies on upward faces (the rest over sidewalls).
+    pub contact_on_top_faces: f64,
+}
+
+/// The top loads of a scene and its reference point (where the deflection is reported).
+pub fn top_loads(g: &SensorGeometry, load: &SceneLoad) -> (Vec<TopLoad>, (f64, f64)) {
+    let rect = |x0: f64, y0: f64, x1: f64, y1: f64| vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)];
+    match *load {
+        SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um,
+        } => {
+            if radius_um > 0.0 {
+                // The square of equal area, as the plate rungs use.
+                let h = 0.5 * std::f64::consts::PI.sqrt() * radius_um;
+                (
+                    vec![TopLoad::Patch {
+                        polygon_um: rect(x_um - h, y_um - h, x_um + h, y_um + h),
+                        force_n,
+                    }],
+                    (x_um, y_um),
+                )
+            } else {
+                (
+                    vec![TopLoad::Point {
+                        x_um,
+                        y_um,
+                        force_n,
+                    }],
+                    (x_um, y_um),
+                )
+            }
+        }
+        SceneLoad::Pressure { force_n, region } => {
+            let (x0, y0, x1, y1) = match region {
+                Some(r) => (r.x0_um, r.y0_um, r.x1_um, r.y1_um),
+                None => (0.0, g.plate_y0_um, g.length_um, g.plate_y1_um),
+            };
+            (
+                vec![TopLoad::Patch {
+                    polygon_um: rect(x0, y0, x1, y1),
+                    force_n,
+                }],
+                (0.5 * (x0 + x1), 0.5 * (y0 + y1)),
+            )
+        }
+        SceneLoad::Probe {
+            x_um,
+            y_um,
+            width_um,
+            height_um,
+            angle_deg,
+            force_n,
+        } => {
+            let (s, c) = angle_deg.to_radians().sin_cos();
+            let (a, b) = (0.5 * width_um, 0.5 * height_um);
+            let polygon_um = [(-a, -b), (a, -b), (a, b), (-a, b)]
+                .iter()
+                .map(|&(u, v)| (x_um + c * u - s * v, y_um + s * u + c * v))
+                .collect();
+            (
+                vec![TopLoad::Patch {
+                    polygon_um,
+                    force_n,
+                }],
+                (x_um, y_um),
+            )
+        }
+        SceneLoad::Line { y_um, force_n } => {
+            let h = 0.5 * line_strip_um(g);
+            (
+                vec![TopLoad::Patch {
+                    polygon_um: rect(0.0, y_um - h, g.length_um, y_um + h),
+                    force_n,
+                }],
+                (0.5 * g.length_um, y_um),
+            )
+        }
+    }
+}
+
+/// True if the point set maps onto itself under the mirror `v -> 2 m - v` of coordinate `axis`.
+fn mirrored(points: &[Vec<(f64, f64)>], axis: usize, m: f64) -> bool {
+    let key = |p: &[(f64, f64)]| {
+        let mut v: Vec<(i64, i64)> = p
+            .iter()
+            .map(|&(x, y)| ((x * 1e3).round() as i64, (y * 1e3).round() as i64))
+            .collect();
+        v.sort_unstable();
+        v
+    };
+    let flip = |p: &Vec<(f64, f64)>| -> Vec<(f64, f64)> {
+        p.iter()
+            .map(|&(x, y)| {
+                if axis == 0 {
+                    (2.0 * m - x, y)
+                } else {
+                    (x, 2.0 * m - y)
+                }
+            })
+            .collect()
+    };
+    let mut a: Vec<Vec<(i64, i64)>> = points.iter().map(|p| key(p)).collect();
+    let mut b: Vec<Vec<(i64, i64)>> = points.iter().map(|p| key(&flip(p))).collect();
+    a.sort();
+    b.sort();
+    a == b
+}
+
+/// The mirrors under which the teeth, the electrodes and the loads are all symmetric (loads of
+/// each force onto loads of the same force).
+fn mirrors(g: &SensorGeometry, loads: &[TopLoad]) -> (Option<f64>, Option<f64>) {
+    let rect = |r: [f64; 4]| vec![(r[0], r[1]), (r[2], r[1]), (r[2], r[3]), (r[0], r[3])];
+    let mut shapes: Vec<Vec<(f64, f64)>> =
+        g.etched.tooth_tops_um.iter().map(|&t| rect(t)).collect();
+    shapes.extend(
+        g.electrodes
+            .iter()
+            .map(|e| rect([e.x0_um, e.y0_um, e.x1_um, e.y1_um])),
+    );
+    let load_shapes: Vec<(Vec<(f64, f64)>, f64)> = loads
+        .iter()
+        .map(|l| match l {
+            TopLoad::Patch {
+                polygon_um,
+                force_n,
+            } => (polygon_um.clone(), *force_n),
+            TopLoad::Point {
+                x_um,
+                y_um,
+                force_n,
+            } => (vec![(*x_um, *y_um)], *force_n),
+        })
+        .collect();
+    let ok = |axis: usize, m: f64| {
+        mirrored(&shapes, axis, m)
+            && load_shapes.iter().all(|(_, f)| {
+                let same: Vec<Vec<(f64, f64)>> = load_shapes
+                    .iter()
+                    .filter(|(_, g)| (g - f).abs() <= 1e-12 * f.abs().max(1.0))
+                    .map(|(p, _)| p.clone())
+                    .collect();
+                mirrored(&same, axis, m)
+            })
+    };
+    let (mx, my) = (0.5 * g.length_um, 0.5 * g.width_um);
+    (ok(0, mx).then_some(mx), ok(1, my).then_some(my))
+}
+
+/// Quantity names and units in the plate rungs' spelling, and the scale each is relative to.
+fn quantity_table(
+    g: &SensorGeometry,
+    r: &SolidReadout,
+    force_n: f64,
+) -> Vec<(String, &'static str, f64, f64)> {
+    let mut out = vec![(
+        "deflection_at_load".to_string(),
+        "um",
+        r.deflection_at_load_um,
+        r.deflection_at_load_um.abs(),
+    )];
+    // Charges relative to the largest of their kind (middle or support), as the plate rungs do.
+    let largest = |middle: bool| {
+        g.electrodes
+            .iter()
+            .zip(&r.charge_pc)
+            .filter(|(e, _)| (e.side == ElectrodeSide::Middle) == middle)
+            .map(|(_, q)| q.abs())
+            .fold(0.0, f64::max)
+    };
+    for (e, q) in g.electrodes.iter().zip(&r.charge_pc) {
+        let scale = largest(e.side == ElectrodeSide::Middle);
+        out.push((format!("charge_{}", e.name), "pC", *q, scale));
+    }
+    out.push(("reaction_support1".into(), "N", r.support1_n, force_n.abs()));
+    out.push(("reaction_support2".into(), "N", r.support2_n, force_n.abs()));
+    out.push((
+        "max_principal_stress".into(),
+        "MPa",
+        r.max_principal_mpa,
+        r.max_principal_mpa.abs(),
+    ));
+    out
+}
+
+/// How the solid rung is run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidRun {
+    pub base: Base,
+    /// Mesh levels, 1 to [`MAX_SOLID_LEVELS`] (three give an error estimate).
+    pub levels: usize,
+    pub tol: f64,
+    /// Solve half or a quarter where the die and the load are mirror-symmetric.
+    pub symmetry: bool,
+}
+
+/// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
+/// `plate` (the linear plate rung's values by quantity name).
+pub fn evaluate_solid(
+    g: &SensorGeometry,
+    scene: &Scene,
+    run: SolidRun,
+    plate: &[(String, f64)],
+) -> Result<SolidReport, SensorError> {
+    check_scene(scene, g)?;
+    let (base, tol) = (run.base, run.tol);
+    let levels = run.levels.clamp(1, MAX_SOLID_LEVELS);
+    let (loads, at) = top_loads(g, &scene.load);
+    let (mx, my) = if run.symmetry {
+        mirrors(g, &loads)
+    } else {
+        (None, None)
+    };
+    let force_n = loads
+        .iter()
+        .map(|l| match l {
+            TopLoad::Patch { force_n, .. } | TopLoad::Point { force_n, .. } => *force_n,
+        })
+        .sum();
+    let mut out = Vec::new();
+    let mut contact = 1.0f64;
+    for level in 0..levels {
+        let start = Instant::now();
+        let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
+        let solid =
+            build(g, std::slice::from_ref(&loads), base, opts, mx, my).map_err(SensorError::Fe)?;
+        let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
+        let sol = model
+            .solve(&solid.problem.load_cases)
+            .map_err(SensorError::Fe)?;
+        let readout = read(g, &solid, &sol[0], at);
+        contact = contact.min(solid.loaded_fraction[0]);
+        out.push(SolidLevel {
+            element_um: opts.element_um,
+            dofs: model.n_free_dofs(),
+            factor_entries: model.factor_len(),
+            seconds: start.elapsed().as_secs_f64(),
+            readout,
+        });
+    }
+    let tables: Vec<Vec<(String, &'static str, f64, f64)>> = out
+        .iter()
+        .map(|l| quantity_table(g, &l.readout, force_n))
+        .collect();
+    let finest = tables.last().expect("at least one level");
+    let r = 2f64.sqrt();
+    let quantities: Vec<SolidQuantity> = finest
+        .iter()
+        .enumerate()
+        .map(|(i, (name, unit, value, scale))| {
+            let discretisation = (tables.len() >= 3).then(|| {
+                let n = tables.len();
+                let tm = ThreeMesh::new(
+                    tables[n - 3][i].2,
+                    tables[n - 2][i].2,
+                    tables[n - 1][i].2,
+                    r,
+                    r,
+                );
+                tm.fine_error() / scale.max(f64::MIN_POSITIVE)
+            });
+            let plate_value = plate.iter().find(|(n, _)| n == name).map(|p| p.1);
+            SolidQuantity {
+                name: name.clone(),
+                unit,
+                value: *value,
+                discretisation,
+                plate_value,
+                plate_difference: plate_value
+                    .map(|p| (p - value).abs() / scale.max(f64::MIN_POSITIVE)),
+            }
+        })
+        .collect();
+    let converged = quantities
+        .iter()
+        .filter(|q| q.name != "max_principal_stress")
+        .all(|q| q.discretisation.is_some_and(|d| d <= tol));
+    let part_solved = match (mx, my) {
+        (None, None) => "whole die".to_string(),
+        (Some(x), None) => format!("half, mirror x = {:.3} mm", x * 1e-3),
+        (None, Some(y)) => format!("half, mirror y = {:.3} mm", y * 1e-3),
+        (Some(x), Some(y)) => format!(
+            "quarter, mirrors x = {:.3} mm and y = {:.3} mm",
+            x * 1e-3,
+            y * 1e-3
+        ),
+    };
+    Ok(SolidReport {
+        scene: scene.name.clone(),
+        force_n,
+        part_solved,
+        base: match base {
+            Base::Rigid => "rigid".into(),
+            Base::Elastic {
+                thickness_um, e_pa, ..
+            } => {
+                format!("elastic, {thickness_um:.0} um, E {:.2} GPa", e_pa * 1e-9)
+            }
+        },
+        levels: out,
+        quantities,
+        converged,
+        contact_on_top_faces: contact,
+    })
+}

@@ -1,0 +1,567 @@
+//! The sensor as a 3D solid, built from the same design as the plate rungs (issue 16): silicon
+//! with the etched shape (frustum teeth with {111} sidewalls, supports with the U-channel's {111}
+//! walls), the PVDF film under the supports and the film bonded under the plate across the channel
+//! floor, on a Plexiglas base or a rigid one. Papers 001 and 002 modelled the sensor this way in
+//! ANSYS (SOLID45 for silicon and Plexiglas, SOLID227 for the PVDF).
+//!
+//! The mesh is a structured grid of 27-node bricks ([`crate::fe::solid`]) whose lines are the
+//! design's feature lines. The sloped {111} faces are mapped, not stair-cased: in the teeth layer
+//! each tooth's base edge line moves linearly with height to the tooth top's edge, and in the
+//! support layer the wall line moves from the support's footprint edge to the channel floor's
+//! edge. Every other line between two fixed anchor lines moves in proportion, so no element
+//! inverts. z is up from the base's top face (the film under the supports starts there).
+
+use crate::fe::solid::{
+    Axis3, Constraint, Elasticity, FaceRect, HexGrid, NodeSet, Outward, SolidLoad, SolidProblem,
+};
+use crate::fe::{FeError, FeResult};
+
+pub use super::geometry::Base;
+use super::geometry::{SensorGeometry, SiliconStiffness};
+
+/// Material indices of the solid model.
+pub const SILICON: u16 = 0;
+pub const PVDF: u16 = 1;
+pub const BASE: u16 = 2;
+
+/// Heights of the layer interfaces (um, z up from the base's top face).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layers {
+    /// Bottom of the base (0 for a rigid base).
+    pub base_bottom_um: f64,
+    /// Top of the support film (its bottom is z = 0).
+    pub film_top_um: f64,
+    /// Bottom of the film bonded under the plate.
+    pub floor_film_bottom_um: f64,
+    /// Plate underside (= support height + support film).
+    pub plate_bottom_um: f64,
+    pub plate_top_um: f64,
+    pub teeth_top_um: f64,
+}
+
+impl Layers {
+    /// The plate's mid-plane, where the plate rungs report their deflection.
+    pub fn plate_mid_um(&self) -> f64 {
+        0.5 * (self.plate_bottom_um + self.plate_top_um)
+    }
+}
+
+/// A monotone piecewise-linear map of one coordinate: `from[i] -> to[i]`, identity outside.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiecewiseLinear {
+    from: Vec<f64>,
+    to: Vec<f64>,
+}
+
+impl PiecewiseLinear {
+    /// Anchors (from, to); an error unless both stay increasing (a map that folds would invert
+    /// elements: e.g. tooth bases that merge, a DRC error the FE cannot mesh).
+    pub fn new(mut anchors: Vec<(f64, f64)>) -> FeResult<Self> {
+        anchors.sort_by(|a, b| a.0.total_cmp(&b.0));
+        anchors.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-9);
+        if let Some(w) = anchors.windows(2).find(|w| w[1].1 <= w[0].1) {
+            return Err(FeError::SolidInput {
+                detail: format!(
+                    "the etched shape folds: {:.1} -> {:.1} um and {:.1} -> {:.1} um",
+                    w[0].0, w[0].1, w[1].0, w[1].1
+                ),
+                hint: "etched tooth bases or channel walls overlap (see the DRC): fix the design",
+            });
+        }
+        Ok(PiecewiseLinear {
+            from: anchors.iter().map(|a| a.0).collect(),
+            to: anchors.iter().map(|a| a.1).collect(),
+        })
+    }
+
+    fn eval(xs: &[f64], ys: &[f64], v: f64) -> f64 {
+        if xs.len() < 2 || v <= xs[0] || v >= xs[xs.len() - 1] {
+            // Outside the anchors: a shift by the nearest end's displacement (none at the ends
+            // the builder uses, which are fixed).
+            return match xs.first() {
+                Some(&x0) if v <= x0 => v + (ys[0] - x0),
+                Some(_) => v + (ys[ys.len() - 1] - xs[xs.len() - 1]),
+                None => v,
+            };
+        }
+        let i = xs.partition_point(|&x| x <= v).clamp(1, xs.len() - 1);
+        let t = (v - xs[i - 1]) / (xs[i] - xs[i - 1]);
+        ys[i - 1] + t * (ys[i] - ys[i - 1])
+    }
+
+    /// The mapped coordinate.
+    pub fn apply(&self, v: f64) -> f64 {
+        Self::eval(&self.from, &self.to, v)
+    }
+
+    /// The coordinate that maps to `v`.
+    pub fn invert(&self, v: f64) -> f64 {
+        Self::eval(&self.to, &self.from, v)
+    }
+}
+
+/// A load on the top surface: total force over a polygon (um, die coordinates), spread as a
+/// uniform pressure over the parts of the polygon where the top surface faces up (tooth tops
+/// and the exposed plate; the sloped sidewalls carry none of a flat contact), or one point force.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TopLoad {
+    Patch {
+        polygon_um: Vec<(f64, f64)>,
+        force_n: f64,
+    },
+    Point {
+        x_um: f64,
+        y_um: f64,
+        force_n: f64,
+    },
+}
+
+/// The solid model of a design, ready to factorise.
+#[derive(Debug, Clone)]
+pub struct SensorSolid {
+    pub problem: SolidProblem,
+    pub layers: Layers,
+    /// The part of the die meshed (x0, x1, y0, y1), um: the whole die or the part below and left
+    /// of the mirror lines.
+    pub domain_um: (f64, f64, f64, f64),
+    /// Mirror lines x = .. and y = .. the part solved is bounded by.
+    pub mirror_x_um: Option<f64>,
+    pub mirror_y_um: Option<f64>,
+    /// Per case, the smallest fraction of a contact's area that found an upward face (1 unless
+    /// part of it lies over sidewalls; the pressure there is raised so the total stays the force).
+    pub loaded_fraction: Vec<f64>,
+}
+
+impl SensorSolid {
+    /// Volume of each material (um^3, by [`SILICON`], [`PVDF`], [`BASE`]) in the part solved:
+    /// the mapped elements integrated exactly (3x3x3 Gauss points on the quadratic map), so the
+    /// solid's silicon can be checked against the etched shape in closed form.
+    pub fn material_volumes_um3(&self) -> [f64; 3] {
+        use crate::fe::solid::hex27;
+        let grid = &self.problem.grid;
+        let mut v = [0.0; 3];
+        for e in 0..grid.element_count() {
+            let Some(m) = grid.material(e) else {
+                continue;
+            };
+            let nodes = grid.element_nodes(e).map(|n| grid.node_position_um(n));
+            v[usize::from(m)] += hex27::gauss_points()
+                .iter()
+                .map(|&(xi, w)| hex27::geometry(&nodes, xi).det_j * w)
+                .sum::<f64>();
+        }
+        v
+    }
+}
+
+/// Mesh density: the largest in-plane element (um) and the elements through each layer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidMeshOptions {
+    pub element_um: f64,
+    pub plate_layers: usize,
+    pub teeth_layers: usize,
+    pub support_layers: usize,
+    pub base_layers: usize,
+}
+
+impl SolidMeshOptions {
+    /// Level `level` of a refinement sequence: the in-plane size halves every two levels (a
+    /// factor sqrt 2 per level) from `coarse_um`; through the thickness two quadratic bricks in
+    /// the plate (bending) and one in every other layer (the fill of a 3D factor grows with the
+    /// square of the node layers).
+    pub fn level(coarse_um: f64, level: usize) -> Self {
+        SolidMeshOptions {
+            element_um: coarse_um / 2f64.sqrt().powi(level as i32),
+            plate_layers: 2,
+            teeth_layers: 1,
+            support_layers: 1,
+            base_layers: 1,
+        }
+    }
+}
+
+/// Silicon's elasticity in die axes.
+pub fn silicon_elasticity(s: SiliconStiffness) -> Elasticity {
+    match s {
+        SiliconStiffness::Cubic {
+            c11_pa,
+            c12_pa,
+            c44_pa,
+            die_edge,
+        } => Elasticity::cubic(c11_pa, c12_pa, c44_pa).in_die_axes(die_edge),
+        SiliconStiffness::Isotropic { e_pa, nu } => Elasticity::isotropic(e_pa, nu),
+    }
+}
+
+/// Lines `lines` with extra ones so no interval exceeds `max_um`, and none closer than `min_um`
+/// (the later of two near lines is dropped unless it is in `keep`).
+fn subdivide(mut lines: Vec<f64>, max_um: f64, min_um: f64) -> Vec<f64> {
+    lines.sort_by(f64::total_cmp);
+    let mut merged: Vec<f64> = Vec::with_capacity(lines.len());
+    for v in lines {
+        match merged.last() {
+            Some(&last) if v - last < min_um => {}
+            _ => merged.push(v),
+        }
+    }
+    let mut out = Vec::new();
+    for w in merged.windows(2) {
+        let n = ((w[1] - w[0]) / max_um).ceil().max(1.0) as usize;
+        for k in 0..n {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / n as f64);
+        }
+    }
+    if let Some(&last) = merged.last() {
+        out.push(last);
+    }
+    out
+}
+
+/// One axis of the teeth layer: tooth base edges (the lines) move to the tooth top edges at the
+/// top; the domain ends stay.
+fn teeth_axis_map(edges: &[(f64, f64)], lo: f64, hi: f64) -> FeResult<PiecewiseLinear> {
+    // (base, top) per edge, sorted by base.
+    let mut e: Vec<(f64, f64)> = edges.to_vec();
+    e.sort_by(|a, b| a.0.total_cmp(&b.0));
+    e.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-6);
+    // No fixed anchors between edges: the streets widen and the teeth narrow towards the top,
+    // which keeps the map increasing while every tooth top has a width (streets are void there).
+    let mut anchors = vec![(lo, lo), (hi, hi)];
+    for &(base, top) in &e {
+        if base > lo + 1e-6 && base < hi - 1e-6 {
+            anchors.push((base, top));
+        }
+    }
+    PiecewiseLinear::new(anchors)
+}
+
+/// The die's tooth frusta as (x base edges, y base edges) with their top positions, and the
+/// mid-street anchors each axis needs.
+struct ToothEdges {
+    x: Vec<(f64, f64)>,
+    y: Vec<(f64, f64)>,
+}
+
+fn tooth_edges(g: &SensorGeometry) -> ToothEdges {
+    let e = &g.etched;
+    let ro = e.tooth_run_out_um;
+    let (l, w) = (g.length_um, g.width_um);
+    let mut x = Vec::new();
+    let mut y = Vec::new();
+    for t in &e.tooth_tops_um {
+        // A base reaching past the die edge is cut there by the saw: that face stays vertical.
+        let cut = |base: f64, top: f64, lo: f64, hi: f64| {
+            if base < lo || base > hi {
+                (top.clamp(lo, hi), top.clamp(lo, hi))
+            } else {
+                (base, top)
+            }
+        };
+        x.push(cut(t[0] - ro, t[0], 0.0, l));
+        x.push(cut(t[2] + ro, t[2], 0.0, l));
+        y.push(cut(t[1] - ro, t[1], 0.0, w));
+        y.push(cut(t[3] + ro, t[3], 0.0, w));
+    }
+    ToothEdges { x, y }
+}
+
+/// Builds the solid model for the given top loads (one load case each).
+pub fn build(
+    g: &SensorGeometry,
+    cases: &[Vec<TopLoad>],
+    base: Base,
+    opts: SolidMeshOptions,
+    mirror_x_um: Option<f64>,
+    mirror_y_um: Option<f64>,
+) -> FeResult<SensorSolid> {
+    let et = &g.etched;
+    let (l, w) = (g.length_um, g.width_um);
+    let f = g.film_thickness_um;
+    let d = et.support_height_um;
+    let t = g.plate_thickness_um;
+    let h = et.tooth_height_um;
+    if !(d > f + 1.0 && t > 0.0 && f > 0.0) {
+        return Err(FeError::SolidInput {
+            detail: format!(
+                "support height {d:.1} um, film {f:.1} um, plate {t:.1} um: the film under the \
+                 plate must fit in the channel"
+            ),
+            hint: "the solid model needs a channel deeper than the PVDF film",
+        });
+    }
+    let layers = Layers {
+        base_bottom_um: match base {
+            Base::Rigid => 0.0,
+            Base::Elastic { thickness_um, .. } => -thickness_um,
+        },
+        film_top_um: f,
+        floor_film_bottom_um: d,
+        plate_bottom_um: f + d,
+        plate_top_um: f + d + t,
+        teeth_top_um: f + d + t + if et.tooth_tops_um.is_empty() { 0.0 } else { h },
+    };
+    let x_hi = mirror_x_um.unwrap_or(l);
+    let y_hi = mirror_y_um.unwrap_or(w);
+    let teeth = tooth_edges(g);
+    let tx = teeth_axis_map(&teeth.x, 0.0, l)?;
+    let ty = teeth_axis_map(&teeth.y, 0.0, w)?;
+    // The channel walls: support 1's wall line sits at the floor edge y0 and moves to the
+    // footprint edge at the support's bottom; support 2 mirrors it. Anchors one wall run out on
+    // either side stay.
+    let (e1, y0) = (et.support_edge_y_um, g.plate_y0_um);
+    let (e2, y1) = (w - et.support_edge_y_um, g.plate_y1_um);
+    let run = (y0 - e1).max(0.0);
+    // Fixed anchors one run beyond either side of each wall (within the support and the span).
+    let wall_anchors = [
+        (e1 - run).max(0.5 * e1),
+        (y0 + run).min(0.5 * (y0 + y1)),
+        (y1 - run).max(0.5 * (y0 + y1)),
+        (e2 + run).min(0.5 * (e2 + w)),
+    ];
+    let wall = PiecewiseLinear::new(vec![
+        (0.0, 0.0),
+        (wall_anchors[0], wall_anchors[0]),
+        (y0, e1),
+        (wall_anchors[1], wall_anchors[1]),
+        (wall_anchors[2], wall_anchors[2]),
+        (y1, e2),
+        (wall_anchors[3], wall_anchors[3]),
+        (w, w),
+    ])?;
+
+    // In-plane lines (before the map): die ends, mirrors, electrodes, tooth base edges and the
+    // anchors, the walls, and each load polygon's vertices at plate level and at tooth-top level.
+    // The centre lines always: the whole die's mesh is then its mirrored parts' union.
+    let mut xs = vec![0.0, l, x_hi, 0.5 * l];
+    let mut ys = vec![0.0, w, y_hi, 0.5 * w, y0, y1];
+    ys.extend(wall_anchors);
+    for el in &g.electrodes {
+        xs.extend([el.x0_um, el.x1_um]);
+        ys.extend([el.y0_um, el.y1_um]);
+    }
+    xs.extend(tx.from.iter().copied());
+    ys.extend(ty.from.iter().copied());
+    for case in cases {
+        for load in case {
+            let pts: Vec<(f64, f64)> = match load {
+                TopLoad::Patch { polygon_um, .. } => polygon_um.clone(),
+                TopLoad::Point { x_um, y_um, .. } => vec![(*x_um, *y_um)],
+            };
+            for (px, py) in pts {
+                xs.extend([px, tx.invert(px)]);
+                ys.extend([py, ty.invert(py)]);
+            }
+        }
+    }
+    let clip = |v: &mut Vec<f64>, hi: f64| v.retain(|&c| (0.0..=hi + 1e-9).contains(&c));
+    clip(&mut xs, x_hi);
+    clip(&mut ys, y_hi);
+    let min_um = 0.02 * opts.element_um.min(t);
+    let xs = subdivide(xs, opts.element_um, min_um.max(1.0));
+    let ys = subdivide(ys, opts.element_um, min_um.max(1.0));
+    let mut zs = Vec::new();
+    let layer = |zs: &mut Vec<f64>, a: f64, b: f64, n: usize| {
+        for k in 0..n.max(1) {
+            zs.push(a + (b - a) * k as f64 / n.max(1) as f64);
+        }
+    };
+    if let Base::Elastic { thickness_um, .. } = base {
+        layer(&mut zs, -thickness_um, 0.0, opts.base_layers);
+    }
+    layer(&mut zs, 0.0, f, 1);
+    layer(&mut zs, f, d, opts.support_layers);
+    layer(&mut zs, d, f + d, 1);
+    layer(&mut zs, f + d, f + d + t, opts.plate_layers);
+    if !et.tooth_tops_um.is_empty() {
+        layer(&mut zs, f + d + t, f + d + t + h, opts.teeth_layers);
+    }
+    zs.push(layers.teeth_top_um);
+
+    let mut grid = HexGrid::new(&xs, &ys, &zs)?;
+    // Materials by logical position (the unmapped element's centre).
+    let tooth_top = |xc: f64, yc: f64| {
+        et.tooth_tops_um.iter().any(|tt| {
+            // Logical (unmapped) tooth column: between its base edge lines.
+            let (bx0, bx1) = (tx.invert(tt[0]), tx.invert(tt[2]));
+            let (by0, by1) = (ty.invert(tt[1]), ty.invert(tt[3]));
+            xc > bx0 && xc < bx1 && yc > by0 && yc < by1
+        })
+    };
+    let under_support = |yc: f64| yc < y0 || yc > y1;
+    let lay = layers;
+    let has_base = matches!(base, Base::Elastic { .. });
+    grid.assign(|[xc, yc, zc]| {
+        if zc < 0.0 {
+            has_base.then_some(BASE)
+        } else if zc < lay.film_top_um {
+            under_support(yc).then_some(PVDF)
+        } else if zc < lay.floor_film_bottom_um {
+            under_support(yc).then_some(SILICON)
+        } else if zc < lay.plate_bottom_um {
+            Some(if under_support(yc) { SILICON } else { PVDF })
+        } else if zc < lay.plate_top_um {
+            Some(SILICON)
+        } else {
+            tooth_top(xc, yc).then_some(SILICON)
+        }
+    });
+    let map_lay = layers;
+    let (txm, tym, wallm) = (tx.clone(), ty.clone(), wall.clone());
+    let grid = grid.with_map(std::sync::Arc::new(move |[x, y, z]: [f64; 3]| {
+        let (mut xo, mut yo) = (x, y);
+        if z > map_lay.plate_top_um {
+            // Teeth: base edges at the plate top, top edges at the tooth top.
+            let s = (z - map_lay.plate_top_um) / (map_lay.teeth_top_um - map_lay.plate_top_um);
+            xo = x + s * (txm.apply(x) - x);
+            yo = y + s * (tym.apply(y) - y);
+        } else if z < map_lay.plate_bottom_um {
+            // Walls: the floor edge at the plate's underside, the footprint edge at the
+            // support's bottom and below.
+            let s = ((map_lay.plate_bottom_um - z)
+                / (map_lay.plate_bottom_um - map_lay.film_top_um))
+                .min(1.0);
+            yo = y + s * (wallm.apply(y) - y);
+        }
+        [xo, yo, z]
+    }));
+
+    let silicon = silicon_elasticity(g.silicon);
+    let pvdf = Elasticity::isotropic(g.pvdf_e_pa, g.pvdf_nu);
+    let base_el = match base {
+        Base::Elastic { e_pa, nu, .. } => Elasticity::isotropic(e_pa, nu),
+        Base::Rigid => pvdf,
+    };
+    let mut problem = SolidProblem::new(grid, vec![silicon, pvdf, base_el]);
+    problem.constraints.push(Constraint::clamp(
+        "base",
+        NodeSet::Plane {
+            axis: Axis3::Z,
+            at_um: layers.base_bottom_um,
+        },
+    ));
+    if let Some(m) = mirror_x_um {
+        problem
+            .constraints
+            .push(Constraint::symmetry("mirror_x", Axis3::X, m));
+    }
+    if let Some(m) = mirror_y_um {
+        problem
+            .constraints
+            .push(Constraint::symmetry("mirror_y", Axis3::Y, m));
+    }
+    let mut loaded_fraction = Vec::new();
+    for case in cases {
+        let (loads, frac) = top_loads(&problem, case, (x_hi, y_hi), (mirror_x_um, mirror_y_um));
+        problem.load_cases.push(loads);
+        loaded_fraction.push(frac);
+    }
+    Ok(SensorSolid {
+        problem,
+        layers,
+        domain_um: (0.0, x_hi, 0.0, y_hi),
+        mirror_x_um,
+        mirror_y_um,
+        loaded_fraction,
+    })
+}
+
+/// The top faces of every column, with their physical rectangles, as pressure loads: for each
+/// patch the pressure on a face is the patch's force per covered area times the face's covered
+/// fraction. A patch cut by a mirror line keeps the part inside the domain with the force of that
+/// part (the mirror holds the rest).
+fn top_loads(
+    problem: &SolidProblem,
+    case: &[TopLoad],
+    (x_hi, y_hi): (f64, f64),
+    mirrors: (Option<f64>, Option<f64>),
+) -> (Vec<SolidLoad>, f64) {
+    use crate::fe::clip::{clip_polygon, polygon_area};
+    let grid = &problem.grid;
+    let [xs, ys, zs] = grid.lines_um();
+    let [nx, ny, nz] = grid.n_elements();
+    // Top active element and its face's physical rectangle per column.
+    let mut faces = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let Some(k) = (0..nz)
+                .rev()
+                .find(|&k| grid.material(grid.element([i, j, k])).is_some())
+            else {
+                continue;
+            };
+            let corner = |ii: usize, jj: usize| {
+                grid.node_position_um(grid.node([2 * ii, 2 * jj, 2 * (k + 1)]))
+            };
+            let (a, b) = (corner(i, j), corner(i + 1, j + 1));
+            faces.push((i, j, k, [a[0], a[1], b[0], b[1]]));
+        }
+    }
+    let mut out = Vec::new();
+    let mut frac: f64 = 1.0;
+    for load in case {
+        match load {
+            TopLoad::Point {
+                x_um,
+                y_um,
+                force_n,
+            } => {
+                // The image in the domain; a point on a mirror carries half (quarter) there.
+                let share = [
+                    mirrors.0.map(|m| (x_um - m).abs() < 1e-6),
+                    mirrors.1.map(|m| (y_um - m).abs() < 1e-6),
+                ]
+                .iter()
+                .filter(|v| **v == Some(true))
+                .fold(1.0, |a, _| a * 0.5);
+                let Some((_, _, k, _)) = faces.iter().find(|(_, _, _, r)| {
+                    *x_um >= r[0] && *x_um <= r[2] && *y_um >= r[1] && *y_um <= r[3]
+                }) else {
+                    continue;
+                };
+                out.push(SolidLoad::Point {
+                    at_um: [*x_um, *y_um, zs[k + 1]],
+                    force_n: [0.0, 0.0, -force_n * share],
+                    snap: crate::fe::solid::Snap::Nearest,
+                });
+            }
+            TopLoad::Patch {
+                polygon_um,
+                force_n,
+            } => {
+                let area = polygon_area(polygon_um).abs();
+                if area <= 0.0 {
+                    continue;
+                }
+                let inside = polygon_area(&clip_polygon(polygon_um, 0.0, 0.0, x_hi, y_hi)).abs();
+                let want = force_n * inside / area;
+                let mut covered = Vec::new();
+                for &(i, j, k, r) in &faces {
+                    let a = polygon_area(&clip_polygon(polygon_um, r[0], r[1], r[2], r[3])).abs();
+                    if a > 1e-9 * area {
+                        covered.push((i, j, k, r, a));
+                    }
+                }
+                let covered_area: f64 = covered.iter().map(|c| c.4).sum();
+                if covered_area <= 0.0 {
+                    continue;
+                }
+                let p = want / (covered_area * 1e-12);
+                for (i, j, k, r, a) in covered {
+                    let face_area = (r[2] - r[0]) * (r[3] - r[1]);
+                    out.push(SolidLoad::Pressure {
+                        face: FaceRect {
+                            axis: Axis3::Z,
+                            at_um: zs[k + 1],
+                            outward: Outward::Plus,
+                            from_um: [xs[i], ys[j]],
+                            to_um: [xs[i + 1], ys[j + 1]],
+                        },
+                        pressure_pa: p * a / face_area,
+                    });
+                }
+                frac = frac.min(covered_area / inside);
+            }
+        }
+    }
+    (out, frac)
+}

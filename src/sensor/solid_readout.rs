@@ -1,0 +1,180 @@
+//! Readings of the solid model: each electrode's charge from the stresses of its own film, the
+//! force through each support, the plate's deflection and silicon's largest principal stress.
+//!
+//! Piezo read-out (IEEE Std 176, short-circuit electrodes): D3 = d31 s1 + d32 s2 + d33 s3 in the
+//! film's axes (1 = the drawn axis, 3 = the film normal), and an electrode's charge is the mean
+//! of D3 through the film integrated over its area, Q = (1/t) integral of D3 dV. The support
+//! electrodes are read with the plate rungs' polarity (Q = d33 x the compressive force, paper 001
+//! Eq. 6), so their D3 is counted with the opposite sign. V = Q / C as for the plate rungs.
+
+use serde::Serialize;
+
+use crate::fe::solid::{hex27, SolidSolution};
+
+use super::geometry::{ElectrodeSide, SensorGeometry};
+use super::solid_mesh::{SensorSolid, PVDF, SILICON};
+use crate::process::Axis;
+
+/// Readings of one load case of the solid model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolidReadout {
+    /// Per electrode, in the order of `SensorGeometry::electrodes`.
+    pub charge_pc: Vec<f64>,
+    pub voltage_mv: Vec<f64>,
+    /// Compressive force through the support films (N).
+    pub support1_n: f64,
+    pub support2_n: f64,
+    /// Downward deflection of the plate's mid-plane at the load's reference point, and the most
+    /// of it anywhere (um).
+    pub deflection_at_load_um: f64,
+    pub max_deflection_um: f64,
+    /// Largest principal stress in the silicon over all Gauss points (MPa) and where.
+    pub max_principal_mpa: f64,
+    pub max_principal_at_um: [f64; 3],
+}
+
+/// Images of a rectangle under the model's mirrors, clipped to the part solved.
+fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
+    let mut out = vec![r];
+    if let Some(m) = s.mirror_x_um {
+        let more: Vec<[f64; 4]> = out
+            .iter()
+            .map(|r| [2.0 * m - r[2], r[1], 2.0 * m - r[0], r[3]])
+            .collect();
+        out.extend(more);
+    }
+    if let Some(m) = s.mirror_y_um {
+        let more: Vec<[f64; 4]> = out
+            .iter()
+            .map(|r| [r[0], 2.0 * m - r[3], r[2], 2.0 * m - r[1]])
+            .collect();
+        out.extend(more);
+    }
+    let (x0, x1, y0, y1) = s.domain_um;
+    out.into_iter()
+        .map(|r| [r[0].max(x0), r[1].max(y0), r[2].min(x1), r[3].min(y1)])
+        .filter(|r| r[2] > r[0] && r[3] > r[1])
+        .collect()
+}
+
+/// The readings of `sol` (a solution of `s`), with the load's reference point `at_um` (x, y).
+pub fn read(
+    g: &SensorGeometry,
+    s: &SensorSolid,
+    sol: &SolidSolution,
+    at_um: (f64, f64),
+) -> SolidReadout {
+    let grid = sol.grid();
+    let pos = sol.node_positions_um();
+    let lay = s.layers;
+    let [nx, ny, nz] = grid.n_elements();
+    let zs = grid.lines_um()[2];
+    let t_film = g.film_thickness_um * 1e-6;
+    // Electrode rectangles and their images in the part solved.
+    let rects: Vec<Vec<[f64; 4]>> = g
+        .electrodes
+        .iter()
+        .map(|e| images(s, [e.x0_um, e.y0_um, e.x1_um, e.y1_um]))
+        .collect();
+    let mut charge = vec![0.0; g.electrodes.len()];
+    let (mut s1, mut s2) = (0.0, 0.0);
+    let gauss = hex27::gauss_points();
+    for k in 0..nz {
+        let zc = 0.5 * (zs[k] + zs[k + 1]);
+        let support_film = zc > 0.0 && zc < lay.film_top_um;
+        let floor_film = zc > lay.floor_film_bottom_um && zc < lay.plate_bottom_um;
+        if !(support_film || floor_film) {
+            continue;
+        }
+        for j in 0..ny {
+            for i in 0..nx {
+                let e = grid.element([i, j, k]);
+                if grid.material(e) != Some(PVDF) {
+                    continue;
+                }
+                let nodes_um = grid.element_nodes(e).map(|n| pos[n]);
+                let nodes_m = nodes_um.map(|p| p.map(|c| c * 1e-6));
+                for &(xi, wgt) in &gauss {
+                    let p = hex27::position(&nodes_um, xi);
+                    let dv = hex27::geometry(&nodes_m, xi).det_j * wgt;
+                    let st = sol.stress_at([i, j, k], xi).expect("active element");
+                    let (sx, sy, sz) = (st[0], st[1], st[2]);
+                    let (s1_, s2_) = match g.drawn_axis {
+                        Axis::Y => (sy, sx),
+                        Axis::X => (sx, sy),
+                    };
+                    // pC/m^2 from pC/N x Pa.
+                    let d3 = g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_ + g.d33_pc_per_n * sz;
+                    if support_film {
+                        // Compressive force (N): the film's mean of -s_zz over its area.
+                        let f = -sz * dv / t_film;
+                        if p[1] < 0.5 * g.width_um {
+                            s1 += f;
+                        } else {
+                            s2 += f;
+                        }
+                    }
+                    for (q, (el, rs)) in charge.iter_mut().zip(g.electrodes.iter().zip(&rects)) {
+                        let wanted = match el.side {
+                            ElectrodeSide::Middle => floor_film,
+                            _ => support_film,
+                        };
+                        if !wanted {
+                            continue;
+                        }
+                        // Each image holding the point counts: an electrode that is its own
+                        // mirror image is solved in part and read in whole.
+                        let images = rs
+                            .iter()
+                            .filter(|r| {
+                                p[0] >= r[0] && p[0] <= r[2] && p[1] >= r[1] && p[1] <= r[3]
+                            })
+                            .count() as f64;
+                        if images > 0.0 {
+                            let sign = if el.side == ElectrodeSide::Middle {
+                                1.0
+                            } else {
+                                -1.0
+                            };
+                            *q += images * sign * d3 * dv / t_film;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // The supports' totals over the whole die: the part solved times its images.
+    let images_n = (1 + usize::from(s.mirror_x_um.is_some())) as f64;
+    let (s1, s2) = match s.mirror_y_um {
+        // One support solved: the other is its mirror image.
+        Some(_) => (s1 * images_n, s1 * images_n),
+        None => (s1 * images_n, s2 * images_n),
+    };
+    let voltage = charge
+        .iter()
+        .zip(&g.electrodes)
+        .map(|(q, e)| q * 1e-12 / g.capacitance_f(e.area_um2) * 1e3)
+        .collect();
+    // Deflection: -u_z on the plate's mid-plane.
+    let mid = lay.plate_mid_um();
+    let at = sol
+        .displacement_m([at_um.0, at_um.1, mid])
+        .map_or(f64::NAN, |u| -u[2] * 1e6);
+    let tol = 1e-6 * grid.extent_um();
+    let max_defl = (0..pos.len())
+        .filter(|&n| (pos[n][2] - mid).abs() < tol)
+        .map(|n| -sol.node_displacement_m(n)[2] * 1e6)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let silicon = (0..grid.element_count()).filter(|&e| grid.material(e) == Some(SILICON));
+    let peak = sol.max_principal_stress(silicon);
+    SolidReadout {
+        charge_pc: charge,
+        voltage_mv: voltage,
+        support1_n: s1,
+        support2_n: s2,
+        deflection_at_load_um: at,
+        max_deflection_um: max_defl,
+        max_principal_mpa: peak.as_ref().map_or(f64::NAN, |p| p.stress_pa * 1e-6),
+        max_principal_at_um: peak.map_or([f64::NAN; 3], |p| p.position_um),
+    }
+}

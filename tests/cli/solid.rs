@@ -1,0 +1,222 @@
+//! The solid rung: what is meshed is what is etched (volumes in closed form), equilibrium,
+//! mirror symmetry, linearity, and `fe --model solid` through the binary.
+
+use tactfab::design::Design;
+use tactfab::process::{load_str, Limits, Scene, SceneLoad};
+use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidRun};
+use tactfab::sensor::solid_mesh::{build, Base, SolidMeshOptions, BASE, PVDF, SILICON};
+use tactfab::sensor::SensorGeometry;
+
+use super::harness::tactfab;
+
+const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
+
+/// A 12 mm die with four columns of teeth (the bundled scenes moved onto it): cheap to solve
+/// whole.
+const SHORT: [&str; 4] = [
+    "geometry.die_length_um=12000",
+    "geometry.teeth.count_x=4",
+    "checks.scenes[0].load.point.x_um=6000",
+    "checks.scenes[1].load.point.x_um=6000",
+];
+
+fn geometry(sets: &[&str]) -> SensorGeometry {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
+        .expect("valid process")
+        .process;
+    SensorGeometry::new(&Design::new(p).expect("design"))
+}
+
+fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
+    Scene {
+        name: "p".into(),
+        load: SceneLoad::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um: 500.0,
+        },
+        limits: Limits::default(),
+    }
+}
+
+fn run(levels: usize, symmetry: bool) -> SolidRun {
+    SolidRun {
+        base: Base::Rigid,
+        levels,
+        tol: 0.01,
+        symmetry,
+    }
+}
+
+#[test]
+fn the_meshed_silicon_is_the_etched_silicon() {
+    // Whole die, Plexiglas base, coarse mesh: the mapped {111} faces are exact, so the volumes
+    // are the etched shape's in closed form at any mesh size.
+    let g = geometry(&[]);
+    let base = g.base;
+    let Base::Elastic { thickness_um, .. } = base else {
+        panic!("the bundled base is Plexiglas")
+    };
+    let s = build(
+        &g,
+        &[],
+        base,
+        SolidMeshOptions::level(2000.0, 0),
+        None,
+        None,
+    )
+    .unwrap();
+    let v = s.material_volumes_um3();
+    let (l, w, t) = (g.length_um, g.width_um, g.plate_thickness_um);
+    let e = &g.etched;
+    let (a, ro, h) = (2000.0, e.tooth_run_out_um, e.tooth_height_um);
+    assert_eq!(e.tooth_tops_um.len(), 25);
+    // Frustum of a square pyramid: V = h/3 (A1 + A2 + sqrt(A1 A2)).
+    let (a1, a2) = (a * a, (a + 2.0 * ro).powi(2));
+    let frustum = h / 3.0 * (a1 + a2 + (a1 * a2).sqrt());
+    // Each support: trapezoid from its footprint edge e to the wall's foot y0, height d.
+    let (d, f) = (e.support_height_um, g.film_thickness_um);
+    let (e1, y0) = (e.support_edge_y_um, g.plate_y0_um);
+    let supports = 2.0 * l * d * 0.5 * (e1 + y0);
+    let silicon = l * w * t + 25.0 * frustum + supports;
+    assert!(
+        ((v[usize::from(SILICON)] - silicon) / silicon).abs() < 1e-9,
+        "{} vs {silicon}",
+        v[usize::from(SILICON)]
+    );
+    // Films: under both supports' footprints, and under the plate between the walls over the
+    // film's height (the wall at height z is at e1 + (y0 - e1)(z - f)/d).
+    let wall_integral = e1 * f + (y0 - e1) / d * (d * d - (d - f) * (d - f)) / 2.0;
+    let films = 2.0 * l * e1 * f + l * (w * f - 2.0 * wall_integral);
+    assert!(
+        ((v[usize::from(PVDF)] - films) / films).abs() < 1e-9,
+        "{} vs {films}",
+        v[1]
+    );
+    let base_v = l * w * thickness_um;
+    assert!(((v[usize::from(BASE)] - base_v) / base_v).abs() < 1e-12);
+}
+
+#[test]
+fn supports_carry_the_load_and_each_scales_with_it() {
+    // An off-centre load on a shortened die (three columns of teeth): equilibrium through the
+    // films, the nearer support carrying more, and twice the force twice every reading.
+    let g = geometry(&SHORT);
+    let one = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(1, true), &[]).unwrap();
+    let two = evaluate_solid(&g, &point(4500.0, 5000.0, 2.0), run(1, true), &[]).unwrap();
+    let r1 = &one.levels[0].readout;
+    let r2 = &two.levels[0].readout;
+    assert!((r1.support1_n + r1.support2_n - 1.0).abs() < 1e-9, "{r1:?}");
+    assert!(r1.support1_n > 0.6 && r1.support2_n < 0.4, "{r1:?}");
+    for (a, b) in r1.charge_pc.iter().zip(&r2.charge_pc) {
+        assert!((2.0 * a - b).abs() <= 1e-9 * b.abs().max(1e-3), "{a} {b}");
+    }
+    assert!((2.0 * r1.deflection_at_load_um - r2.deflection_at_load_um).abs() < 1e-9);
+}
+
+#[test]
+fn mirrored_parts_read_as_the_whole_die() {
+    // A matrix of teeth on a 12 mm die and a centre load: symmetric about both centre lines, so
+    // a quarter is solved; the whole die on the same lines must read the same.
+    let mut sets = SHORT.to_vec();
+    sets.push("geometry.teeth.pattern=matrix");
+    let g = geometry(&sets);
+    let scene = point(6000.0, 7500.0, 1.0);
+    let quarter = evaluate_solid(&g, &scene, run(1, true), &[]).unwrap();
+    assert!(
+        quarter.part_solved.starts_with("quarter"),
+        "{}",
+        quarter.part_solved
+    );
+    let whole = evaluate_solid(&g, &scene, run(1, false), &[]).unwrap();
+    assert_eq!(whole.part_solved, "whole die");
+    let (q, w) = (&quarter.levels[0].readout, &whole.levels[0].readout);
+    let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-6 * scale;
+    let qmax = w.charge_pc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (a, b) in q.charge_pc.iter().zip(&w.charge_pc) {
+        assert!(
+            close(*a, *b, qmax),
+            "{:?} vs {:?}",
+            q.charge_pc,
+            w.charge_pc
+        );
+    }
+    assert!(close(
+        q.deflection_at_load_um,
+        w.deflection_at_load_um,
+        w.deflection_at_load_um
+    ));
+    assert!(close(q.support1_n, w.support1_n, 1.0) && close(q.support2_n, w.support2_n, 1.0));
+    // The left and right units read alike by symmetry, in the whole model too.
+    assert!(close(w.charge_pc[0], w.charge_pc[2], qmax));
+}
+
+#[test]
+fn contact_loads_find_the_tooth_tops() {
+    // A patch centred on a tooth top lies on it entirely; the force is all applied.
+    let g = geometry(&[]);
+    let t = g.etched.tooth_tops_um[0];
+    let (loads, at) = top_loads(
+        &g,
+        &point(0.5 * (t[0] + t[2]), 0.5 * (t[1] + t[3]), 1.0).load,
+    );
+    let s = build(
+        &g,
+        &[loads],
+        Base::Rigid,
+        SolidMeshOptions::level(1000.0, 0),
+        None,
+        None,
+    )
+    .unwrap();
+    assert_eq!(s.loaded_fraction, vec![1.0]);
+    assert!(at.0 > t[0] && at.0 < t[2]);
+}
+
+#[test]
+fn fe_model_solid_through_the_binary() {
+    let mut args = vec![
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--scene",
+        "line-y5mm",
+        "--max-levels",
+        "1",
+        "--json",
+    ];
+    for s in SHORT {
+        args.extend(["--set", s]);
+    }
+    let out = tactfab(&args);
+    out.expect_code(0);
+    let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
+    let r: &serde_json::Value = &v["scenes"][0];
+    let q = r["quantities"].as_array().unwrap();
+    assert_eq!(q.len(), 1 + 9 + 2 + 1, "{q:?}");
+    let get = |n: &str| {
+        q.iter().find(|x| x["name"] == n).unwrap()["value"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!((get("reaction_support1") + get("reaction_support2") - 1.0).abs() < 1e-9);
+    // Every compared quantity carries the linear plate's value.
+    assert!(q
+        .iter()
+        .filter(|x| x["name"] != "max_principal_stress")
+        .all(|x| x["plate_value"].is_number()));
+    // The studies refuse it with a usage-level error.
+    let bad = tactfab(&[
+        "orient",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "-o",
+        "x",
+    ]);
+    assert_eq!(bad.code, 2, "{}", bad.stderr);
+    assert!(bad.stderr.contains("solid rung"), "{}", bad.stderr);
+}
