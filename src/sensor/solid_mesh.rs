@@ -265,6 +265,19 @@ fn tooth_edges(g: &SensorGeometry) -> ToothEdges {
     ToothEdges { x, y }
 }
 
+/// Characteristic length of the support on its film, a beam on an elastic foundation:
+/// lambda = (4 D / k)^(1/4) with D = Q22 d^3 / 12 the support's bending stiffness across its
+/// width and k = E_oed / t_f the film's stiffness per area, E_oed = E (1 - nu) / ((1 + nu)(1 - 2
+/// nu)) for a film bonded on both faces (Hetenyi, Beams on Elastic Foundation, 1946, ch. 2).
+pub fn foundation_length_um(g: &SensorGeometry) -> f64 {
+    let d = g.etched.support_height_um * 1e-6;
+    let dd = g.material.bending_stiffness(d).d22_nm;
+    let nu = g.pvdf_nu;
+    let e_oed = g.pvdf_e_pa * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    let k = e_oed / (g.film_thickness_um * 1e-6);
+    (4.0 * dd / k).powf(0.25) * 1e6
+}
+
 /// Builds the solid model for the given top loads (one load case each).
 pub fn build(
     g: &SensorGeometry,
@@ -335,6 +348,16 @@ pub fn build(
     let mut xs = vec![0.0, l, x_hi, 0.5 * l];
     let mut ys = vec![0.0, w, y_hi, 0.5 * w, y0, y1];
     ys.extend(wall_anchors);
+    // The support on its film is a beam on an elastic foundation: the load it takes at the wall
+    // decays (and changes sign) over its characteristic length, which the lines resolve.
+    let lambda = foundation_length_um(g);
+    for k in [0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0] {
+        let at = e1 - k * lambda;
+        if at > 0.0 {
+            let orig = wall.invert(at);
+            ys.extend([orig, w - orig]);
+        }
+    }
     for el in &g.electrodes {
         xs.extend([el.x0_um, el.x1_um]);
         ys.extend([el.y0_um, el.y1_um]);

@@ -178,3 +178,23 @@ pub fn read(
         max_principal_at_um: peak.map_or([f64::NAN; 3], |p| p.position_um),
     }
 }
+
+/// Squared coupling factor of the film in the 31 mode, k31^2 = d31^2 / (s11^E eps33^T) with
+/// s11^E = 1 / E (IEEE Std 176-1987, Eq. 99): the fraction of the film's strain energy the
+/// converse effect returns. The solid rung leaves the converse coupling out; its effect on the
+/// structure is at most k31^2 times the film's share of the bending stiffness
+/// ([`film_bending_share`]).
+pub fn coupling_k31_squared(g: &SensorGeometry) -> f64 {
+    let d31 = g.d31_pc_per_n * 1e-12;
+    d31 * d31 * g.pvdf_e_pa / (crate::units::EPS0_F_PER_M * g.eps_r)
+}
+
+/// The film's share of the plate-plus-film bending stiffness: E_f t_f (t/2 + t_f/2)^2 against
+/// the plate's D22 = Q22 t^3 / 12 per unit width (parallel-axis theorem, the film a thin layer
+/// under the plate).
+pub fn film_bending_share(g: &SensorGeometry) -> f64 {
+    let (t, tf) = (g.plate_thickness_um * 1e-6, g.film_thickness_um * 1e-6);
+    let film = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu) * tf * (0.5 * (t + tf)).powi(2);
+    let plate = g.material.bending_stiffness(t).d22_nm;
+    film / (film + plate)
+}
