@@ -229,7 +229,10 @@ fn the_converse_piezo_effect_is_negligible_for_this_film() {
     let g = geometry(&[]);
     let k2 = tactfab::sensor::solid_readout::coupling_k31_squared(&g);
     let expect = (20e-12f64).powi(2) * 3e9 / (8.8541878128e-12 * 12.0);
-    assert!((k2 - expect).abs() < 1e-9 * expect && (0.010..0.012).contains(&k2), "{k2}");
+    assert!(
+        (k2 - expect).abs() < 1e-9 * expect && (0.010..0.012).contains(&k2),
+        "{k2}"
+    );
     let share = tactfab::sensor::solid_readout::film_bending_share(&g);
     assert!(share > 0.005 && share < 0.05, "{share}");
     assert!(k2 * share < 1e-3);
