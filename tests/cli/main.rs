@@ -12,5 +12,6 @@ mod peer;
 mod process_cli;
 mod properties;
 mod readme;
+mod readout;
 mod sensor;
 mod softsweep;
