@@ -80,7 +80,7 @@ fn text(s: &ReadoutStudy) -> String {
             feedback_resistance_ohm,
         } => writeln!(
             out,
-            "  front end: charge amplifier, C_f {} pF, R_f {} GOhm: V = -Q / C_f above the \
+            "  front end: charge amplifier, C_f {} pF, R_f {} GΩ: V = -Q / C_f above the \
              corner, tau = R_f C_f",
             f(feedback_capacitance_f * 1e12, 1),
             f(feedback_resistance_ohm * 1e-9, 3)
@@ -90,7 +90,7 @@ fn text(s: &ReadoutStudy) -> String {
             cable_capacitance_f,
         } => writeln!(
             out,
-            "  front end: voltage read-out, R_in {} MOhm, cable {} pF: V = Q / (C_e + C_cable) \
+            "  front end: voltage read-out, R_in {} MΩ, cable {} pF: V = Q / (C_e + C_cable) \
              above the corner, tau = R_in (C_e + C_cable) per electrode",
             f(input_resistance_ohm * 1e-6, 3),
             f(cable_capacitance_f * 1e12, 1)

@@ -387,12 +387,12 @@ pub const DEFAULTS: &[DefaultSource] = &[
     },
     DefaultSource {
         path: "readout.feedback_resistance_gohm",
-        source: "[choice] 10 GOhm: tau = 10 s, corner 16 mHz, far below the 1 Hz pulse and the \
+        source: "[choice] 10 GΩ: tau = 10 s, corner 16 mHz, far below the 1 Hz pulse and the \
                  5 Hz test; no amplifier datasheet in ../shared",
     },
     DefaultSource {
         path: "readout.input_resistance_mohm",
-        source: "[choice] 1 MOhm, a common oscilloscope input; no DAQ datasheet in ../shared \
+        source: "[choice] 1 MΩ, a common oscilloscope input; no DAQ datasheet in ../shared \
                  (set the real input's)",
     },
     DefaultSource {

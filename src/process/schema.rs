@@ -30,7 +30,7 @@ pub struct Process {
     #[serde(default)]
     pub drc: Drc,
     /// The read-out electronics behind the electrodes (`tactfab readout`); every value defaults
-    /// to a stated [choice].
+    /// to a stated \[choice\].
     #[serde(default)]
     pub readout: ReadoutElectronics,
     /// Steps in the order the cleanroom runs them. Deserialised per step by the loader

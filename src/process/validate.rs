@@ -1015,7 +1015,7 @@ fn drc(v: &mut V, p: &Process) {
     );
 }
 
-/// `readout`: every component positive and within what a bench amplifier can be (1 uF, 1 POhm),
+/// `readout`: every component positive and within what a bench amplifier can be (1 uF, 1 PΩ),
 /// so time constants stay finite; the cable may be ideal (0 pF).
 fn readout(v: &mut V, r: &ReadoutElectronics) {
     v.positive(
@@ -1028,13 +1028,13 @@ fn readout(v: &mut V, r: &ReadoutElectronics) {
         "readout.feedback_resistance_gohm",
         r.feedback_resistance_gohm,
         1e6,
-        "GOhm",
+        "GΩ",
     );
     v.positive(
         "readout.input_resistance_mohm",
         r.input_resistance_mohm,
         1e9,
-        "MOhm",
+        "MΩ",
     );
     v.range(
         "readout.cable_capacitance_pf",

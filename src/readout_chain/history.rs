@@ -12,10 +12,10 @@ pub const GRASP_CYCLE_S: f64 = 1.0;
 pub const TEST_FREQ_HZ: f64 = 5.0;
 /// A pulsating vessel's rate, ~1 Hz (issue 17; the papers give none).
 pub const PULSE_RATE_HZ: f64 = 1.0;
-/// [choice] Each pulse is half a sine this long (a systolic pressure rise; no source in
+/// \[choice\] Each pulse is half a sine this long (a systolic pressure rise; no source in
 /// ../shared gives a shape).
 pub const PULSE_WIDTH_S: f64 = 0.3;
-/// [choice] Pulse height as a fraction of the held grasp force (no source in ../shared).
+/// \[choice\] Pulse height as a fraction of the held grasp force (no source in ../shared).
 pub const PULSE_FRACTION: f64 = 0.1;
 /// Most samples one history may have (each is a row of the CSV and 10 values per channel).
 pub const MAX_SAMPLES: usize = 2_000_000;

@@ -7,6 +7,7 @@ mod build;
 mod harness;
 mod kill;
 mod masks;
+mod modes;
 mod options;
 mod peer;
 mod process_cli;

@@ -43,7 +43,7 @@ fn half_sine_grasp_rises_as_the_closed_form_then_decays_as_exp() {
     assert_eq!(rows.len(), 5001);
     assert!(rows.iter().all(|r| r.len() == 11));
     assert!((rows[5000][0] - 5.0).abs() < 1e-9 && (rows[5000][1] - 1.0).abs() < 1e-12);
-    // The default charge amplifier: C_f 1 nF, R_f 10 GOhm.
+    // The default charge amplifier: C_f 1 nF, R_f 10 GΩ.
     let tau = 10.0;
     assert!(r.stdout.contains("corner f_c 1.5915e-2 Hz"), "{}", r.stdout);
     let m2 = head.iter().position(|h| h == "V_M2_v").unwrap();
@@ -90,7 +90,7 @@ fn half_sine_grasp_rises_as_the_closed_form_then_decays_as_exp() {
 fn the_5hz_sine_settles_to_the_first_order_gain() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ro");
-    // R_f 10 MOhm: tau = 10 ms, omega tau = 0.314, so the test sine is attenuated to 30 %.
+    // R_f 10 MΩ: tau = 10 ms, omega tau = 0.314, so the test sine is attenuated to 30 %.
     let r = tactfab(&[
         "readout",
         REFERENCE,
