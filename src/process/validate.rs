@@ -1015,25 +1015,32 @@ fn drc(v: &mut V, p: &Process) {
     );
 }
 
-/// `readout`: every component positive and within what a bench amplifier can be (1 uF, 1 PΩ),
-/// so time constants stay finite; the cable may be ideal (0 pF).
+/// `readout`: every component within what a bench amplifier can be (0.001 pF - 1 uF, 1 kΩ -
+/// 1 PΩ feedback, 1 Ω - 1 PΩ input), so gains and time constants stay finite and positive; the
+/// cable may be ideal (0 pF).
 fn readout(v: &mut V, r: &ReadoutElectronics) {
-    v.positive(
+    v.range(
         "readout.feedback_capacitance_pf",
         r.feedback_capacitance_pf,
+        1e-3,
         1e6,
+        false,
         "pF",
     );
-    v.positive(
+    v.range(
         "readout.feedback_resistance_gohm",
         r.feedback_resistance_gohm,
+        1e-6,
         1e6,
+        false,
         "GΩ",
     );
-    v.positive(
+    v.range(
         "readout.input_resistance_mohm",
         r.input_resistance_mohm,
+        1e-6,
         1e9,
+        false,
         "MΩ",
     );
     v.range(

@@ -117,6 +117,22 @@ pub fn study(
         })
         .collect();
     let amplifier = Amplifier::from_process(electronics);
+    // An electrode of no area on an ideal cable has no capacitance to read it through.
+    if let Some(s) = sources.iter().find(|s| {
+        let c = s.capacitance_pf * 1e-12;
+        let (tau, gain) = (amplifier.tau_s(c), amplifier.gain_v_per_c(c));
+        !(tau > 0.0 && tau.is_finite() && gain.is_finite())
+    }) {
+        return Err(ReadoutError::Input {
+            problem: format!(
+                "electrode {} ({} pF) gives the {} no finite time constant",
+                s.name,
+                s.capacitance_pf,
+                amplifier.name()
+            ),
+            hint: "give readout.cable_capacitance_pf a value or check the electrode's area",
+        });
+    }
     let channels = run(&sources, &amplifier, &t_s, &force_n);
     let held = spec
         .history
