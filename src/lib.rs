@@ -58,7 +58,8 @@
 //!    and as printable HTML, and `tactfab build`'s in-memory build and `build.json` summary.
 //! 10. The studies call the sensor: [`analysis`] (calibration, load inverse, orientation),
 //!     [`softness`] (composite beam, paper 001 Eq. 7-12, beside a locking-free tissue FE, and the
-//!     inverse) and [`sweep`] (paper 001's 15,000 plates, sharded).
+//!     inverse), [`sweep`] (paper 001's 15,000 plates, sharded) and [`readout_chain`] (the nine
+//!     channels in time through their charge amplifiers: PVDF senses change).
 //!
 //! Every warning, error and rule violation on the way is a [`finding::Finding`]: a code enum per
 //! domain (etch plan, design rules, layout, FE scene) with one stable spelling, a severity, the
@@ -97,6 +98,7 @@ pub mod finding;
 pub mod layout;
 pub mod plot;
 pub mod process;
+pub mod readout_chain;
 pub mod report;
 pub mod sensor;
 pub mod softness;

@@ -53,6 +53,9 @@ pub enum Command {
     /// Probe-orientation study (paper 000): charge against angle, fits, inverse angle, bivariate
     /// function.
     Orient(OrientArgs),
+    /// The nine channels in time through the read-out electronics (charge amplifier or voltage
+    /// input, from the process file) for a force history at one point: CSV + SVG in DIR.
+    Readout(ReadoutArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -502,6 +505,68 @@ pub struct OrientArgs {
     /// Print the whole study as JSON (the cost fields hold wall-clock ms and vary run to run).
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
+}
+
+/// `--history`: the force the jaws apply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum HistoryArg {
+    /// Closes along the rising half of a 1 s half sine [paper 002 sec. VII.A], then held.
+    HalfSine,
+    /// The papers' 5 Hz test sinusoid.
+    #[value(name = "sine-5hz")]
+    Sine5Hz,
+    /// 1 Hz half-sine pulses of 10 % of the force on a held grasp (a pulsating vessel).
+    Pulse,
+}
+
+impl From<HistoryArg> for tactfab::readout_chain::HistoryKind {
+    fn from(h: HistoryArg) -> Self {
+        use tactfab::readout_chain::HistoryKind as K;
+        match h {
+            HistoryArg::HalfSine => K::HalfSine,
+            HistoryArg::Sine5Hz => K::Sine5Hz,
+            HistoryArg::Pulse => K::Pulse,
+        }
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct ReadoutArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory: readout.csv (t_s, F_n, V_<electrode>_v) and readout.svg.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// The force history.
+    #[arg(long, value_enum, default_value = "half-sine")]
+    pub history: HistoryArg,
+    /// Load position along the die length (mm; default: the die centre).
+    #[arg(long, value_parser = parse::position_mm)]
+    pub x_mm: Option<f64>,
+    /// Load position across the die width (mm; default: the die centre).
+    #[arg(long, value_parser = parse::position_mm)]
+    pub y_mm: Option<f64>,
+    /// Peak grasp force or sine amplitude (N).
+    #[arg(long, default_value = "1", allow_hyphen_values = true, value_parser = parse::force_n)]
+    pub force_n: f64,
+    /// Contact radius of the load (0.01-5 mm).
+    #[arg(long, default_value = "0.25", value_parser = parse::contact_radius_mm)]
+    pub contact_radius_mm: f64,
+    /// Record length, 0.001-3600 s (default: 5 s half-sine, 1 s sine, 6 s pulse).
+    #[arg(long, value_parser = parse::duration_s)]
+    pub duration_s: Option<f64>,
+    /// Sample step, 0.001-1000 ms (the force is linear between samples; the filter is exact
+    /// for that).
+    #[arg(long, default_value = "1", value_parser = parse::dt_ms)]
+    pub dt_ms: f64,
+    /// Relative error of the sensitivities (linear plate, three-mesh estimate), in (0, 1).
+    #[arg(long, value_parser = parse::tolerance, default_value = "0.01")]
+    pub tol: f64,
+    /// Most mesh levels for the sensitivities, 1-10.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "8")]
+    pub max_levels: u8,
     #[command(flatten)]
     pub replace: OverwriteArgs,
 }

@@ -13,6 +13,7 @@ mod masks;
 mod orient;
 mod output;
 mod parse;
+mod readout;
 mod softness;
 mod sweep;
 mod traveler;
@@ -60,6 +61,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Calibrate(a) => calibrate::run(&a),
         Command::Locate(a) => locate::run(&a),
         Command::Orient(a) => orient::run(&a),
+        Command::Readout(a) => readout::run(&a),
     }
 }
 

@@ -229,6 +229,21 @@ pub fn sweep_range_um(s: &str) -> Parsed<Range> {
     )
 }
 
+/// A die coordinate in mm, 0-1000 (whether it is on the plate is the sensor's check).
+pub fn position_mm(s: &str) -> Parsed<f64> {
+    within(s, 0.0, 1000.0, "a die coordinate in mm")
+}
+
+/// A read-out sample step: 1 us - 1 s, in ms.
+pub fn dt_ms(s: &str) -> Parsed<f64> {
+    within(s, 0.001, 1000.0, "a time step in ms")
+}
+
+/// A read-out record length: 1 ms - 1 h, in s.
+pub fn duration_s(s: &str) -> Parsed<f64> {
+    within(s, 0.001, 3600.0, "a duration in s")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -68,6 +68,10 @@ pub enum FeError {
         limit: usize,
         hint: &'static str,
     },
+    #[error("element {element} has a non-positive or non-finite mass\n  hint: {hint}")]
+    InvalidMass { element: usize, hint: &'static str },
+    #[error("the natural frequencies did not converge: {detail}\n  hint: {hint}")]
+    Eigen { detail: String, hint: &'static str },
     #[error("the large-deflection plate did not converge: {detail}\n  hint: {hint}")]
     Newton { detail: String, hint: &'static str },
 }

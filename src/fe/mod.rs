@@ -29,9 +29,11 @@ pub mod convergence;
 pub mod dofs;
 pub mod error;
 pub mod loads;
+pub mod mass;
 pub mod material;
 pub mod mesh;
 pub mod mirror;
+pub mod modal;
 pub mod ordering;
 pub mod problem;
 pub mod quarter_square;
@@ -44,13 +46,17 @@ pub mod vonkarman;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_modal;
+#[cfg(test)]
 mod tests_vonkarman;
 
 pub use beam::{fixed_fixed_reactions, BeamReactions};
 pub use convergence::{richardson, richardson_ratios, ConvergenceKind, Richardson, ThreeMesh};
 pub use error::{FeError, FeResult};
+pub use mass::MassModel;
 pub use material::{BendingStiffness, DieEdge, PlateMaterial};
 pub use mesh::{RectMesh, RefinePoint};
+pub use modal::{natural_frequencies, ModalOptions, Mode, Modes};
 pub use problem::{
     Axis, Dof, LineSupport, Load, PlateProblem, PrescribedDof, RectUm, SupportKind, ThicknessRegion,
 };

@@ -181,6 +181,26 @@ impl Factorised {
         Ok(())
     }
 
+    /// The mesh, element thickness and material this factorisation was built for.
+    pub(crate) fn context(&self) -> &SolutionContext {
+        &self.ctx
+    }
+
+    /// The dof numbering and constraints.
+    pub(crate) fn dof_map(&self) -> &DofMap {
+        &self.dofs
+    }
+
+    /// The element stiffness matrices (K x products without the assembled matrix).
+    pub(crate) fn element_stiffness(&self) -> &ElementStiffness {
+        &self.kel
+    }
+
+    /// Overwrites every column of `rhs` (free dofs) with K^-1 of it: the factor, reused.
+    pub(crate) fn solve_free_in_place(&self, rhs: faer::MatMut<'_, f64>) {
+        self.llt.solve_in_place(rhs);
+    }
+
     /// Number of free (unknown) dofs.
     pub fn n_free_dofs(&self) -> usize {
         self.dofs.n_free()

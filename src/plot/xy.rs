@@ -109,6 +109,16 @@ pub fn tick(v: f64) -> String {
     }
 }
 
+/// A tick at round-off distance from zero (plotters steps lo + k h: -1.4e-20 on a voltage axis
+/// through zero) is zero; a log axis has no zero.
+fn snap(v: f64, lo: f64, hi: f64, log: bool) -> f64 {
+    if !log && v.abs() <= 1e-9 * (hi - lo).abs() {
+        0.0
+    } else {
+        v
+    }
+}
+
 /// Data range of one axis over all finite points (positive only on a log axis), padded.
 fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -216,8 +226,8 @@ pub fn xy_svg(plot: &XyPlot, width: u32, height: u32) -> String {
                     .configure_mesh()
                     .x_desc(&plot.x.label)
                     .y_desc(&plot.y.label)
-                    .x_label_formatter(&|v| tick(*v))
-                    .y_label_formatter(&|v| tick(*v))
+                    .x_label_formatter(&|v| tick(snap(*v, x0, x1, plot.x.log)))
+                    .y_label_formatter(&|v| tick(snap(*v, y0, y1, plot.y.log)))
                     .draw();
                 for (i, s) in plot.series.iter().enumerate() {
                     let colour = PALETTE[i % PALETTE.len()];
@@ -467,6 +477,9 @@ mod tests {
         assert_eq!(tick(12.5), "12.5");
         assert_eq!(tick(-3.0), "-3");
         assert_eq!(tick(0.0), "0");
+        assert_eq!(tick(snap(-1.36e-20, -1e-4, 2.5e-4, false)), "0");
+        assert_eq!(tick(snap(1e-5, -1e-4, 2.5e-4, false)), "1e-5");
+        assert_eq!(tick(snap(1e-12, 1e-12, 1e-3, true)), "1e-12");
     }
 
     /// Nine electrodes and a reference on one chart: distinct colours, every label on the canvas

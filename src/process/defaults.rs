@@ -3,7 +3,7 @@
 //! The serde defaults call these functions; [`DEFAULTS`] names the same values with their source
 //! so the loader can report every default a file relied on.
 
-use super::schema::{GdsLayer, SiliconModel, Substrate, TmahRate};
+use super::schema::{FrontEnd, GdsLayer, SiliconModel, Substrate, TmahRate};
 
 /// A default value the process file may override, and where it comes from.
 #[derive(Debug, Clone, Copy)]
@@ -50,6 +50,24 @@ pub fn fracture_strength_mpa() -> f64 {
 }
 pub fn safety_factor() -> f64 {
     3.0
+}
+pub fn si_density_g_per_cm3() -> f64 {
+    2.329
+}
+pub fn front_end() -> FrontEnd {
+    FrontEnd::ChargeAmplifier
+}
+pub fn feedback_capacitance_pf() -> f64 {
+    1000.0
+}
+pub fn feedback_resistance_gohm() -> f64 {
+    10.0
+}
+pub fn input_resistance_mohm() -> f64 {
+    1.0
+}
+pub fn cable_capacitance_pf() -> f64 {
+    100.0
 }
 pub fn pvdf_thickness_um() -> f64 {
     25.0
@@ -256,6 +274,11 @@ pub const DEFAULTS: &[DefaultSource] = &[
         source: "[paper] 001, safety factor 3",
     },
     DefaultSource {
+        path: "materials.silicon.density_g_per_cm3",
+        source: "[lit] 2.329 g/cm3 at room temperature, CRC Handbook of Chemistry and Physics \
+                 (not in ../shared/reference)",
+    },
+    DefaultSource {
         path: "materials.pvdf.thickness_um",
         source: "[paper] 002 sec. III",
     },
@@ -390,6 +413,29 @@ pub const DEFAULTS: &[DefaultSource] = &[
         source:
             "[est] 100 um: aligning the film to the die by hand under a microscope, and the epoxy \
                  fillet where the etched wall meets the plate",
+    },
+    DefaultSource {
+        path: "readout.front_end",
+        source: "[paper] 001 sec. 5 and 002 sec. VII: charge amplifiers (Kistler Type 5010)",
+    },
+    DefaultSource {
+        path: "readout.feedback_capacitance_pf",
+        source: "[choice] 1 nF: about 0.2 V/N from the ~200 pC/N middle electrodes; no amplifier \
+                 datasheet in ../shared",
+    },
+    DefaultSource {
+        path: "readout.feedback_resistance_gohm",
+        source: "[choice] 10 GΩ: tau = 10 s, corner 16 mHz, far below the 1 Hz pulse and the \
+                 5 Hz test; no amplifier datasheet in ../shared",
+    },
+    DefaultSource {
+        path: "readout.input_resistance_mohm",
+        source: "[choice] 1 MΩ, a common oscilloscope input; no DAQ datasheet in ../shared \
+                 (set the real input's)",
+    },
+    DefaultSource {
+        path: "readout.cable_capacitance_pf",
+        source: "[choice] 100 pF, about a metre of coaxial cable; no cable datasheet in ../shared",
     },
     DefaultSource {
         path: "drc.max_vertices",

@@ -29,6 +29,10 @@ pub struct Process {
     /// Design-rule limits and waivers for `tactfab masks`.
     #[serde(default)]
     pub drc: Drc,
+    /// The read-out electronics behind the electrodes (`tactfab readout`); every value defaults
+    /// to a stated \[choice\].
+    #[serde(default)]
+    pub readout: ReadoutElectronics,
     /// Steps in the order the cleanroom runs them. Deserialised per step by the loader
     /// (the `kind` field selects the parameter set), so errors point into the right step.
     #[serde(skip)]
@@ -259,6 +263,9 @@ pub struct Silicon {
     pub fracture_strength_mpa: f64,
     #[serde(default = "d::safety_factor")]
     pub safety_factor: f64,
+    /// Mass density of the plate and teeth (the natural frequencies).
+    #[serde(default = "d::si_density_g_per_cm3")]
+    pub density_g_per_cm3: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
@@ -797,6 +804,51 @@ impl Default for Drc {
             max_vertices: d::drc_max_vertices(),
             min_electrode_gap_um: d::drc_min_electrode_gap_um(),
             min_wall_margin_um: d::drc_min_wall_margin_um(),
+        }
+    }
+}
+
+/// What turns an electrode's charge into the voltage that is recorded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrontEnd {
+    /// A charge amplifier per channel: feedback capacitor C_f in parallel with R_f (the papers'
+    /// Kistler Type 5010).
+    ChargeAmplifier,
+    /// The electrode wired straight to a voltage input: the electrode and cable capacitance
+    /// discharge through the input resistance.
+    VoltageReadout,
+}
+
+/// The read-out electronics of every channel; units in the names. Only the fields of the chosen
+/// front end are used, all are validated.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReadoutElectronics {
+    #[serde(default = "d::front_end")]
+    pub front_end: FrontEnd,
+    /// Charge amplifier: the feedback capacitor C_f (gain -1 / C_f).
+    #[serde(default = "d::feedback_capacitance_pf")]
+    pub feedback_capacitance_pf: f64,
+    /// Charge amplifier: the feedback resistor R_f (tau = R_f C_f).
+    #[serde(default = "d::feedback_resistance_gohm")]
+    pub feedback_resistance_gohm: f64,
+    /// Voltage read-out: the input resistance of the amplifier or DAQ.
+    #[serde(default = "d::input_resistance_mohm")]
+    pub input_resistance_mohm: f64,
+    /// Voltage read-out: the cable's capacitance, in parallel with the electrode's.
+    #[serde(default = "d::cable_capacitance_pf")]
+    pub cable_capacitance_pf: f64,
+}
+
+impl Default for ReadoutElectronics {
+    fn default() -> Self {
+        ReadoutElectronics {
+            front_end: d::front_end(),
+            feedback_capacitance_pf: d::feedback_capacitance_pf(),
+            feedback_resistance_gohm: d::feedback_resistance_gohm(),
+            input_resistance_mohm: d::input_resistance_mohm(),
+            cable_capacitance_pf: d::cable_capacitance_pf(),
         }
     }
 }

@@ -126,6 +126,7 @@ pub fn validate(p: &Process, is_placeholder: &dyn Fn(&str) -> bool) -> Vec<Inval
     steps(&mut v, p, is_placeholder);
     layout(&mut v, p);
     drc(&mut v, p);
+    readout(&mut v, &p.readout);
     v.out
 }
 
@@ -472,6 +473,12 @@ fn materials(v: &mut V, m: &Materials) {
         100.0,
         false,
         "",
+    );
+    v.positive(
+        "materials.silicon.density_g_per_cm3",
+        si.density_g_per_cm3,
+        30.0,
+        "g/cm3",
     );
     let f = &m.pvdf;
     v.positive("materials.pvdf.thickness_um", f.thickness_um, 1000.0, "um");
@@ -1022,5 +1029,43 @@ fn drc(v: &mut V, p: &Process) {
         p.geometry.die_width_um,
         false,
         "um",
+    );
+}
+
+/// `readout`: every component within what a bench amplifier can be (0.001 pF - 1 uF, 1 kΩ -
+/// 1 PΩ feedback, 1 Ω - 1 PΩ input), so gains and time constants stay finite and positive; the
+/// cable may be ideal (0 pF).
+fn readout(v: &mut V, r: &ReadoutElectronics) {
+    v.range(
+        "readout.feedback_capacitance_pf",
+        r.feedback_capacitance_pf,
+        1e-3,
+        1e6,
+        false,
+        "pF",
+    );
+    v.range(
+        "readout.feedback_resistance_gohm",
+        r.feedback_resistance_gohm,
+        1e-6,
+        1e6,
+        false,
+        "GΩ",
+    );
+    v.range(
+        "readout.input_resistance_mohm",
+        r.input_resistance_mohm,
+        1e-6,
+        1e9,
+        false,
+        "MΩ",
+    );
+    v.range(
+        "readout.cable_capacitance_pf",
+        r.cable_capacitance_pf,
+        0.0,
+        1e6,
+        false,
+        "pF",
     );
 }

@@ -12,7 +12,9 @@ use crate::export::svg::path_data;
 use crate::export::{nm, um_text, ExportError};
 use crate::layout::{LayerKind, LayoutError, MaskSet};
 use crate::process::Loaded;
-use crate::sensor::{evaluate_many, Accuracy, SceneReport, SensorGeometry};
+use crate::sensor::{
+    evaluate_many, plate_modes, Accuracy, SceneReport, SensorGeometry, MODAL_LEVELS, MODES_REPORTED,
+};
 
 use super::fe::{summarise, FeSummary};
 use super::html::{html, Figures};
@@ -180,14 +182,16 @@ pub fn build(
         ),
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
-            let reports = evaluate_many(&SensorGeometry::new(design), scenes, o)?;
-            let summary = summarise(
+            let g = SensorGeometry::new(design);
+            let reports = evaluate_many(&g, scenes, o)?;
+            let mut summary = summarise(
                 scenes,
                 &reports,
                 o.tol_rel,
                 o.max_levels,
                 !opts.allow_unconverged,
             );
+            summary.modes = Some(plate_modes(&g, MODES_REPORTED, MODAL_LEVELS)?);
             (reports, Some(summary))
         }
         _ => (Vec::new(), None),

@@ -74,6 +74,10 @@ pub struct FeSummary {
     /// describes cannot be made, so no reading of it is a pass).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+    /// The plate's lowest natural frequencies against the 5 Hz test and the 1 Hz pulse (is
+    /// quasi-static right?); None when the scenes were not solved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modes: Option<crate::sensor::PlateModes>,
 }
 
 impl FeSummary {
@@ -219,6 +223,7 @@ pub fn summarise(
         require_convergence,
         scenes,
         skipped: None,
+        modes: None,
     }
 }
 
@@ -230,6 +235,7 @@ pub fn skipped(tol_rel: f64, max_levels: usize, why: String) -> FeSummary {
         require_convergence: true,
         scenes: Vec::new(),
         skipped: Some(why),
+        modes: None,
     }
 }
 

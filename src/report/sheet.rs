@@ -412,7 +412,40 @@ fn fe(fe: Option<&FeSummary>) -> Section {
         max_width_mm: None,
     });
     s.push(Block::List(scene_warnings(fe)));
+    if let Some(m) = &fe.modes {
+        s.push(Block::Para(Rich::text(format!(
+            "Natural frequencies (is quasi-static right?): the whole plate clamped at the \
+             supports, teeth and the PVDF film's mass ({:.4} kg/m²) included, silicon {:.0} \
+             kg/m³, {} levels, {} dofs. The first is {:.0}x the 5 Hz test force and {:.0}x the \
+             1 Hz pulse: a single mode driven at 5 Hz departs from its static answer by {:.1e}. \
+             The air in the gap under the plate is not modelled.",
+            m.film_kg_per_m2,
+            m.si_density_kg_per_m3,
+            m.levels,
+            m.dofs,
+            m.above_test,
+            m.above_pulse,
+            m.quasi_static_error_at_test
+        ))));
+        s.push(Block::Table(modes_table(m)));
+    }
     s
+}
+
+/// One row per natural mode: frequency, its estimated error, and how far above the loading.
+fn modes_table(m: &crate::sensor::PlateModes) -> Table {
+    let mut table = Table::new(&["mode", "frequency (Hz)", "est. error", "f / 5 Hz"]);
+    for (i, mode) in m.modes.iter().enumerate() {
+        table.row(vec![
+            format!("{}", i + 1).into(),
+            format!("{:.1}", mode.freq_hz).into(),
+            mode.error_rel
+                .map_or_else(|| "n/a".to_string(), |e| format!("{e:.1e}"))
+                .into(),
+            format!("{:.0}", mode.freq_hz / crate::readout_chain::TEST_FREQ_HZ).into(),
+        ]);
+    }
+    table
 }
 
 /// One row per scene: load, model and cost, error, the numbers its limits are about, and the

@@ -1064,7 +1064,7 @@ fn convergence_records(
 
 /// The plate over the U-channel (or the part of it solved): clamped where the etched {111}
 /// walls meet it, teeth as thicker regions, symmetry lines on the mirrors.
-fn build_problem(
+pub(super) fn build_problem(
     g: &SensorGeometry,
     base: &(Vec<f64>, Vec<f64>),
     level: usize,

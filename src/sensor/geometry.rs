@@ -47,6 +47,10 @@ pub struct SensorGeometry {
     pub drawn_axis: Axis,
     pub fracture_strength_mpa: f64,
     pub safety_factor: f64,
+    /// Mass densities (kg/m^3) of the silicon (plate and teeth) and of the PVDF film, which
+    /// moves with the plate but adds no stiffness to the plate model (the natural frequencies).
+    pub si_density_kg_per_m3: f64,
+    pub film_density_kg_per_m3: f64,
     /// Room under the plate before it touches the channel floor: the channel depth the back etch
     /// achieves (the etch plan; the drawn depth without one) less the PVDF film bonded under the
     /// plate.
@@ -176,6 +180,8 @@ impl SensorGeometry {
             drawn_axis: g.electrodes.drawn_axis,
             fracture_strength_mpa: si.fracture_strength_mpa,
             safety_factor: si.safety_factor,
+            si_density_kg_per_m3: si.density_g_per_cm3 * 1000.0,
+            film_density_kg_per_m3: f.density_g_per_cm3 * 1000.0,
             gap_um: channel_depth_um(design) - f.thickness_um,
             etched,
             silicon: silicon_stiffness(p),

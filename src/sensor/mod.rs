@@ -6,7 +6,8 @@
 //! [`evaluate`] solves a scene on successively refined meshes until the estimated error is under
 //! the tolerance and reports charges, voltages, deflection, stress and reactions with the cost.
 //! When the teeth and every load are mirror-symmetric it solves half (or a quarter) of the plate
-//! ([`Symmetry`]) and reads the electrodes on the mirrored whole-plate field.
+//! ([`Symmetry`]) and reads the electrodes on the mirrored whole-plate field. [`plate_modes`]
+//! gives the plate's lowest natural frequencies: how far above the loading quasi-static holds.
 
 mod beam_model;
 mod check;
@@ -14,6 +15,7 @@ mod convergence_plot;
 mod evaluate;
 mod geometry;
 mod mesh_lines;
+mod modal;
 mod readout;
 mod rung;
 mod scene;
@@ -33,6 +35,7 @@ pub use evaluate::{
 };
 pub use geometry::{silicon_material, ElectrodeArea, ElectrodeSide, SensorGeometry};
 pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
+pub use modal::{plate_modes, ModeFrequency, PlateModes, MODAL_LEVELS, MODES_REPORTED};
 pub use readout::{ElectrodeReading, Readout};
 pub use rung::{ErrorParts, ModelChoice, QuantityError};
 pub use scene::{DirectLoad, SceneLoads};

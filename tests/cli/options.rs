@@ -803,6 +803,48 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
             switch("json"),
             switch("overwrite"),
         ],
+        "readout" => vec![
+            out(m, true),
+            maybe(flag(
+                "history",
+                value(
+                    m,
+                    &["half-sine", "sine-5hz", "pulse"],
+                    &["sine", "HALF-SINE", "", "sine-5Hz"],
+                ),
+            )),
+            maybe(flag(
+                "x-mm",
+                value(
+                    m,
+                    &["15", "5", "25.5"],
+                    &["-1", "1000.1", "NaN", "1e9", "0", "30"],
+                ),
+            )),
+            maybe(flag(
+                "y-mm",
+                value(m, &["7.5", "4", "11"], &["-1", "inf", "15", "1e300"]),
+            )),
+            maybe(flag(
+                "force-n",
+                value(m, &["1", "4", "-2"], &["0", "1000.1", "NaN", "-1e300"]),
+            )),
+            maybe(flag(
+                "duration-s",
+                value(m, &["0.5", "2", "6"], &["0", "-1", "3600.1", "NaN", "1e9"]),
+            )),
+            maybe(flag(
+                "dt-ms",
+                value(m, &["1", "5", "0.5"], &["0", "0.0009", "1001", "-1", "NaN"]),
+            )),
+            maybe(flag(
+                "contact-radius-mm",
+                value(m, &["0.25", "1"], &["0", "5.01", "-0.25"]),
+            )),
+            max_levels(m),
+            tol(m),
+            switch("overwrite"),
+        ],
         _ => unreachable!("{sub}"),
     }
 }
@@ -819,6 +861,7 @@ const SUBCOMMANDS: &[&str] = &[
     "calibrate",
     "locate",
     "orient",
+    "readout",
 ];
 
 /// A whole command line: the subcommand, the process file, `--set`s and its flags, valid values
@@ -959,6 +1002,10 @@ fn values_that_crashed_before_are_refused_naming_the_flag() {
             "--length-um",
         ),
         (&["orient", "@FILE", "--step-deg", "0.001"], "--step-deg"),
+        (
+            &["readout", "@FILE", "-o", "@OUT", "--dt-ms", "0"],
+            "--dt-ms",
+        ),
         (
             &["fe", "@FILE", "--max-levels", "1", "--point", "NaN,1,1"],
             "--point",
