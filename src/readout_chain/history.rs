@@ -4,14 +4,11 @@
 
 use serde::Serialize;
 
+pub use crate::sensor::{PULSE_RATE_HZ, TEST_FREQ_HZ};
+
 /// A grasp cycle, closing and opening, takes about 1 s and looks like half a sine [paper 002
 /// sec. VII.A]; the jaws close along its rising half.
 pub const GRASP_CYCLE_S: f64 = 1.0;
-/// The test force of paper 002 sec. VII.A: a 5 Hz sinusoid (a grasp has little power above
-/// 5 Hz).
-pub const TEST_FREQ_HZ: f64 = 5.0;
-/// A pulsating vessel's rate, ~1 Hz (issue 17; the papers give none).
-pub const PULSE_RATE_HZ: f64 = 1.0;
 /// \[choice\] Each pulse is half a sine this long (a systolic pressure rise; no source in
 /// ../shared gives a shape).
 pub const PULSE_WIDTH_S: f64 = 0.3;

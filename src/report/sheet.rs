@@ -442,7 +442,7 @@ fn modes_table(m: &crate::sensor::PlateModes) -> Table {
             mode.error_rel
                 .map_or_else(|| "n/a".to_string(), |e| format!("{e:.1e}"))
                 .into(),
-            format!("{:.0}", mode.freq_hz / crate::readout_chain::TEST_FREQ_HZ).into(),
+            format!("{:.0}", mode.freq_hz / crate::sensor::TEST_FREQ_HZ).into(),
         ]);
     }
     table

@@ -35,7 +35,10 @@ pub use evaluate::{
 };
 pub use geometry::{silicon_material, ElectrodeArea, ElectrodeSide, SensorGeometry};
 pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};
-pub use modal::{plate_modes, ModeFrequency, PlateModes, MODAL_LEVELS, MODES_REPORTED};
+pub use modal::{
+    plate_modes, ModeFrequency, PlateModes, MODAL_LEVELS, MODES_REPORTED, PULSE_RATE_HZ,
+    TEST_FREQ_HZ,
+};
 pub use readout::{ElectrodeReading, Readout};
 pub use rung::{ErrorParts, ModelChoice, QuantityError};
 pub use scene::{DirectLoad, SceneLoads};
