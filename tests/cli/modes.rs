@@ -4,21 +4,10 @@
 
 use std::f64::consts::PI;
 
-use tactfab::design::Design;
-use tactfab::process::load_str;
-use tactfab::sensor::{plate_modes, SensorGeometry};
+use tactfab::sensor::plate_modes;
 
 use super::harness::{tactfab, REFERENCE};
-
-const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
-
-fn geometry(sets: &[&str]) -> SensorGeometry {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
-        .expect("valid process")
-        .process;
-    SensorGeometry::new(&Design::new(p).expect("design"))
-}
+use super::sensor::geometry;
 
 /// The root of cos(x) cosh(x) = 1 near 4.73, by bisection.
 fn beta_l() -> f64 {

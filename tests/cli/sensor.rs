@@ -14,7 +14,8 @@ use super::harness::{tactfab, REFERENCE};
 
 const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
 
-fn geometry(sets: &[&str]) -> SensorGeometry {
+/// The bundled design's sensor with `--set`-style overrides (shared by the sensor tests).
+pub(super) fn geometry(sets: &[&str]) -> SensorGeometry {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
         .expect("valid process")

@@ -1,15 +1,12 @@
 //! The solid rung: what is meshed is what is etched (volumes in closed form), equilibrium,
 //! mirror symmetry, linearity, and `fe --model solid` through the binary.
 
-use tactfab::design::Design;
-use tactfab::process::{load_str, Limits, Scene, SceneLoad};
+use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidRun};
 use tactfab::sensor::solid_mesh::{build, Base, SolidMeshOptions, BASE, PVDF, SILICON};
-use tactfab::sensor::SensorGeometry;
 
 use super::harness::tactfab;
-
-const PROCESS: &str = include_str!("../../process/mis-grasper.yaml");
+use super::sensor::geometry;
 
 /// A 12 mm die with four columns of teeth (the bundled scenes moved onto it): cheap to solve
 /// whole.
@@ -19,14 +16,6 @@ const SHORT: [&str; 4] = [
     "checks.scenes[0].load.point.x_um=6000",
     "checks.scenes[1].load.point.x_um=6000",
 ];
-
-fn geometry(sets: &[&str]) -> SensorGeometry {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let p = load_str(PROCESS, "mis-grasper.yaml", &sets)
-        .expect("valid process")
-        .process;
-    SensorGeometry::new(&Design::new(p).expect("design"))
-}
 
 fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
     Scene {
