@@ -316,6 +316,16 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 e(q.plate_difference)
             );
         }
+        if let Some(q) = r.quantities.iter().find(|q| q.name == "max_stress_averaged") {
+            let sf = |s: f64| g.fracture_strength_mpa / s;
+            println!(
+                "  safety factor {} from the averaged stress (fracture {} MPa; the linear plate \
+                 says {})",
+                f(sf(q.value), 2),
+                f(g.fracture_strength_mpa, 0),
+                q.plate_value.map_or_else(|| "-".into(), |p| f(sf(p), 2))
+            );
+        }
         println!(
             "  converged: {} (tol {:.0e}; the peak principal stress sits at a re-entrant corner \
              and is reported, not required to converge)",

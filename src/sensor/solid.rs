@@ -245,6 +245,12 @@ fn quantity_table(
     out.push(("reaction_support1".into(), "N", r.support1_n, force_n.abs()));
     out.push(("reaction_support2".into(), "N", r.support2_n, force_n.abs()));
     out.push((
+        "max_stress_averaged".into(),
+        "MPa",
+        r.stress_averaged_mpa,
+        r.stress_averaged_mpa.abs(),
+    ));
+    out.push((
         "max_principal_stress".into(),
         "MPa",
         r.max_principal_mpa,
@@ -276,6 +282,8 @@ pub fn evaluate_solid(
     let (base, tol) = (run.base, run.tol);
     let levels = run.levels.clamp(1, MAX_SOLID_LEVELS);
     let (loads, at) = top_loads(g, &scene.load);
+    let p = super::scene::split(&scene.load, g).patch;
+    let patch = [p.x0_um, p.y0_um, p.x1_um, p.y1_um];
     let (mx, my) = if run.symmetry {
         mirrors(g, &loads)
     } else {
@@ -298,7 +306,7 @@ pub fn evaluate_solid(
         let sol = model
             .solve(&solid.problem.load_cases)
             .map_err(SensorError::Fe)?;
-        let readout = read(g, &solid, &sol[0], at);
+        let readout = read(g, &solid, &sol[0], at, patch);
         contact = contact.min(solid.loaded_fraction[0]);
         out.push(SolidLevel {
             element_um: opts.element_um,

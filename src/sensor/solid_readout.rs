@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::fe::solid::{hex27, SolidSolution};
 
+use super::evaluate::STRESS_AVERAGING_THICKNESSES;
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::solid_mesh::{SensorSolid, PVDF, SILICON};
 use crate::process::Axis;
@@ -28,9 +29,79 @@ pub struct SolidReadout {
     /// of it anywhere (um).
     pub deflection_at_load_um: f64,
     pub max_deflection_um: f64,
-    /// Largest principal stress in the silicon over all Gauss points (MPa) and where.
+    /// Largest principal stress in the silicon over all Gauss points (MPa) and where: at a
+    /// re-entrant corner (tooth base, channel wall) it grows with the mesh.
     pub max_principal_mpa: f64,
     pub max_principal_at_um: [f64; 3],
+    /// The plate rungs' safety-factor stress: the largest in-plane principal stress of the stress
+    /// averaged over a square [`STRESS_AVERAGING_THICKNESSES`] plate thicknesses wide on the
+    /// plate's underside, centred in the contact patch (MPa); it converges with the mesh.
+    pub stress_averaged_mpa: f64,
+}
+
+/// In-plane principal stress of (s_xx, s_yy, s_xy): (sx + sy)/2 + sqrt(((sx - sy)/2)^2 + txy^2).
+fn principal_in_plane(s: [f64; 3]) -> f64 {
+    0.5 * (s[0] + s[1]) + (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt()
+}
+
+/// The stress tensor (xx, yy, xy) averaged over a square of side `side_um` centred at (x, y) on
+/// the plate's underside (4 x 4 Gauss points); None if part of it is off the part solved.
+fn underside_mean(
+    sol: &SolidSolution,
+    z_um: f64,
+    (x, y): (f64, f64),
+    side_um: f64,
+) -> Option<[f64; 3]> {
+    let h = 0.5 * side_um;
+    let mut sum = [0.0; 3];
+    let mut area = 0.0;
+    for (px, wx) in crate::fe::bfs::gauss4_on(x - h, x + h) {
+        for (py, wy) in crate::fe::bfs::gauss4_on(y - h, y + h) {
+            let (e, xi) = sol.locate([px, py, z_um])?;
+            let s = sol.stress_at(e, xi)?;
+            for (acc, v) in sum.iter_mut().zip([s[0], s[1], s[5]]) {
+                *acc += wx * wy * v;
+            }
+            area += wx * wy;
+        }
+    }
+    Some(sum.map(|v| v / area))
+}
+
+/// The largest [`underside_mean`] principal stress over centres on a grid (at most 12 x 12)
+/// across `patch` (x0, y0, x1, y1), clipped to the part solved.
+fn averaged_stress(
+    s: &SensorSolid,
+    sol: &SolidSolution,
+    g: &SensorGeometry,
+    patch: [f64; 4],
+) -> f64 {
+    let side = STRESS_AVERAGING_THICKNESSES * g.plate_thickness_um;
+    let (x0, x1, y0, y1) = s.domain_um;
+    let r = [
+        patch[0].max(x0),
+        patch[1].max(y0),
+        patch[2].min(x1),
+        patch[3].min(y1),
+    ];
+    if r[2] < r[0] || r[3] < r[1] {
+        return f64::NAN;
+    }
+    // Just inside the silicon above the film bonded under the plate.
+    let z = s.layers.plate_bottom_um + 1e-6 * g.plate_thickness_um;
+    let cells = |len: f64| ((len / side).ceil() as usize).clamp(1, 12);
+    let (nx, ny) = (cells(r[2] - r[0]), cells(r[3] - r[1]));
+    let mut best = f64::NAN;
+    for i in 0..nx {
+        for j in 0..ny {
+            let x = r[0] + (r[2] - r[0]) * (i as f64 + 0.5) / nx as f64;
+            let y = r[1] + (r[3] - r[1]) * (j as f64 + 0.5) / ny as f64;
+            if let Some(m) = underside_mean(sol, z, (x, y), side) {
+                best = best.max(principal_in_plane(m) * 1e-6);
+            }
+        }
+    }
+    best
 }
 
 /// Images of a rectangle under the model's mirrors, clipped to the part solved.
@@ -57,12 +128,14 @@ fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
         .collect()
 }
 
-/// The readings of `sol` (a solution of `s`), with the load's reference point `at_um` (x, y).
+/// The readings of `sol` (a solution of `s`), with the load's reference point `at_um` (x, y) and
+/// its contact patch (x0, y0, x1, y1).
 pub fn read(
     g: &SensorGeometry,
     s: &SensorSolid,
     sol: &SolidSolution,
     at_um: (f64, f64),
+    patch_um: [f64; 4],
 ) -> SolidReadout {
     let grid = sol.grid();
     let pos = sol.node_positions_um();
@@ -176,6 +249,7 @@ pub fn read(
         max_deflection_um: max_defl,
         max_principal_mpa: peak.as_ref().map_or(f64::NAN, |p| p.stress_pa * 1e-6),
         max_principal_at_um: peak.map_or([f64::NAN; 3], |p| p.position_um),
+        stress_averaged_mpa: averaged_stress(s, sol, g, patch_um),
     }
 }
 

@@ -185,7 +185,7 @@ fn fe_model_solid_through_the_binary() {
     let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     let r: &serde_json::Value = &v["scenes"][0];
     let q = r["quantities"].as_array().unwrap();
-    assert_eq!(q.len(), 1 + 9 + 2 + 1, "{q:?}");
+    assert_eq!(q.len(), 1 + 9 + 2 + 2, "{q:?}");
     let get = |n: &str| {
         q.iter().find(|x| x["name"] == n).unwrap()["value"]
             .as_f64()
