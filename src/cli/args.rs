@@ -236,6 +236,10 @@ pub struct BuildArgs {
     pub replace: OverwriteArgs,
     #[command(flatten)]
     pub gate: GateArgs,
+    /// Also solve each declared scene on the 3D solid rung (2 levels, minutes) and fail where the
+    /// linear plate differs from it by more than --tol; writes `<device>-solid-check.json`.
+    #[arg(long)]
+    pub verify_solid: bool,
 }
 
 /// Whether an unconverged declared scene fails the build.

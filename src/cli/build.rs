@@ -15,6 +15,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
+        verify_solid_levels: args.verify_solid.then_some(2),
     };
     let built = {
         let progress = Progress::new();

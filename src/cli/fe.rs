@@ -242,33 +242,19 @@ fn convergence_table(r: &SceneReport) -> String {
 
 /// `fe --model solid`: each scene on the solid rung next to the linear plate's values.
 fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<Outcome> {
-    use tactfab::sensor::solid::{evaluate_solid, SolidReport, SolidRun};
-    use tactfab::sensor::{evaluate, Accuracy, ModelChoice};
+    use tactfab::sensor::solid::{solid_against_plate, SolidReport, SolidRun};
+    use tactfab::sensor::Accuracy;
     let acc: Accuracy = args.accuracy.into();
     let levels = usize::from(args.accuracy.max_levels).min(3);
     let mut reports: Vec<SolidReport> = Vec::new();
     for s in scenes {
-        let plate = evaluate(g, s, acc.with_model(ModelChoice::Plate))
-            .context("linear plate solve failed")?;
-        let pq: Vec<(String, f64)> = plate
-            .quantities
-            .iter()
-            .map(|q| (q.name.clone(), q.value))
-            .collect();
-        reports.push(
-            evaluate_solid(
-                g,
-                s,
-                SolidRun {
-                    base: g.base,
-                    levels,
-                    tol: acc.tol_rel,
-                    symmetry: !args.no_symmetry,
-                },
-                &pq,
-            )
-            .context("solid solve failed")?,
-        );
+        let run = SolidRun {
+            base: g.base,
+            levels,
+            tol: acc.tol_rel,
+            symmetry: !args.no_symmetry,
+        };
+        reports.push(solid_against_plate(g, s, run, acc).context("solid solve failed")?);
     }
     if args.json {
         println!(
@@ -316,7 +302,11 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 e(q.plate_difference)
             );
         }
-        if let Some(q) = r.quantities.iter().find(|q| q.name == "max_stress_averaged") {
+        if let Some(q) = r
+            .quantities
+            .iter()
+            .find(|q| q.name == "max_stress_averaged")
+        {
             let sf = |s: f64| g.fracture_strength_mpa / s;
             println!(
                 "  safety factor {} from the averaged stress (fracture {} MPa; the linear plate \

@@ -51,6 +51,9 @@ pub struct Options {
     pub gds_epoch_s: Option<i64>,
     /// Report scenes that did not reach the tolerance without failing the build.
     pub allow_unconverged: bool,
+    /// Solve each declared scene on the solid rung too, on this many levels, and fail where the
+    /// linear plate differs from it by more than the tolerance.
+    pub verify_solid_levels: Option<usize>,
 }
 
 /// Stages, for progress reporting.
@@ -60,6 +63,8 @@ pub enum Stage {
     Drc,
     /// FE solve of this many scenes (the long one).
     Fe(usize),
+    /// The solid rung on this many scenes (`--verify-solid`).
+    Solid(usize),
     Traveler,
 }
 
@@ -69,6 +74,7 @@ impl Stage {
             Stage::Masks => "etch plan and masks".into(),
             Stage::Drc => "DRC".into(),
             Stage::Fe(n) => format!("FE: {n} scenes"),
+            Stage::Solid(n) => format!("solid rung: {n} scenes"),
             Stage::Traveler => "traveler".into(),
         }
     }
@@ -91,13 +97,27 @@ pub struct Built {
     pub html: String,
     /// `tactfab etch --json` of the plan.
     pub plan_json: String,
+    /// The solid rung beside the linear plate per declared scene (`--verify-solid`), and the
+    /// tolerance it was checked at.
+    pub solid_check: Vec<crate::sensor::solid::SolidReport>,
+    pub solid_tol: f64,
 }
 
 impl Built {
     /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations,
     /// declared FE limits.
     pub fn failures(&self) -> Vec<String> {
-        super::sheet::failures(&self.traveler)
+        let mut f = super::sheet::failures(&self.traveler);
+        for r in &self.solid_check {
+            for (name, d) in r.disagreements(self.solid_tol) {
+                f.push(format!(
+                    "scene `{}`: the linear plate's {name} differs from the solid rung's by {d:.1e} \
+                     (> {:.0e})",
+                    r.scene, self.solid_tol
+                ));
+            }
+        }
+        f
     }
 
     /// File names of the traveler.
@@ -127,6 +147,11 @@ impl Built {
         let (md, html) = self.traveler_names();
         files.push((md, self.markdown.clone().into_bytes()));
         files.push((html, self.html.clone().into_bytes()));
+        if !self.solid_check.is_empty() {
+            let v = serde_json::json!({ "tol": self.solid_tol, "scenes": self.solid_check });
+            let text = serde_json::to_string_pretty(&v).unwrap_or_default() + "\n";
+            files.push((format!("{d}-solid-check.json"), text.into_bytes()));
+        }
         files
     }
 }
@@ -197,6 +222,23 @@ pub fn build(
         _ => (Vec::new(), None),
     };
 
+    let mut solid_check = Vec::new();
+    if let (Some(levels), Some(o)) = (opts.verify_solid_levels, opts.fe) {
+        if !scenes.is_empty() && !plan.has_errors() {
+            progress(Stage::Solid(scenes.len()));
+            let g = SensorGeometry::new(design);
+            for s in scenes {
+                let run = crate::sensor::solid::SolidRun {
+                    base: g.base,
+                    levels,
+                    tol: o.tol_rel,
+                    symmetry: true,
+                };
+                solid_check.push(crate::sensor::solid::solid_against_plate(&g, s, run, o)?);
+            }
+        }
+    }
+
     progress(Stage::Traveler);
     let figures = Figures {
         masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(),
@@ -232,6 +274,8 @@ pub fn build(
         markdown: md,
         html: page,
         plan_json,
+        solid_check,
+        solid_tol: opts.fe.map_or(0.0, |o| o.tol_rel),
     })
 }
 

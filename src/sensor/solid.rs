@@ -381,3 +381,36 @@ pub fn evaluate_solid(
         contact_on_top_faces: contact,
     })
 }
+
+/// The solid rung on `scene` beside the linear plate rung at `acc` (its tolerance and levels):
+/// each quantity's difference is the linear plate's model error as the solid measures it.
+pub fn solid_against_plate(
+    g: &SensorGeometry,
+    scene: &Scene,
+    run: SolidRun,
+    acc: super::Accuracy,
+) -> Result<SolidReport, SensorError> {
+    let plate = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?;
+    let values: Vec<(String, f64)> = plate
+        .quantities
+        .iter()
+        .map(|q| (q.name.clone(), q.value))
+        .collect();
+    evaluate_solid(g, scene, run, &values)
+}
+
+impl SolidReport {
+    /// Quantities where the linear plate and the solid differ by more than `tol` (relative to
+    /// the quantity's scale), worst first; the peak stress at a re-entrant corner is left out
+    /// (the plate has no such value).
+    pub fn disagreements(&self, tol: f64) -> Vec<(&str, f64)> {
+        let mut v: Vec<(&str, f64)> = self
+            .quantities
+            .iter()
+            .filter_map(|q| q.plate_difference.map(|d| (q.name.as_str(), d)))
+            .filter(|&(_, d)| d.is_nan() || d > tol)
+            .collect();
+        v.sort_by(|a, b| b.1.total_cmp(&a.1));
+        v
+    }
+}

@@ -226,3 +226,38 @@ fn the_converse_piezo_effect_is_negligible_for_this_film() {
     assert!(share > 0.005 && share < 0.05, "{share}");
     assert!(k2 * share < 1e-3);
 }
+
+#[test]
+fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
+    // On the short die the support electrodes read the opposite sign in the solid (the force
+    // goes through the film at the wall, outside the islands): the check must fail the build and
+    // say which quantity, and the comparison is written beside the traveler.
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("b");
+    let mut args = vec![
+        "build",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--verify-solid",
+        "--max-levels",
+        "2",
+        "--allow-unconverged",
+    ];
+    for s in SHORT {
+        args.extend(["--set", s]);
+    }
+    let run = tactfab(&args);
+    run.expect_code(1);
+    assert!(
+        run.stdout.contains("differs from the solid rung's") && run.stdout.contains("charge_S"),
+        "{}",
+        run.stdout
+    );
+    let text = std::fs::read_to_string(out.join("mis-grasper-solid-check.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["scenes"].as_array().unwrap().len(), 4);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("build.json")).unwrap()).unwrap();
+    assert_eq!(summary["passed"], false);
+}
