@@ -346,11 +346,18 @@ impl PlateSolution {
     /// per element: whole elements in closed form ([`bfs::curvature_integral`]), partly covered
     /// ones by 4x4 Gauss per clipped part (exact for the BFS curvature field).
     pub fn integrate_bottom_strain(&self, rect: RectUm) -> (f64, f64) {
+        self.integrate_strain_below(rect, 0.0)
+    }
+
+    /// [`Self::integrate_bottom_strain`] of the strain `below_um` under the bottom surface, where
+    /// a layer bonded under the plate (a PVDF film) has its mid-plane: eps = eps0 + z kappa with
+    /// z = t/2 + below (Kirchhoff: plane sections stay plane through the bonded layer).
+    pub fn integrate_strain_below(&self, rect: RectUm, below_um: f64) -> (f64, f64) {
         let (mut sx, mut sy) = (0.0, 0.0);
         for (e, x0, x1, y0, y1) in self.clipped(&rect) {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
-            let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+            let h = (0.5 * self.ctx.thickness_um[e] + below_um) * 1e-6;
             let whole = |lo: f64, hi: f64, len: f64| {
                 lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len
             };

@@ -102,11 +102,12 @@ pub fn beam_answer(g: &SensorGeometry, y_um: f64, force_n: f64) -> BeamAnswer {
         let along = ((e.x1_um.min(g.length_um) - e.x0_um.max(0.0)) / g.length_um).max(0.0);
         let (charge_pc, force) = match e.side {
             ElectrodeSide::Middle => {
-                // int eps_y dA = l_e (t/2) int M / D22 ds; eps_x = 0 (cylindrical bending).
+                // int eps_y dA = l_e z int M / D22 ds at the film's mid-plane, z = (t + t_f) / 2
+                // (as the plate rungs read it); eps_x = 0 (cylindrical bending).
                 let s0 = ((e.y0_um - g.plate_y0_um) * um).clamp(0.0, span);
                 let s1 = ((e.y1_um - g.plate_y0_um) * um).clamp(0.0, span);
-                let iy =
-                    (e.x1_um - e.x0_um) * um * 0.5 * t * moment_integral(p, a, span, s0, s1) / d22;
+                let z = 0.5 * (t + g.film_thickness_um * um);
+                let iy = (e.x1_um - e.x0_um) * um * z * moment_integral(p, a, span, s0, s1) / d22;
                 let (sx, sy) = (ep * g.pvdf_nu * iy, ep * iy);
                 let (s1_, s2_) = match g.drawn_axis {
                     Axis::Y => (sy, sx),

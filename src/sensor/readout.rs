@@ -73,8 +73,10 @@ fn edge_force(sol: &PlateSolution, side: ElectrodeSide, x0: f64, x1: f64) -> f64
 
 /// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
 /// extension mode Q = integral of (d31 s1 + d32 s2) dA over each middle electrode with s the
-/// plane-stress PVDF stress from the plate's bottom-surface strain; V = Q / C, C = eps0 eps_r A /
-/// t.
+/// plane-stress PVDF stress from the strain at the film's mid-plane, half a film thickness under
+/// the plate's bottom surface (fe-validation.md takes the surface itself; the solid rung reads
+/// the film's own stresses and shows the film's mean strain is the one read, 27 % more on the
+/// bundled plate); V = Q / C, C = eps0 eps_r A / t.
 pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoad]) -> Readout {
     let mut out = Vec::new();
     let (mut s1, mut s2) = (0.0, 0.0);
@@ -102,12 +104,15 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
             ElectrodeSide::Middle => {
                 let (ix, iy) = sol
                     .map(|s| {
-                        s.integrate_bottom_strain(RectUm {
-                            x0_um: e.x0_um,
-                            y0_um: e.y0_um,
-                            x1_um: e.x1_um,
-                            y1_um: e.y1_um,
-                        })
+                        s.integrate_strain_below(
+                            RectUm {
+                                x0_um: e.x0_um,
+                                y0_um: e.y0_um,
+                                x1_um: e.x1_um,
+                                y1_um: e.y1_um,
+                            },
+                            0.5 * g.film_thickness_um,
+                        )
                     })
                     .unwrap_or((0.0, 0.0));
                 // Integrated PVDF stresses (N): s_x = E'(e_x + nu e_y), s_y = E'(e_y + nu e_x).
