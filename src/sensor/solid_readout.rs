@@ -34,7 +34,7 @@ pub struct SolidReadout {
     pub max_principal_mpa: f64,
     pub max_principal_at_um: [f64; 3],
     /// The plate rungs' safety-factor stress: the largest in-plane principal stress of the stress
-    /// averaged over a square [`STRESS_AVERAGING_THICKNESSES`] plate thicknesses wide on the
+    /// averaged over a square of the plate rungs' averaging width (four plate thicknesses) on the
     /// plate's underside, centred in the contact patch (MPa); it converges with the mesh.
     pub stress_averaged_mpa: f64,
 }
