@@ -56,6 +56,9 @@ pub enum Command {
     /// The nine channels in time through the read-out electronics (charge amplifier or voltage
     /// input, from the process file) for a force history at one point: CSV + SVG in DIR.
     Readout(ReadoutArgs),
+    /// Contact pressure a hidden lump or void puts on the sensor face (paper 002 Figs. 8-9):
+    /// tissue.csv and tissue.svg with P / P0.
+    Tissue(TissueArgs),
 }
 
 /// The process file and what-if overrides, shared by every subcommand.
@@ -571,6 +574,53 @@ pub struct ReadoutArgs {
     /// Most mesh levels for the sensitivities, 1-10.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "8")]
     pub max_levels: u8,
+    #[command(flatten)]
+    pub replace: OverwriteArgs,
+}
+
+/// `tissue`: which feature.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FeatureArg {
+    Lump,
+    Void,
+}
+
+#[derive(Debug, Args)]
+pub struct TissueArgs {
+    #[command(flatten)]
+    pub process: ProcessArgs,
+    /// Output directory: tissue.csv (x_mm, P_pa, P0_pa, P_over_P0) and tissue.svg.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out: PathBuf,
+    /// The hidden feature: a stiffer disc or an empty one.
+    #[arg(long, value_enum, default_value = "lump")]
+    pub feature: FeatureArg,
+    /// Slab length along the jaw and its thickness between the jaws (mm) [choice: paper 002
+    /// gives no geometry].
+    #[arg(long, default_value = "30", value_parser = parse::length_mm)]
+    pub width_mm: f64,
+    #[arg(long, default_value = "10", value_parser = parse::length_mm)]
+    pub thickness_mm: f64,
+    /// The disc: centre along the jaw (default: the middle), height above the sensor, radius (mm).
+    #[arg(long, value_parser = parse::length_mm)]
+    pub x_mm: Option<f64>,
+    #[arg(long, default_value = "4", value_parser = parse::length_mm)]
+    pub height_mm: f64,
+    #[arg(long, default_value = "2", value_parser = parse::length_mm)]
+    pub radius_mm: f64,
+    /// Tissue and lump moduli (kPa; paper 002 sec. V.B: 20 and 200, nu 0.49 and 0.4).
+    #[arg(long, default_value = "20", value_parser = parse::modulus_kpa)]
+    pub tissue_e_kpa: f64,
+    #[arg(long, default_value = "200", value_parser = parse::modulus_kpa)]
+    pub lump_e_kpa: f64,
+    /// How far the jaws squeeze the slab, as a fraction of its thickness.
+    #[arg(long, default_value = "0.1", value_parser = parse::compression)]
+    pub compression: f64,
+    /// Q2/P1 elements along the jaw (1-400) and through the slab (1-200).
+    #[arg(long, default_value = "120", value_parser = clap::value_parser!(u16).range(1..=400))]
+    pub across: u16,
+    #[arg(long, default_value = "40", value_parser = clap::value_parser!(u16).range(1..=200))]
+    pub through: u16,
     #[command(flatten)]
     pub replace: OverwriteArgs,
 }

@@ -16,6 +16,7 @@ mod parse;
 mod readout;
 mod softness;
 mod sweep;
+mod tissue;
 mod traveler;
 
 use clap::Parser;
@@ -62,6 +63,7 @@ fn dispatch(command: Command) -> anyhow::Result<Outcome> {
         Command::Locate(a) => locate::run(&a),
         Command::Orient(a) => orient::run(&a),
         Command::Readout(a) => readout::run(&a),
+        Command::Tissue(a) => tissue::run(&a),
     }
 }
 

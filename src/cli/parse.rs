@@ -96,6 +96,21 @@ pub fn grid_step_mm(s: &str) -> Parsed<f64> {
 }
 
 /// A contact radius: 0.01-5 mm.
+/// A slab dimension or feature size, 0.01-1000 mm.
+pub fn length_mm(s: &str) -> Parsed<f64> {
+    within(s, 0.01, 1000.0, "a length in mm")
+}
+
+/// A tissue or lump modulus, 0.001-1e9 kPa.
+pub fn modulus_kpa(s: &str) -> Parsed<f64> {
+    within(s, 0.001, 1e9, "a modulus in kPa")
+}
+
+/// A compression of the slab, 0.001-0.4 of its thickness.
+pub fn compression(s: &str) -> Parsed<f64> {
+    within(s, 0.001, 0.4, "a fraction of the thickness")
+}
+
 pub fn contact_radius_mm(s: &str) -> Parsed<f64> {
     within(s, 0.01, 5.0, "a contact radius in mm")
 }

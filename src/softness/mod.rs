@@ -19,6 +19,7 @@
 
 pub mod composite_beam;
 pub mod continuum;
+pub mod inclusion;
 pub mod inverse;
 pub mod plot;
 pub mod study;

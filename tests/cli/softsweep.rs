@@ -130,3 +130,50 @@ fn softness_table_plot_and_inverse() {
         r.stderr
     );
 }
+
+#[test]
+fn tissue_lump_and_void_through_the_binary() {
+    // Paper 002 sec. V.B: > 40 % more pressure over a lump, ~65 % less over a void; with the
+    // geometry tactfab chooses (30 x 10 mm slab, 2 mm disc 4 mm above the sensor) on a coarser
+    // mesh for speed.
+    let t = tempfile::tempdir().unwrap();
+    let mut ratios = Vec::new();
+    for feature in ["lump", "void"] {
+        let out = t.path().join(feature);
+        let run = tactfab(&[
+            "tissue",
+            "process/mis-grasper.yaml",
+            "-o",
+            out.to_str().unwrap(),
+            "--feature",
+            feature,
+            "--across",
+            "60",
+            "--through",
+            "20",
+        ]);
+        run.expect_code(0);
+        let csv = std::fs::read_to_string(out.join("tissue.csv")).unwrap();
+        let mut lines = csv.lines();
+        assert_eq!(lines.next(), Some("x_mm,P_pa,P0_pa,P_over_P0"));
+        let r: Vec<f64> = lines
+            .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(r.len(), 121);
+        ratios.push(r[60]);
+        let svg = std::fs::read_to_string(out.join("tissue.svg")).unwrap();
+        assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
+    }
+    assert!(ratios[0] > 1.4 && ratios[1] < 0.4, "{ratios:?}");
+    // A disc that does not fit in the slab is bad input.
+    let bad = tactfab(&[
+        "tissue",
+        "process/mis-grasper.yaml",
+        "-o",
+        t.path().join("bad").to_str().unwrap(),
+        "--radius-mm",
+        "6",
+    ]);
+    assert_eq!(bad.code, 2, "{}", bad.stderr);
+    assert!(!t.path().join("bad").exists());
+}
