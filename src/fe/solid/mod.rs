@@ -29,17 +29,22 @@ pub mod elasticity;
 pub mod grid;
 pub mod hex27;
 pub mod loads;
+pub mod nonlinear;
 pub mod ordering;
 pub mod principal;
 pub mod problem;
 pub mod solution;
 pub mod solve;
+pub mod tl;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_tl;
 
 pub use elasticity::Elasticity;
 pub use grid::{uniform_lines, HexGrid, NodeMap, MAX_DOFS};
+pub use nonlinear::{NewtonIterate, TlOptions, TlSolid, TlSolution};
 pub use principal::principal_stresses_pa;
 pub use problem::{
     Axis3, Constraint, FaceRect, NodeSet, Outward, Prescribed, Snap, SolidLoad, SolidProblem,
