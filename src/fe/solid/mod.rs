@@ -2,6 +2,9 @@
 //! that measures the Kirchhoff plate's model error (issue 16). It knows nothing of sensors: a
 //! grid of tensor lines with void elements and a node map, anisotropic materials, clamps and
 //! symmetry planes, point forces and face pressures, several load cases on one factorisation.
+//! Its geometrically nonlinear form ([`tl`]: Total Lagrangian, St. Venant-Kirchhoff; [`TlSolid`]:
+//! Newton with load steps on the same pattern and symbolic analysis) answers large deflections
+//! and rotations under dead loads.
 //!
 //! Units: positions in um, forces in N, pressures and stresses in Pa, displacements in m; SI
 //! inside. Stresses in Voigt order xx, yy, zz, yz, xz, xy.
