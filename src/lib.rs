@@ -39,7 +39,9 @@
 //!    plate on the same mesh (bilinear in-plane displacements beside the bending field, Newton on
 //!    one symbolic analysis per mesh); [`fe::PlateSolution::averaged_principal_stress`] is the
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
-//!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si).
+//!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si),
+//!    linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
+//!    St. Venant-Kirchhoff, Newton on the same symbolic analysis).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports, and reads the electrodes: thickness mode
 //!    Q = d33 F under the supports, extension mode Q = integral of (d31 s1 + d32 s2) under the

@@ -39,33 +39,44 @@ pub(crate) fn element_nodes_m(grid: &HexGrid, pos_um: &[[f64; 3]], e: usize) -> 
     grid.element_nodes(e).map(|n| pos_um[n].map(|v| v * 1e-6))
 }
 
+/// Errors if a material is not positive definite or an element names a material not given.
+pub(crate) fn check_materials(grid: &HexGrid, materials: &[Elasticity]) -> FeResult<()> {
+    if let Some(m) = materials.iter().position(|m| !m.is_positive_definite()) {
+        return Err(FeError::SolidInput {
+            detail: format!("material {m} is not positive definite"),
+            hint: "check the elastic constants (E > 0, -1 < nu < 0.5; C11 > |C12|, C44 > 0)",
+        });
+    }
+    let bad = (0..grid.element_count()).find(|&e| {
+        grid.material(e)
+            .is_some_and(|m| usize::from(m) >= materials.len())
+    });
+    if let Some(e) = bad {
+        return Err(FeError::SolidInput {
+            detail: format!(
+                "element {:?} has material {}, only {} given",
+                grid.element_ijk(e),
+                grid.material(e).unwrap_or(0),
+                materials.len()
+            ),
+            hint: "give one Elasticity per material index used in the grid",
+        });
+    }
+    Ok(())
+}
+
 impl ElementMatrices {
     /// Computes every active element's stiffness: box elements of equal size and material share
     /// one matrix; mapped elements get their own. Errors if an element names a missing material
     /// or a material is not positive definite.
     pub fn new(grid: &HexGrid, pos_um: &[[f64; 3]], materials: &[Elasticity]) -> FeResult<Self> {
-        if let Some(m) = materials.iter().position(|m| !m.is_positive_definite()) {
-            return Err(FeError::SolidInput {
-                detail: format!("material {m} is not positive definite"),
-                hint: "check the elastic constants (E > 0, -1 < nu < 0.5; C11 > |C12|, C44 > 0)",
-            });
-        }
+        check_materials(grid, materials)?;
         // (representative element, material) of every distinct matrix.
         let mut jobs: Vec<(usize, u16)> = Vec::new();
         let mut cache: HashMap<([u64; 3], u16), u32> = HashMap::new();
         let mut kind = vec![VOID; grid.element_count()];
         for (e, k) in kind.iter_mut().enumerate() {
             let Some(m) = grid.material(e) else { continue };
-            if usize::from(m) >= materials.len() {
-                return Err(FeError::SolidInput {
-                    detail: format!(
-                        "element {:?} has material {m}, only {} given",
-                        grid.element_ijk(e),
-                        materials.len()
-                    ),
-                    hint: "give one Elasticity per material index used in the grid",
-                });
-            }
             *k = if is_box(grid, pos_um, e) {
                 let key = (grid.element_size_um(e).map(f64::to_bits), m);
                 *cache.entry(key).or_insert_with(|| {

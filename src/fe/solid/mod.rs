@@ -2,6 +2,9 @@
 //! that measures the Kirchhoff plate's model error (issue 16). It knows nothing of sensors: a
 //! grid of tensor lines with void elements and a node map, anisotropic materials, clamps and
 //! symmetry planes, point forces and face pressures, several load cases on one factorisation.
+//! Its geometrically nonlinear form ([`tl`]: Total Lagrangian, St. Venant-Kirchhoff; [`TlSolid`]:
+//! Newton with load steps on the same pattern and symbolic analysis) answers large deflections
+//! and rotations under dead loads.
 //!
 //! Units: positions in um, forces in N, pressures and stresses in Pa, displacements in m; SI
 //! inside. Stresses in Voigt order xx, yy, zz, yz, xz, xy.
@@ -29,17 +32,22 @@ pub mod elasticity;
 pub mod grid;
 pub mod hex27;
 pub mod loads;
+pub mod nonlinear;
 pub mod ordering;
 pub mod principal;
 pub mod problem;
 pub mod solution;
 pub mod solve;
+pub mod tl;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_tl;
 
 pub use elasticity::Elasticity;
 pub use grid::{uniform_lines, HexGrid, NodeMap, MAX_DOFS};
+pub use nonlinear::{NewtonIterate, TlOptions, TlSolid, TlSolution};
 pub use principal::principal_stresses_pa;
 pub use problem::{
     Axis3, Constraint, FaceRect, NodeSet, Outward, Prescribed, Snap, SolidLoad, SolidProblem,

@@ -81,6 +81,11 @@ impl SolidSolution {
         }
     }
 
+    /// Material `m` of the model.
+    pub(crate) fn material(&self, m: usize) -> &Elasticity {
+        &self.ctx.materials[m]
+    }
+
     /// The grid solved.
     pub fn grid(&self) -> &HexGrid {
         &self.ctx.grid

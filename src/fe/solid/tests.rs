@@ -112,7 +112,7 @@ fn patch_test_on_distorted_elements() {
 
 /// Uniform shear traction on the end face x = L as consistent nodal forces: per element face the
 /// tensor product of the 1-D quadratic weights (1, 4, 1)/6 (Hughes Eq. 3.9.7 for a constant).
-fn end_shear(l_um: f64, ys: &[f64], zs: &[f64], force_n: f64) -> Vec<SolidLoad> {
+pub(super) fn end_shear(l_um: f64, ys: &[f64], zs: &[f64], force_n: f64) -> Vec<SolidLoad> {
     let weights = |lines: &[f64]| -> Vec<(f64, f64)> {
         let total = lines[lines.len() - 1] - lines[0];
         let mut w = Vec::new();

@@ -1,0 +1,740 @@
+//! The geometrically nonlinear solid ([`crate::fe::solid::tl`]): full Newton with the consistent
+//! tangent on the linear model's dofs, pattern and symbolic analysis (one per grid and constraint
+//! set, every iteration a numeric factorisation on it), with load stepping in the style of the
+//! von Karman plate ([`crate::fe::VonKarman`]).
+//!
+//! Loads are dead loads: point forces and pressures computed on the undeformed geometry exactly as
+//! the linear core does, scaled by the load factor. Prescribed displacements are scaled with the
+//! same factor. Reactions are f_int - f at the constrained dofs (the linear core's K u - f).
+
+use std::sync::Arc;
+
+use faer::sparse::SparseColMat;
+use faer::Mat;
+use rayon::prelude::*;
+
+use crate::fe::cholesky::SymbolicFactor;
+use crate::fe::error::{FeError, FeResult};
+use crate::fe::solid::assemble::{
+    check_materials, element_nodes_m, ElementMatrices, SolidPattern, VOID,
+};
+use crate::fe::solid::dofs::{active_nodes, SolidDofs};
+use crate::fe::solid::grid::{check_elements, node_positions_um, HexGrid};
+use crate::fe::solid::hex27::{self, DOFS, NODES};
+use crate::fe::solid::loads::load_vector;
+use crate::fe::solid::ordering::free_dof_order;
+use crate::fe::solid::problem::{SolidLoad, SolidProblem};
+use crate::fe::solid::solution::{SolidContext, SolidReaction, SolidSolution};
+use crate::fe::solid::tl;
+use crate::fe::vonkarman::NewtonStats;
+
+/// Energy-norm ratio under which a correction that stops shrinking is round-off (as in the von
+/// Karman plate) \[choice\]: the displacement correction is then ~1e-4 of the first.
+const ROUND_OFF_RATIO: f64 = 1e-8;
+
+/// A correction under this fraction of the largest displacement is round-off and ends the
+/// iterations \[choice\] (~1e4 times double precision): covers a predictor so good that the
+/// first correction is already round-off (a prescribed rigid rotation: no force to compare a
+/// residual with).
+const ROUND_OFF_DISPLACEMENT: f64 = 1e-12;
+
+/// Smallest load step (fraction of the load) before the solve gives up \[choice\].
+const MIN_STEP: f64 = 1e-4;
+
+/// Elements per parallel chunk of the assembly \[choice\]: bounds the element tangents held at
+/// once (52 kB each) while keeping both cores busy.
+const CHUNK: usize = 256;
+
+/// Newton and load-stepping controls.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TlOptions {
+    /// Converged when the energy norm of the correction (du . r) falls below this fraction of
+    /// the step's first one (a squared norm: 1e-12 is ~1e-6 in displacement, and with quadratic
+    /// convergence the field is then ~1e-12 from the solution) ...
+    pub energy_tol: f64,
+    /// ... and the largest free residual below this fraction of the step's force scale (the
+    /// larger of the load and the first residual).
+    pub residual_tol: f64,
+    /// Newton iterations per load step before the step is halved.
+    pub max_iterations: usize,
+    /// Load steps tried (accepted or halved) before giving up.
+    pub max_load_steps: usize,
+    /// First load step as a fraction of the load (doubled after fast steps, halved on failure).
+    pub first_step: f64,
+}
+
+impl Default for TlOptions {
+    fn default() -> Self {
+        TlOptions {
+            energy_tol: 1e-12,
+            residual_tol: 1e-10,
+            max_iterations: 20,
+            max_load_steps: 64,
+            first_step: 1.0,
+        }
+    }
+}
+
+/// A grid, materials and constraints analysed once for Newton solves of any number of loads.
+#[derive(Debug, Clone)]
+pub struct TlSolid {
+    ctx: Arc<SolidContext>,
+    pattern: SolidPattern,
+    symbolic: SymbolicFactor,
+    active: Vec<usize>,
+    opts: TlOptions,
+}
+
+/// The converged nonlinear field of one load case.
+#[derive(Debug, Clone)]
+pub struct TlSolution {
+    /// Displacements, reactions and the applied load; its linear stresses are not exposed.
+    field: SolidSolution,
+    stats: NewtonStats,
+    history: Vec<NewtonIterate>,
+}
+
+/// Why a Newton step failed (becomes the detail of [`FeError::Newton`]).
+type StepFailure = String;
+
+/// What [`TlSolid::internal`] computes.
+struct Internal {
+    /// Internal force over all dofs, N.
+    force: Vec<f64>,
+    /// Tangent values on the pattern, if asked.
+    tangent: Option<Vec<f64>>,
+    /// The largest sum of element force magnitudes at a dof, N (the force's round-off scale).
+    magnitude: f64,
+    /// K_T v over all dofs for the vector v given, if any.
+    product: Option<Vec<f64>>,
+}
+
+/// One Newton iteration of the last load step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonIterate {
+    /// Largest free residual before the correction, N.
+    pub residual_n: f64,
+    /// Energy norm of the correction, |du . r|, J (0 for the final, converged residual).
+    pub energy_j: f64,
+}
+
+impl TlSolid {
+    /// Checks the input as the linear model does (lines, map, materials, constraints, rigid
+    /// modes, size) and analyses the pattern in the nested-dissection order. Errors on invalid
+    /// options (tolerances not in (0, 1), zero iterations or steps, a first step not in (0, 1]).
+    pub fn new(problem: &SolidProblem, opts: TlOptions) -> FeResult<Self> {
+        let ok = |v: f64| v > 0.0 && v < 1.0;
+        if !ok(opts.energy_tol)
+            || !ok(opts.residual_tol)
+            || opts.max_iterations == 0
+            || opts.max_load_steps == 0
+            || !(opts.first_step > 0.0 && opts.first_step <= 1.0)
+        {
+            return Err(FeError::SolidInput {
+                detail: format!("invalid Newton options {opts:?}"),
+                hint: "tolerances in (0, 1), at least one iteration and step, first step in (0, 1]",
+            });
+        }
+        let grid = &problem.grid;
+        active_nodes(grid)?;
+        let pos_um = node_positions_um(grid)?;
+        check_elements(grid, &pos_um)?;
+        check_materials(grid, &problem.materials)?;
+        let dofs = SolidDofs::new(grid, &pos_um, &problem.constraints)?;
+        dofs.check_rigid_modes(grid, &pos_um)?;
+        let pattern = SolidPattern::new(grid, &dofs)?;
+        let symbolic = SymbolicFactor::new(
+            pattern.symbolic.as_ref(),
+            &free_dof_order(&dofs, grid.lattice()),
+        )?;
+        let active = (0..grid.element_count())
+            .filter(|&e| grid.material(e).is_some())
+            .collect();
+        Ok(TlSolid {
+            ctx: Arc::new(SolidContext {
+                grid: grid.clone(),
+                pos_um,
+                materials: problem.materials.clone(),
+                dofs,
+                // The linear element matrices are not needed: stresses come from tl.
+                kel: ElementMatrices {
+                    kind: vec![VOID; grid.element_count()],
+                    matrices: Vec::new(),
+                },
+            }),
+            pattern,
+            symbolic,
+            active,
+            opts,
+        })
+    }
+
+    /// Number of free dofs.
+    pub fn n_free_dofs(&self) -> usize {
+        self.ctx.dofs.n_free()
+    }
+
+    /// Internal force over all dofs (N, 3 per lattice node), the tangent's values on the pattern
+    /// if asked, the largest sum of element force magnitudes at a dof (the scale of the force's
+    /// round-off), and the product of the full tangent (free and constrained dofs) with `apply`;
+    /// Err names an inverted element.
+    fn internal(
+        &self,
+        u: &[f64],
+        with_tangent: bool,
+        apply: Option<&[f64]>,
+    ) -> Result<Internal, StepFailure> {
+        let with_tangent = with_tangent || apply.is_some();
+        let c = &self.ctx;
+        let grid = &c.grid;
+        let mut r = vec![0.0; u.len()];
+        let mut magnitude = vec![0.0; u.len()];
+        let mut vals = with_tangent.then(|| vec![0.0; self.pattern.nnz()]);
+        let mut product = apply.map(|_| vec![0.0; u.len()]);
+        for chunk in self.active.chunks(CHUNK) {
+            let done: Vec<_> = chunk
+                .par_iter()
+                .map(|&e| {
+                    let nodes = grid.element_nodes(e);
+                    let ue: [f64; DOFS] = std::array::from_fn(|i| u[3 * nodes[i / 3] + i % 3]);
+                    let m = &c.materials[usize::from(grid.material(e).unwrap_or(0))];
+                    let mut k = with_tangent.then(|| vec![0.0; DOFS * DOFS]);
+                    let x = element_nodes_m(grid, &c.pos_um, e);
+                    tl::internal_force(&x, m, &ue, k.as_deref_mut())
+                        .map(|f| (nodes, f, k))
+                        .map_err(|inv| {
+                            format!(
+                                "element {:?} inverted (det F = {:.3e})",
+                                grid.element_ijk(e),
+                                inv.det_f
+                            )
+                        })
+                })
+                .collect::<Result<_, _>>()?;
+            for (nodes, f, k) in done {
+                for (i, v) in f.iter().enumerate() {
+                    let d = 3 * nodes[i / 3] + i % 3;
+                    r[d] += v;
+                    magnitude[d] += v.abs();
+                }
+                if let (Some(y), Some(v), Some(k)) = (product.as_mut(), apply, k.as_ref()) {
+                    let ve: [f64; DOFS] = std::array::from_fn(|i| v[3 * nodes[i / 3] + i % 3]);
+                    for p in 0..DOFS {
+                        let row = &k[p * DOFS..(p + 1) * DOFS];
+                        y[3 * nodes[p / 3] + p % 3] +=
+                            row.iter().zip(&ve).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                }
+                if let (Some(vals), Some(k)) = (vals.as_mut(), k) {
+                    self.scatter(vals, &nodes, &k);
+                }
+            }
+        }
+        Ok(Internal {
+            force: r,
+            tangent: vals,
+            magnitude: magnitude.iter().fold(0.0, |a: f64, b| a.max(*b)),
+            product,
+        })
+    }
+
+    /// Adds an element matrix into the lower-triangle values.
+    fn scatter(&self, vals: &mut [f64], nodes: &[usize; NODES], k: &[f64]) {
+        let dofs = &self.ctx.dofs;
+        let nf = dofs.n_free();
+        let col_ptr = self.pattern.symbolic.col_ptr();
+        let row_idx = self.pattern.symbolic.row_idx();
+        for q in 0..DOFS {
+            let c = dofs.free_index[3 * nodes[q / 3] + q % 3];
+            if c >= nf {
+                continue;
+            }
+            let (s, t) = (col_ptr[c], col_ptr[c + 1]);
+            let rows = &row_idx[s..t];
+            for p in 0..DOFS {
+                let r = dofs.free_index[3 * nodes[p / 3] + p % 3];
+                if r >= nf || r < c {
+                    continue;
+                }
+                if let Ok(at) = rows.binary_search(&r) {
+                    vals[s + at] += k[p * DOFS + q];
+                }
+            }
+        }
+    }
+
+    /// Solves one load case from the undeformed state, stepping the load (and the prescribed
+    /// displacements) up from zero: the step halves when Newton fails (divergence, an inverted
+    /// element, a tangent that is not positive definite, too many iterations) and doubles after
+    /// a step that converged in at most 4 iterations. Errors ([`FeError::Newton`]) when the step
+    /// falls under 1e-4 of the load or after `max_load_steps` tries.
+    pub fn solve(&self, loads: &[SolidLoad]) -> FeResult<TlSolution> {
+        let c = &self.ctx;
+        let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
+        let mut u = vec![0.0; f.len()];
+        let mut stats = NewtonStats {
+            load_steps: 0,
+            iterations: 0,
+            factorisations: 0,
+        };
+        let mut history = Vec::new();
+        let (mut lambda, mut step) = (0.0f64, self.opts.first_step);
+        let mut previous: Option<(f64, Vec<f64>)> = None;
+        let mut tries = 0;
+        let mut why = String::new();
+        let prescribed = c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0);
+        while lambda < 1.0 {
+            tries += 1;
+            if tries > self.opts.max_load_steps {
+                return Err(FeError::Newton {
+                    detail: format!(
+                        "no convergence within {} load steps (reached {:.1} % of the load; last \
+                         failure: {why})",
+                        self.opts.max_load_steps,
+                        100.0 * lambda
+                    ),
+                    hint: "the solid may buckle or snap at this load: lower the load, allow more \
+                           steps or use a finer grid",
+                });
+            }
+            let target = (lambda + step).min(1.0);
+            // Predictor: with prescribed displacements the tangent (Euler) step from the last
+            // state, which carries their increment into the interior (a prescribed rigid
+            // rotation lands on the rigid field); else extrapolation along the last step.
+            let predicted = if prescribed {
+                self.tangent_predictor(&u, &f, lambda, target, &mut stats)
+            } else {
+                let mut trial = u.clone();
+                if let Some((l0, u0)) = &previous {
+                    let s = (target - lambda) / (lambda - l0);
+                    for ((t, a), b) in trial.iter_mut().zip(&u).zip(u0) {
+                        *t = a + s * (a - b);
+                    }
+                }
+                Ok(trial)
+            };
+            let step_result = predicted.and_then(|mut trial| {
+                self.newton(&mut trial, &f, target, &mut stats)
+                    .map(|h| (trial, h))
+            });
+            match step_result {
+                Ok((trial, res)) => {
+                    let fast = res.len() <= 5; // at most 4 iterations, then the final residual
+                    history = res;
+                    previous = Some((lambda, std::mem::replace(&mut u, trial)));
+                    lambda = target;
+                    stats.load_steps += 1;
+                    if fast {
+                        step *= 2.0;
+                    }
+                }
+                Err(w) => {
+                    why = w;
+                    step *= 0.5;
+                    if step < MIN_STEP {
+                        return Err(FeError::Newton {
+                            detail: format!(
+                                "Newton failed at {:.1} % of the load even with steps of {:.0e} \
+                                 ({why})",
+                                100.0 * lambda,
+                                MIN_STEP
+                            ),
+                            hint: "the solid may buckle or snap, or an element inverts: lower \
+                                   the load or refine the grid where it bends most",
+                        });
+                    }
+                }
+            }
+        }
+        self.solution(u, &f, stats, history)
+    }
+
+    /// The Euler predictor from the converged state `u` at `lambda` to `target`: the constrained
+    /// dofs take their new values and the free ones the linearised response,
+    /// K_ff du_f = target f_f - f_int,f(u) - (K_T dc)_f with dc the constrained increments (one
+    /// factorisation, counted as an iteration).
+    fn tangent_predictor(
+        &self,
+        u: &[f64],
+        f: &[f64],
+        lambda: f64,
+        target: f64,
+        stats: &mut NewtonStats,
+    ) -> Result<Vec<f64>, StepFailure> {
+        let dofs = &self.ctx.dofs;
+        let mut dc = vec![0.0; u.len()];
+        for &(d, v, _) in &dofs.constrained {
+            dc[d] = target * v - u[d];
+        }
+        let at = self.internal(u, true, Some(&dc))?;
+        let product = at.product.unwrap_or_default();
+        let llt = self
+            .symbolic
+            .factor(
+                SparseColMat::<usize, f64>::new(
+                    self.pattern.symbolic.clone(),
+                    at.tangent.unwrap_or_default(),
+                )
+                .as_ref(),
+            )
+            .map_err(|e| {
+                format!("tangent not positive definite at {lambda:.3} of the load: {e}")
+            })?;
+        stats.factorisations += 1;
+        stats.iterations += 1;
+        let mut rhs = Mat::<f64>::zeros(dofs.n_free(), 1);
+        for (i, &d) in dofs.free_dofs.iter().enumerate() {
+            rhs[(i, 0)] = target * f[d] - at.force[d] - product[d];
+        }
+        llt.solve_in_place(rhs.as_mut());
+        let mut trial: Vec<f64> = u.iter().zip(&dc).map(|(a, b)| a + b).collect();
+        for (i, &d) in dofs.free_dofs.iter().enumerate() {
+            trial[d] += rhs[(i, 0)];
+        }
+        if trial.iter().any(|v| !v.is_finite()) {
+            return Err("non-finite predictor".into());
+        }
+        Ok(trial)
+    }
+
+    /// Newton iterations at load factor `lambda` from `u` (constrained dofs already set); the
+    /// history of the step on convergence.
+    ///
+    /// Converged when the largest free residual is under `residual_tol` of the force scale (the
+    /// load, the step's first residual and the largest sum of element force magnitudes at a dof,
+    /// which sets the residual's round-off) and the correction's energy du . r is under
+    /// `energy_tol` of the step's first or has stopped shrinking under 1e-8 of it; or when the
+    /// correction is under 1e-12 of the largest displacement (round-off).
+    fn newton(
+        &self,
+        u: &mut [f64],
+        f: &[f64],
+        lambda: f64,
+        stats: &mut NewtonStats,
+    ) -> Result<Vec<NewtonIterate>, StepFailure> {
+        let dofs = &self.ctx.dofs;
+        let n = dofs.n_free();
+        let residual = |r_int: &[f64]| -> Vec<f64> {
+            dofs.free_dofs
+                .iter()
+                .map(|&d| lambda * f[d] - r_int[d])
+                .collect()
+        };
+        let inf = |r: &[f64]| r.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        let mut history = Vec::new();
+        let start = self.internal(u, true, None)?;
+        let mut r = residual(&start.force);
+        let magnitude = start.magnitude;
+        let mut vals = start.tangent;
+        let load: Vec<f64> = dofs.free_dofs.iter().map(|&d| lambda * f[d]).collect();
+        let mut scale = inf(&load).max(inf(&r)).max(magnitude);
+        let mut first_energy: Option<f64> = None;
+        let mut last_energy = f64::INFINITY;
+        for it in 1..=self.opts.max_iterations {
+            let r_inf = inf(&r);
+            if !r_inf.is_finite() {
+                return Err("non-finite residual".into());
+            }
+            let values = match vals.take() {
+                Some(v) => v,
+                None => self.internal(u, true, None)?.tangent.unwrap_or_default(),
+            };
+            let llt = self
+                .symbolic
+                .factor(
+                    SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref(),
+                )
+                .map_err(|e| format!("tangent not positive definite at iteration {it}: {e}"))?;
+            stats.factorisations += 1;
+            stats.iterations += 1;
+            let mut rhs = Mat::<f64>::zeros(n, 1);
+            for (i, v) in r.iter().enumerate() {
+                rhs[(i, 0)] = *v;
+            }
+            llt.solve_in_place(rhs.as_mut());
+            let mut energy = 0.0;
+            for (i, &d) in dofs.free_dofs.iter().enumerate() {
+                let du = rhs[(i, 0)];
+                if !du.is_finite() {
+                    return Err(format!("non-finite correction at iteration {it}"));
+                }
+                energy += du * r[i];
+                u[d] += du;
+            }
+            let energy = energy.abs();
+            history.push(NewtonIterate {
+                residual_n: r_inf,
+                energy_j: energy,
+            });
+            let e0 = *first_energy.get_or_insert(energy);
+            let ratio = if e0 > 0.0 { energy / e0 } else { 0.0 };
+            if energy > 1e6 * e0 {
+                return Err(format!(
+                    "diverging at iteration {it} (energy ratio {ratio:.1e})"
+                ));
+            }
+            // Round-off: the correction is at the field's last digits, or it stopped shrinking
+            // once already small.
+            let du_inf = (0..n).map(|i| rhs[(i, 0)].abs()).fold(0.0, f64::max);
+            let u_inf = u.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            let stalled = energy > 1e-2 * last_energy && ratio <= ROUND_OFF_RATIO;
+            last_energy = energy;
+            // The residual of the corrected field (the tangent only if another step follows).
+            let now = self.internal(u, false, None)?;
+            r = residual(&now.force);
+            scale = scale.max(now.magnitude);
+            let r_inf = inf(&r);
+            let small = r_inf <= self.opts.residual_tol * scale;
+            if du_inf <= ROUND_OFF_DISPLACEMENT * u_inf
+                || (small && (ratio <= self.opts.energy_tol || stalled))
+            {
+                history.push(NewtonIterate {
+                    residual_n: r_inf,
+                    energy_j: 0.0,
+                });
+                return Ok(history);
+            }
+        }
+        Err(format!(
+            "no convergence in {} iterations (residual {:.2e} N of {scale:.2e} N)",
+            self.opts.max_iterations,
+            inf(&r)
+        ))
+    }
+
+    fn solution(
+        &self,
+        u: Vec<f64>,
+        f: &[f64],
+        stats: NewtonStats,
+        history: Vec<NewtonIterate>,
+    ) -> FeResult<TlSolution> {
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(FeError::NonFinite {
+                hint: "check material constants and load values for NaN/inf",
+            });
+        }
+        let r_int = self
+            .internal(&u, false, None)
+            .map_err(|detail| FeError::Newton {
+                detail,
+                hint: "the converged field inverts an element: refine the grid",
+            })?
+            .force;
+        let reactions = self
+            .ctx
+            .dofs
+            .constrained
+            .iter()
+            .map(|&(d, _, _)| r_int[d] - f[d])
+            .collect();
+        let mut applied = [0.0; 3];
+        for (d, v) in f.iter().enumerate() {
+            applied[d % 3] += v;
+        }
+        Ok(TlSolution {
+            field: SolidSolution::new(self.ctx.clone(), u, reactions, applied),
+            stats,
+            history,
+        })
+    }
+}
+
+impl TlSolution {
+    /// What the solve cost: accepted load steps, Newton iterations, factorisations.
+    pub fn stats(&self) -> NewtonStats {
+        self.stats
+    }
+
+    /// The last load step's iterations, and the converged residual last: the convergence
+    /// history.
+    pub fn last_step_history(&self) -> &[NewtonIterate] {
+        &self.history
+    }
+
+    /// The grid solved.
+    pub fn grid(&self) -> &HexGrid {
+        self.field.grid()
+    }
+
+    /// Undeformed node positions (after the node map), um.
+    pub fn node_positions_um(&self) -> &[[f64; 3]] {
+        self.field.node_positions_um()
+    }
+
+    /// Displacements of every lattice node (3 per node, m).
+    pub fn displacements_m(&self) -> &[f64] {
+        self.field.displacements_m()
+    }
+
+    /// Displacement of lattice node `n`, m.
+    pub fn node_displacement_m(&self, n: usize) -> [f64; 3] {
+        self.field.node_displacement_m(n)
+    }
+
+    /// Displacement (m) of the material point at undeformed position `p_um`; None outside the
+    /// active elements.
+    pub fn displacement_m(&self, p_um: [f64; 3]) -> Option<[f64; 3]> {
+        self.field.displacement_m(p_um)
+    }
+
+    /// Displacement (m) at local point `xi` of element (i, j, k); None if void.
+    #[track_caller]
+    pub fn displacement_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 3]> {
+        self.field.displacement_at(element, xi)
+    }
+
+    /// Sum of the applied (dead) forces, N.
+    pub fn applied_force_n(&self) -> [f64; 3] {
+        self.field.applied_force_n()
+    }
+
+    /// Reactions per constraint group (f_int - f, N).
+    pub fn reactions(&self) -> &[SolidReaction] {
+        self.field.reactions()
+    }
+
+    /// Reaction of one group, if it exists.
+    pub fn reaction_n(&self, group: &str) -> Option<[f64; 3]> {
+        self.field.reaction_n(group)
+    }
+
+    /// Undeformed position (um) and reaction (N) of every node of a group.
+    pub fn nodal_reactions(&self, group: &str) -> Vec<([f64; 3], [f64; 3])> {
+        self.field.nodal_reactions(group)
+    }
+
+    /// Element nodes (m), material and displacements, or None if void. Panics outside the grid.
+    #[track_caller]
+    fn element(&self, element: [usize; 3]) -> Option<([[f64; 3]; NODES], usize, [f64; DOFS])> {
+        let grid = self.grid();
+        let e = grid.element(element);
+        let m = grid.material(e)?;
+        let nodes = grid.element_nodes(e);
+        let u = self.displacements_m();
+        Some((
+            element_nodes_m(grid, self.node_positions_um(), e),
+            usize::from(m),
+            std::array::from_fn(|i| u[3 * nodes[i / 3] + i % 3]),
+        ))
+    }
+
+    /// Green-Lagrange strain (Voigt, engineering shears) at local point `xi` of element
+    /// (i, j, k); None if void. Panics outside the grid (misuse).
+    #[track_caller]
+    pub fn green_lagrange_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
+        let (x, _, u) = self.element(element)?;
+        Some(tl::strain_at(&x, &u, xi))
+    }
+
+    /// Second Piola-Kirchhoff stress S = C E (Voigt, Pa, undeformed axes) at local point `xi` of
+    /// element (i, j, k); None if void. Panics outside the grid (misuse).
+    #[track_caller]
+    pub fn second_piola_kirchhoff_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
+        let (x, m, u) = self.element(element)?;
+        Some(tl::second_piola_kirchhoff_pa(
+            &x,
+            self.field.material(m),
+            &u,
+            xi,
+        ))
+    }
+
+    /// Cauchy (true) stress F S F^T / det F (Voigt, Pa, fixed axes) at local point `xi` of
+    /// element (i, j, k); None if void. Panics outside the grid (misuse).
+    #[track_caller]
+    pub fn cauchy_stress_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
+        let (x, m, u) = self.element(element)?;
+        Some(tl::cauchy_pa(&x, self.field.material(m), &u, xi))
+    }
+
+    /// Deformed position of the material point at local `xi` of element (i, j, k), um.
+    #[track_caller]
+    pub fn deformed_position_um(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 3]> {
+        let (x, _, _) = self.element(element)?;
+        let u = self.displacement_at(element, xi)?;
+        let p = hex27::position(&x, xi);
+        Some(std::array::from_fn(|d| (p[d] + u[d]) * 1e6))
+    }
+}
+
+impl SolidProblem {
+    /// Solves every load case with the geometrically nonlinear model (each from the undeformed
+    /// state, on one symbolic analysis).
+    pub fn solve_nonlinear(&self, opts: TlOptions) -> FeResult<Vec<TlSolution>> {
+        let model = TlSolid::new(self, opts)?;
+        self.load_cases.iter().map(|l| model.solve(l)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::solid::problem::{Axis3, Constraint, NodeSet};
+    use crate::fe::solid::{uniform_lines, Elasticity};
+
+    /// The assembled tangent times a vector equals the central difference of the assembled
+    /// internal force along it (the element check of `tl` says nothing about the scatter).
+    #[test]
+    fn assembled_tangent_is_the_force_derivative() {
+        let grid = HexGrid::new(
+            &uniform_lines(0.0, 1000.0, 5),
+            &[0.0, 100.0],
+            &[0.0, 50.0, 100.0],
+        )
+        .unwrap();
+        let mut p = SolidProblem::new(grid, vec![Elasticity::isotropic(169e9, 0.3)]);
+        p.constraints.push(Constraint::clamp(
+            "root",
+            NodeSet::Plane {
+                axis: Axis3::X,
+                at_um: 0.0,
+            },
+        ));
+        let m = TlSolid::new(&p, TlOptions::default()).unwrap();
+        let dofs = &m.ctx.dofs;
+        // A bent, twisted state (free dofs only).
+        let mut u = vec![0.0; 3 * m.ctx.pos_um.len()];
+        for (n, x) in m.ctx.pos_um.iter().enumerate() {
+            let s = x[0] / 1000.0;
+            u[3 * n] = -100e-6 * s * s + 1e-6 * (n as f64 * 0.3).sin();
+            u[3 * n + 1] = 50e-6 * s * (x[2] - 50.0) / 50.0;
+            u[3 * n + 2] = -300e-6 * s * s + 1e-6 * (n as f64 * 0.7).cos();
+        }
+        for &(d, _, _) in &dofs.constrained {
+            u[d] = 0.0;
+        }
+        let vals = m.internal(&u, true, None).unwrap().tangent.unwrap();
+        let nf = dofs.n_free();
+        let v: Vec<f64> = (0..nf)
+            .map(|i| ((i * 13 % 7) as f64 - 3.0) * 1e-9)
+            .collect();
+        let (cp, ri) = (m.pattern.symbolic.col_ptr(), m.pattern.symbolic.row_idx());
+        let mut kv = vec![0.0; nf];
+        for c in 0..nf {
+            for k in cp[c]..cp[c + 1] {
+                kv[ri[k]] += vals[k] * v[c];
+                if ri[k] != c {
+                    kv[c] += vals[k] * v[ri[k]];
+                }
+            }
+        }
+        let h = 1e-3;
+        let shifted = |s: f64| {
+            let mut w = u.clone();
+            for (i, &d) in dofs.free_dofs.iter().enumerate() {
+                w[d] += s * v[i];
+            }
+            m.internal(&w, false, None).unwrap().force
+        };
+        let (a, b) = (shifted(h), shifted(-h));
+        let scale = kv.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let worst = dofs
+            .free_dofs
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| ((a[d] - b[d]) / (2.0 * h) - kv[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-7 * scale, "{worst:e} of {scale:e}");
+    }
+}
