@@ -27,7 +27,29 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         centre_height_m: a.height_mm * 1e-3,
         radius_m: a.radius_mm * 1e-3,
     };
-    let p = pressure_profile(&slab, usize::from(a.across), usize::from(a.through))?;
+    let p =
+        pressure_profile(&slab, usize::from(a.across), usize::from(a.through)).map_err(|e| {
+            // Name the flags the user typed rather than the model's SI fields.
+            match e {
+                tactfab::softness::SoftnessError::BadInput { field, hint, .. } => anyhow::anyhow!(
+                    "{}: {hint} (--width-mm {}, --thickness-mm {}, --x-mm {}, --height-mm {}, \
+                 --radius-mm {})",
+                    match field {
+                        "radius_m" => "--radius-mm",
+                        "lump e_pa" => "--lump-e-kpa",
+                        "compression" => "--compression",
+                        "tissue_e_pa" => "--tissue-e-kpa",
+                        _ => "the slab",
+                    },
+                    a.width_mm,
+                    a.thickness_mm,
+                    slab.centre_x_m * 1e3,
+                    a.height_mm,
+                    a.radius_mm
+                ),
+                other => other.into(),
+            }
+        })?;
     let files = [
         ("tissue.csv".to_string(), p.csv().into_bytes()),
         ("tissue.svg".to_string(), p.svg(&slab).into_bytes()),

@@ -175,5 +175,10 @@ fn tissue_lump_and_void_through_the_binary() {
         "6",
     ]);
     assert_eq!(bad.code, 2, "{}", bad.stderr);
+    assert!(
+        bad.stderr.contains("--radius-mm") && bad.stderr.contains("inside the slab"),
+        "{}",
+        bad.stderr
+    );
     assert!(!t.path().join("bad").exists());
 }
