@@ -12,8 +12,28 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
-fn plane(axis: Axis3, at_um: f64) -> NodeSet {
+pub(super) fn plane(axis: Axis3, at_um: f64) -> NodeSet {
     NodeSet::Plane { axis, at_um }
+}
+
+/// Holds every node of the six faces of the cube [lo, hi]^3 um to the linear field
+/// u = u0 + G x (patch tests, imposed rigid motions).
+pub(super) fn prescribe_linear_on_faces(
+    p: &mut SolidProblem,
+    (lo, hi): (f64, f64),
+    u0_m: [f64; 3],
+    gradient: [[f64; 3]; 3],
+) {
+    for axis in [Axis3::X, Axis3::Y, Axis3::Z] {
+        for at in [lo, hi] {
+            p.constraints.push(Constraint {
+                group: "boundary".into(),
+                nodes: plane(axis, at),
+                fixed: [true; 3],
+                value: Prescribed::Linear { u0_m, gradient },
+            });
+        }
+    }
 }
 
 /// The 2x2x2 block [0, 2000]^3 um with every non-boundary node moved by a smooth map: curved
@@ -44,16 +64,7 @@ fn patch_test_on_distorted_elements() {
         [-4.0e-5, 6.0e-5, 1.5e-4],
     ];
     let u0_m = [1e-7, -2e-7, 3e-7];
-    for axis in [Axis3::X, Axis3::Y, Axis3::Z] {
-        for at in [0.0, 2000.0] {
-            p.constraints.push(Constraint {
-                group: "boundary".into(),
-                nodes: plane(axis, at),
-                fixed: [true; 3],
-                value: Prescribed::Linear { u0_m, gradient },
-            });
-        }
-    }
+    prescribe_linear_on_faces(&mut p, (0.0, 2000.0), u0_m, gradient);
     p.load_cases.push(vec![]);
     let s = &p.solve().unwrap()[0];
     let exact = |x_um: [f64; 3]| -> [f64; 3] {

@@ -5,15 +5,11 @@
 
 use std::sync::Arc;
 
-use super::tests::end_shear;
+use super::tests::{end_shear, plane, prescribe_linear_on_faces};
 use crate::fe::error::FeError;
 use crate::fe::material::DieEdge;
 use crate::fe::solid::*;
 use crate::fe::vonkarman::clamped_strip_reference;
-
-fn plane(axis: Axis3, at_um: f64) -> NodeSet {
-    NodeSet::Plane { axis, at_um }
-}
 
 /// Tip of the elastica of a cantilever under a dead end load P (Bisshopp & Drucker, Q. Appl.
 /// Math. 3, 1945): EI theta'' = -P cos theta along the arc s, theta(0) = 0 at the clamp,
@@ -347,16 +343,7 @@ fn prescribed_rigid_rotation_is_stress_free() {
     let gradient: [[f64; 3]; 3] =
         std::array::from_fn(|i| std::array::from_fn(|j| r[i][j] - f64::from(u8::from(i == j))));
     let u0_m = [20e-6, -10e-6, 5e-6];
-    for axis in [Axis3::X, Axis3::Y, Axis3::Z] {
-        for at in [0.0, 200.0] {
-            p.constraints.push(Constraint {
-                group: "boundary".into(),
-                nodes: plane(axis, at),
-                fixed: [true; 3],
-                value: Prescribed::Linear { u0_m, gradient },
-            });
-        }
-    }
+    prescribe_linear_on_faces(&mut p, (0.0, 200.0), u0_m, gradient);
     p.load_cases.push(vec![]);
     let s = &p.solve_nonlinear(TlOptions::default()).unwrap()[0];
     eprintln!("rigid rotation: {:?}", s.stats());
