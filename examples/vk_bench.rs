@@ -7,8 +7,9 @@
 //!     across against [`clamped_strip_reference`] (Timoshenko & Woinowsky-Krieger sec. 3), with
 //!     the Newton iterations and the median wall time of `runs` full solves (set-up, Newton,
 //!     read-out), beside the linear plate's time and error on the same mesh.
-//! (b) The bundled sensor, 1 N and 4 N at the die centre: `--model plate` against `--model
-//!     large-deflection` at `--tol 0.01` (levels, dofs, median time).
+//! (b) The bundled sensor, 1 N and 4 N at the die centre: `--model auto` (what `fe` runs),
+//!     `--model plate` and `--model large-deflection` at `--tol 0.01` (levels, dofs, median
+//!     time; faer sequential as in the CLI).
 //! (c) The peer: a clamped, in-plane immovable 10 mm square (isotropic 169 GPa, nu 0.3, 100 um)
 //!     under uniform pressure and a centre point load at linear deflections of 0.25-4
 //!     thicknesses, tactfab's quarter plate (24 x 24 BFS, graded to the centre) against
@@ -76,6 +77,8 @@ fn main() {
         .and_then(|a| a.parse().ok())
         .unwrap_or(5)
         .max(1);
+    // As the CLI runs: faer sequential, the ladder's own threads for levels and scenes.
+    faer::set_global_parallelism(faer::Par::Seq);
     let mat = PlateMaterial::silicon(DieEdge::Along110);
     let t = T_UM * 1e-6;
     let (d, a) = (mat.q22_pa * t.powi(3) / 12.0, mat.q22_pa * t);
@@ -134,7 +137,11 @@ fn main() {
             limits: Limits::default(),
         };
         println!("(b) sensor, {force_n} N at the centre, tol 1 %; {runs} runs, medians");
-        for model in [ModelChoice::Plate, ModelChoice::LargeDeflection] {
+        for model in [
+            ModelChoice::Auto,
+            ModelChoice::Plate,
+            ModelChoice::LargeDeflection,
+        ] {
             let mut ms = Vec::new();
             let mut last = None;
             for _ in 0..runs {

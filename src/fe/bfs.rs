@@ -267,6 +267,43 @@ pub fn curvature_integral(u: &[f64; 16], a: f64, b: f64) -> (f64, f64) {
     (-wxx, -wyy)
 }
 
+/// (int w_x^2 / 2 dA, int w_y^2 / 2 dA) over a whole element: the von Karman strain's slope terms
+/// (Reddy Eq. 7.3.5), by the 4x4 Gauss rule (exact: w_x^2 is of degree 4 in x and 6 in y) with
+/// sum factorisation over the tensor-product Hermite basis, w_x(x_p, y_q) =
+/// sum_fy H_fy(y_q) sum_fx H'_fx(x_p) U_fx,fy: ~300 flops instead of 16 full shape evaluations.
+pub fn slope_square_integral(u: &[f64; 16], a: f64, b: f64) -> (f64, f64) {
+    let mut coef = [[0.0; 4]; 4];
+    for (i, &v) in u.iter().enumerate() {
+        let (fx, fy) = factor_index(i);
+        coef[fx][fy] = v;
+    }
+    let gy = gauss4_on(0.0, b);
+    let hy: [[[f64; 4]; 3]; 4] = std::array::from_fn(|q| hermite(gy[q].0, b));
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for (x, wx) in gauss4_on(0.0, a) {
+        let hx = hermite(x, a);
+        // Along y at this x: the slope w_x's and the value w's Hermite coefficients.
+        let mut dx = [0.0; 4];
+        let mut val = [0.0; 4];
+        for fy in 0..4 {
+            for fx in 0..4 {
+                dx[fy] += hx[1][fx] * coef[fx][fy];
+                val[fy] += hx[0][fx] * coef[fx][fy];
+            }
+        }
+        for (q, &(_, wy)) in gy.iter().enumerate() {
+            let (mut px, mut py) = (0.0, 0.0);
+            for fy in 0..4 {
+                px += dx[fy] * hy[q][0][fy];
+                py += val[fy] * hy[q][1][fy];
+            }
+            sx += wx * wy * 0.5 * px * px;
+            sy += wx * wy * 0.5 * py * py;
+        }
+    }
+    (sx, sy)
+}
+
 /// Moments per unit length M = D kappa: (Mx, My, Mxy) in N (N m / m), sagging positive (Reddy Eq.
 /// 3.3.17).
 pub fn moments(kappa: [f64; 3], d: &BendingStiffness) -> [f64; 3] {
@@ -280,6 +317,25 @@ pub fn moments(kappa: [f64; 3], d: &BendingStiffness) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slope_square_integral_matches_gauss_on_shape_functions() {
+        let (a, b) = (3.1e-4, 1.7e-4);
+        let u: [f64; 16] = std::array::from_fn(|i| ((i * 7 + 3) % 11) as f64 * 1e-6 - 4e-6);
+        let (mut ex, mut ey) = (0.0, 0.0);
+        for (x, wx) in gauss4_on(0.0, a) {
+            for (y, wy) in gauss4_on(0.0, b) {
+                let s = shape(x, y, a, b);
+                let px: f64 = s[1].iter().zip(&u).map(|(p, q)| p * q).sum();
+                let py: f64 = s[2].iter().zip(&u).map(|(p, q)| p * q).sum();
+                ex += wx * wy * 0.5 * px * px;
+                ey += wx * wy * 0.5 * py * py;
+            }
+        }
+        let (sx, sy) = slope_square_integral(&u, a, b);
+        assert!((sx - ex).abs() <= 1e-12 * ex.abs(), "{sx} vs {ex}");
+        assert!((sy - ey).abs() <= 1e-12 * ey.abs(), "{sy} vs {ey}");
+    }
     use crate::fe::material::PlateMaterial;
 
     #[test]

@@ -65,4 +65,4 @@ pub use solution::{
     DeflectionPeak, GroupReaction, PlateSolution, SolutionSummary, StressPeak, Surface,
 };
 pub use solve::Factorised;
-pub use vonkarman::{InPlane, NewtonStats, NonlinearOptions, VonKarman};
+pub use vonkarman::{AtDeflection, InPlane, NewtonStats, NonlinearOptions, VonKarman};

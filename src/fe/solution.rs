@@ -343,7 +343,8 @@ impl PlateSolution {
     }
 
     /// (int eps_x dA, int eps_y dA) of the bottom-surface strain over a rectangle (m^2), clipped
-    /// per element: whole elements in closed form ([`bfs::curvature_integral`]), partly covered
+    /// per element: whole elements in closed form ([`bfs::curvature_integral`], with a membrane
+    /// its bilinear stretch in closed form and [`bfs::slope_square_integral`]), partly covered
     /// ones by 4x4 Gauss per clipped part (exact for the BFS curvature field).
     pub fn integrate_bottom_strain(&self, rect: RectUm) -> (f64, f64) {
         self.integrate_strain_below(rect, 0.0)
@@ -361,10 +362,19 @@ impl PlateSolution {
             let whole = |lo: f64, hi: f64, len: f64| {
                 lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len
             };
-            if self.membrane.is_none() && whole(x0, x1, a) && whole(y0, y1, b) {
+            if whole(x0, x1, a) && whole(y0, y1, b) {
                 let (ix, iy) = bfs::curvature_integral(&u, a, b);
                 sx += h * ix;
                 sy += h * iy;
+                if let Some(uv) = &self.membrane {
+                    // int u_x dA = b/2 (u_1 + u_2 - u_0 - u_3) for the bilinear u (corners in
+                    // BFS order), likewise v_y; then the slope squares.
+                    let n = self.ctx.mesh.element_nodes(e);
+                    let (u_, v_) = (|k: usize| uv[2 * n[k]], |k: usize| uv[2 * n[k] + 1]);
+                    let (qx, qy) = bfs::slope_square_integral(&u, a, b);
+                    sx += 0.5 * b * (u_(1) + u_(2) - u_(0) - u_(3)) + qx;
+                    sy += 0.5 * a * (v_(3) + v_(2) - v_(0) - v_(1)) + qy;
+                }
                 continue;
             }
             for (x, wx) in bfs::gauss4_on(x0, x1) {

@@ -56,6 +56,7 @@ fn strip_with(n_span: usize, pressure_pa: f64, kind: SupportKind) -> PlateProble
 }
 
 use super::vonkarman::clamped_strip_reference as strip_reference;
+use super::vonkarman::PEAK_TOL;
 
 /// Pressure giving a linear centre deflection of `ratio` thicknesses (w0 = q l^4 / (384 D)).
 fn pressure_for(ratio: f64) -> f64 {
@@ -434,4 +435,63 @@ fn newton_converges_quadratically_on_a_stepped_plate() {
         assert!(stats.iterations <= 10, "{force_n} N: {stats:?}, w/t = {w}");
         assert_eq!(stats.factorisations, stats.iterations, "full Newton");
     }
+}
+
+/// Displacement control lands where load control says: driven from the answer at 2 N to 1.8 times
+/// its largest deflection (off-centre load on a clamped square: the peak sits between nodes
+/// and moves), the plate under the returned load factor, solved by load stepping from zero, has
+/// that largest deflection; the exponent d ln w / d ln F matches finite differences of load-
+/// controlled solves; in the linear range it is 1.
+#[test]
+fn displacement_control_reaches_the_target_deflection() {
+    let mut p = square_4mm(16);
+    p.support_all_edges(SupportKind::Clamped);
+    let loads = vec![Load::Point {
+        x_um: 1500.0,
+        y_um: 2100.0,
+        force_n: 2.0,
+        radius_um: 0.0,
+    }];
+    let vk = VonKarman::new(&p, NonlinearOptions::default()).unwrap();
+    let peak = |s: &PlateSolution| s.max_deflection().w_m.abs();
+    let scaled = |f: f64| {
+        let mut l = loads.clone();
+        if let Load::Point { force_n, .. } = &mut l[0] {
+            *force_n *= f;
+        }
+        l
+    };
+    let (start, _) = vk.solve(&loads).unwrap();
+    let target = 1.8 * peak(&start);
+    let at = vk.solve_to_deflection(&loads, &start, 1.0, target).unwrap();
+    assert!(at.lambda > 1.8, "hardening: {} x the load", at.lambda);
+    assert!(at.iterations <= 20, "{} iterations", at.iterations);
+    let (check, _) = vk.solve(&scaled(at.lambda)).unwrap();
+    let reached = peak(&check);
+    assert!(
+        (reached - target).abs() <= 2.0 * PEAK_TOL * target,
+        "{reached} vs {target}"
+    );
+    let h = 1e-3;
+    let (lo, _) = vk.solve(&scaled(at.lambda * (1.0 - h))).unwrap();
+    let (hi, _) = vk.solve(&scaled(at.lambda * (1.0 + h))).unwrap();
+    let fd = (peak(&hi) / peak(&lo)).ln() / ((1.0 + h) / (1.0 - h)).ln();
+    assert!(
+        (at.exponent - fd).abs() <= 2e-2 * fd,
+        "exponent {} vs finite differences {fd}",
+        at.exponent
+    );
+    assert!(at.exponent < 0.9, "membrane stiffening: {}", at.exponent);
+    // A tiny load is linear: driven to twice its deflection, the load doubles.
+    let (tiny, _) = vk.solve(&scaled(1e-6)).unwrap();
+    let at = vk
+        .solve_to_deflection(&scaled(1e-6), &tiny, 1.0, 2.0 * peak(&tiny))
+        .unwrap();
+    assert!((at.lambda - 2.0).abs() < 1e-3, "{}", at.lambda);
+    assert!((at.exponent - 1.0).abs() < 1e-3, "{}", at.exponent);
+    // Bad targets are errors, not panics.
+    assert!(vk.solve_to_deflection(&loads, &start, 1.0, -1.0).is_err());
+    assert!(vk
+        .solve_to_deflection(&loads, &start, 1.0, f64::NAN)
+        .is_err());
 }

@@ -37,6 +37,9 @@ use crate::fe::ordering::node_dof_order;
 use crate::fe::problem::{Axis, Load, PlateProblem, SupportKind};
 use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionContext};
 
+mod deflection_control;
+pub use deflection_control::{AtDeflection, PEAK_TOL};
+
 /// Energy-norm ratio below which a correction that stops shrinking is round-off: the displacement
 /// correction is then ~1e-4 of the first, under any discretisation error the ladder reports
 /// (>= 1e-3). Well-shaped meshes reach 1e-16; a batch of rotated probes leaves sliver elements
@@ -109,6 +112,9 @@ struct ElementKind {
     /// Q4: d/dx, d/dy of the 4 corner functions at each Gauss point.
     mx: [[f64; 4]; 16],
     my: [[f64; 4]; 16],
+    /// The same slopes by shape function: `nt[i] = [w_x of i at the 16 points, w_y of i at them]`,
+    /// so the tangent's sums over points are contiguous dot products.
+    nt: [[f64; 32]; 16],
     /// Gauss weight times area Jacobian.
     wt: [f64; 16],
     kb: Box<[[f64; 16]; 16]>,
@@ -167,6 +173,7 @@ impl ElementKind {
             wy: [[0.0; 16]; 16],
             mx: [[0.0; 4]; 16],
             my: [[0.0; 4]; 16],
+            nt: [[0.0; 32]; 16],
             wt: [0.0; 16],
             kb: Box::new(bfs::stiffness(a, b, &mat.bending_stiffness(t_m))),
             km: [[0.0; 8]; 8],
@@ -184,6 +191,9 @@ impl ElementKind {
                 let s = bfs::shape(x, y, a, b);
                 k.wx[g] = s[1];
                 k.wy[g] = s[2];
+                for i in 0..16 {
+                    (k.nt[i][g], k.nt[i][16 + g]) = (s[1][i], s[2][i]);
+                }
                 (k.mx[g], k.my[g]) = q4_gradients(x, y, a, b);
                 k.wt[g] = wxg * wyg;
                 // B_m^T (A B_m), B_m's rows as in membrane_columns.
@@ -233,6 +243,9 @@ impl ElementKind {
             }
         }
         let [a11, a12, a22, a66] = self.a;
+        // Per shape function, the tangent's point-wise factors (w_x rows then w_y rows).
+        let mut lw = [[0.0; 32]; 16];
+        let mut lm = [[0.0; 32]; 8];
         for g in 0..16 {
             let (nx, ny, mx, my) = (&self.wx[g], &self.wy[g], &self.mx[g], &self.my[g]);
             let wx: f64 = (0..16).map(|i| nx[i] * ue[i]).sum();
@@ -261,38 +274,54 @@ impl ElementKind {
                 r[16 + 2 * c] += mx[c] * nq[0] + my[c] * nq[2];
                 r[17 + 2 * c] += my[c] * nq[1] + mx[c] * nq[2];
             }
-            let Some(k) = kt.as_deref_mut() else {
+            if kt.is_none() {
                 continue;
-            };
+            }
             let cxx = w * (a11 * wx * wx + a66 * wy * wy + n[0]);
             let cyy = w * (a22 * wy * wy + a66 * wx * wx + n[1]);
             let cxy = w * ((a12 + a66) * wx * wy + n[2]);
             let s = &self.am[g];
-            let px: [f64; 8] = std::array::from_fn(|j| w * (wx * s[0][j] + wy * s[2][j]));
-            let py: [f64; 8] = std::array::from_fn(|j| w * (wy * s[1][j] + wx * s[2][j]));
             for i in 0..16 {
-                let (ax, ay) = (cxx * nx[i] + cxy * ny[i], cyy * ny[i] + cxy * nx[i]);
-                let row = &mut k[i * NE..(i + 1) * NE];
-                for j in 0..16 {
-                    row[j] += ax * nx[j] + ay * ny[j];
-                }
-                for j in 0..8 {
-                    row[16 + j] += nx[i] * px[j] + ny[i] * py[j];
-                }
+                lw[i][g] = cxx * nx[i] + cxy * ny[i];
+                lw[i][16 + g] = cyy * ny[i] + cxy * nx[i];
             }
             for j in 0..8 {
-                let row = &mut k[(16 + j) * NE..(16 + j) * NE + 16];
-                for i in 0..16 {
-                    row[i] += nx[i] * px[j] + ny[i] * py[j];
+                lm[j][g] = w * (wx * s[0][j] + wy * s[2][j]);
+                lm[j][16 + g] = w * (wy * s[1][j] + wx * s[2][j]);
+            }
+        }
+        if let Some(k) = kt {
+            // K_ww += sum_g (a_x n_x^T + a_y n_y^T), symmetric: the upper triangle, mirrored;
+            // K_wm = sum_g (n_x p_x^T + n_y p_y^T) and its transpose.
+            let dot = |a: &[f64; 32], b: &[f64; 32]| -> f64 {
+                // Four partial sums: the order is fixed, so the result is deterministic, and
+                // the loop vectorises.
+                let mut acc = [0.0; 4];
+                for c in 0..8 {
+                    for l in 0..4 {
+                        acc[l] += a[4 * c + l] * b[4 * c + l];
+                    }
+                }
+                (acc[0] + acc[1]) + (acc[2] + acc[3])
+            };
+            for i in 0..16 {
+                for j in i..16 {
+                    let v = dot(&lw[i], &self.nt[j]);
+                    k[i * NE + j] += v;
+                    if j != i {
+                        k[j * NE + i] += v;
+                    }
+                }
+                for j in 0..8 {
+                    let v = dot(&self.nt[i], &lm[j]);
+                    k[i * NE + 16 + j] += v;
+                    k[(16 + j) * NE + i] += v;
                 }
             }
         }
         r
     }
 }
-
-/// One element's global dofs, internal force and (if asked) tangent.
-type ElementResult = ([usize; NE], [f64; NE], Option<Vec<f64>>);
 
 /// A von Karman plate ready to solve: dofs, pattern and symbolic analysis built once.
 pub struct VonKarman {
@@ -512,36 +541,27 @@ impl VonKarman {
         self.free_dofs.len()
     }
 
-    /// Internal force over all dofs and, if asked, the tangent's values on the pattern.
+    /// Internal force over all dofs and, if asked, the tangent's values on the pattern, element
+    /// by element on the calling thread: the ladder runs levels and scenes side by side, and
+    /// splitting one plate's elements over threads as well cost more in wake-ups than it saved
+    /// (2 cores: 14 against 26 ms for the coarsest level's Newton solve).
     fn internal(&self, u: &[f64], with_tangent: bool) -> (Vec<f64>, Option<Vec<f64>>) {
-        const CHUNK: usize = 1024;
-        let n_el = self.mesh.n_elements();
         let mut r = vec![0.0; u.len()];
         let mut vals = with_tangent.then(|| vec![0.0; self.pattern.symbolic.row_idx().len()]);
-        let mut start = 0;
-        while start < n_el {
-            let end = (start + CHUNK).min(n_el);
-            let done: Vec<ElementResult> = (start..end)
-                .into_par_iter()
-                .map(|e| {
-                    let dofs = element_dofs6(&self.mesh, e);
-                    let ue = dofs.map(|d| u[d]);
-                    let mut k = with_tangent.then(|| vec![0.0; NE * NE]);
-                    let re = self.kinds[self.kind[e] as usize].evaluate(&ue, k.as_deref_mut());
-                    (dofs, re, k)
-                })
-                .collect();
-            for (dofs, re, k) in done {
-                for (d, v) in dofs.iter().zip(re) {
-                    r[*d] += v;
-                }
-                if let (Some(vals), Some(k)) = (vals.as_mut(), k) {
-                    let free = dofs.map(|d| self.free_index[d]);
-                    self.pattern
-                        .add_element(vals, &free, &CORNER, &NODE_DOF, &k);
-                }
+        let mut k = vec![0.0; if with_tangent { NE * NE } else { 0 }];
+        for e in 0..self.mesh.n_elements() {
+            let dofs = element_dofs6(&self.mesh, e);
+            let ue = dofs.map(|d| u[d]);
+            let ke = with_tangent.then_some(k.as_mut_slice());
+            let re = self.kinds[self.kind[e] as usize].evaluate(&ue, ke);
+            for (d, v) in dofs.iter().zip(re) {
+                r[*d] += v;
             }
-            start = end;
+            if let Some(vals) = vals.as_mut() {
+                let free = dofs.map(|d| self.free_index[d]);
+                self.pattern
+                    .add_element(vals, &free, &CORNER, &NODE_DOF, &k);
+            }
         }
         (r, vals)
     }
@@ -554,18 +574,8 @@ impl VonKarman {
         loads: &[Load],
         guess: &PlateSolution,
     ) -> FeResult<(PlateSolution, NewtonStats)> {
-        let mesh = &self.mesh;
         let f = self.force(loads)?;
-        let mut u = vec![0.0; f.len()];
-        for j in 0..mesh.y_um.len() {
-            for i in 0..mesh.x_um.len() {
-                let n = mesh.node(i, j);
-                u[M * n..M * n + M].copy_from_slice(&guess.node_values(mesh.x_um[i], mesh.y_um[j]));
-            }
-        }
-        for &(d, v, _) in &self.constrained {
-            u[d] = v;
-        }
+        let mut u = self.start_from(guess);
         let mut stats = NewtonStats {
             load_steps: 0,
             iterations: 0,
@@ -587,6 +597,23 @@ impl VonKarman {
         stats.factorisations += more.factorisations;
         stats.load_steps = more.load_steps;
         Ok((s, stats))
+    }
+
+    /// `guess` (a solution of the same plate on any mesh) interpolated onto this mesh's nodes,
+    /// the prescribed values in place.
+    fn start_from(&self, guess: &PlateSolution) -> Vec<f64> {
+        let mesh = &self.mesh;
+        let mut u = vec![0.0; M * mesh.n_nodes()];
+        for j in 0..mesh.y_um.len() {
+            for i in 0..mesh.x_um.len() {
+                let n = mesh.node(i, j);
+                u[M * n..M * n + M].copy_from_slice(&guess.node_values(mesh.x_um[i], mesh.y_um[j]));
+            }
+        }
+        for &(d, v, _) in &self.constrained {
+            u[d] = v;
+        }
+        u
     }
 
     /// The load vector over the 6 dofs per node.
@@ -705,7 +732,7 @@ impl VonKarman {
                     if uc.iter().all(|v| *v == 0.0) {
                         zero.clone()
                     } else {
-                        self.internal_force(uc)
+                        self.internal(uc, false).0
                     }
                 })
                 .collect();
@@ -726,21 +753,6 @@ impl VonKarman {
             .zip(&forces)
             .map(|(uc, f)| self.solution(uc, f))
             .collect()
-    }
-
-    /// Internal force only, element by element (no tangent, no parallel chunks: callers
-    /// parallelise over load cases).
-    fn internal_force(&self, u: &[f64]) -> Vec<f64> {
-        let mut r = vec![0.0; u.len()];
-        for e in 0..self.mesh.n_elements() {
-            let dofs = element_dofs6(&self.mesh, e);
-            let ue = dofs.map(|d| u[d]);
-            let re = self.kinds[self.kind[e] as usize].evaluate(&ue, None);
-            for (d, v) in dofs.iter().zip(re) {
-                r[*d] += v;
-            }
-        }
-        r
     }
 
     /// Newton iterations at load factor `lambda` from `u`; the iteration count on convergence.

@@ -306,7 +306,9 @@ pub fn evaluate_many_with(
         .zip(scenes)
         .map(|(mut r, scene)| {
             let l = split(&scene.load, g);
-            r.touch_down = touch_down(g, &r, &l, acc, mesh)?;
+            if r.touch_down.is_none() {
+                r.touch_down = touch_down(g, &r, &l, acc, mesh)?;
+            }
             if let Some(t) = r
                 .touch_down
                 .as_ref()
@@ -522,6 +524,7 @@ fn evaluate_plate(
     let loads: Vec<SceneLoads> = scenes.iter().map(|s| split(&s.load, g)).collect();
     let opts = NonlinearOptions {
         in_plane: acc.in_plane,
+        energy_tol: LADDER_ENERGY_TOL,
         ..Default::default()
     };
     let nonlinear = Rung::LargeDeflection(opts);
@@ -543,17 +546,18 @@ fn evaluate_plate(
             "forced by --model large-deflection".into()
         }));
     }
-    let linear = solve_levels(g, &loads, tol, max_levels, mesh, Rung::Linear)?;
     // The linear plate's model error on the coarsest mesh: every scene by the cheap estimate
     // (one factorisation for all), and by the converged nonlinear solve where that estimate is
-    // not small (it is accurate only for a mild nonlinearity).
+    // not small (it is accurate only for a mild nonlinearity). Only the coarsest linear level is
+    // needed for it; the linear ladder is climbed below only by the scenes that stay linear.
+    let linear0 = solve_levels(g, &loads, tol, 1, mesh, Rung::Linear)?;
     let estimate = solve_levels(g, &loads, tol, 1, mesh, Rung::Estimate(opts))?;
     let h0 = estimate.cost.first().map_or(0.0, |c| c.0);
     let mut model: Vec<Vec<f64>> = (0..scenes.len())
         .map(|k| {
             linear_model_error(
                 g,
-                &linear.history[k][0],
+                &linear0.history[k][0],
                 &estimate.history[k][0],
                 loads[k].total_force_n,
             )
@@ -580,7 +584,7 @@ fn evaluate_plate(
         for (j, &k) in climb_now.iter().enumerate() {
             model[k] = linear_model_error(
                 g,
-                &linear.history[k][0],
+                &linear0.history[k][0],
                 &levels.history[j][0],
                 loads[k].total_force_n,
             );
@@ -594,13 +598,30 @@ fn evaluate_plate(
         for (j, &k) in check.iter().enumerate() {
             model[k] = linear_model_error(
                 g,
-                &linear.history[k][0],
+                &linear0.history[k][0],
                 &coarse.history[j][0],
                 loads[k].total_force_n,
             );
             by_newton[k] = true;
         }
     }
+    // The linear ladder, for the scenes that did not climb at once.
+    let stay: Vec<usize> = (0..scenes.len())
+        .filter(|k| !climb_now.contains(k))
+        .collect();
+    let stay_loads: Vec<SceneLoads> = stay.iter().map(|&k| loads[k].clone()).collect();
+    let linear = if stay.is_empty() {
+        None
+    } else {
+        Some(solve_levels(
+            g,
+            &stay_loads,
+            tol,
+            max_levels,
+            mesh,
+            Rung::Linear,
+        )?)
+    };
     let worst_model = |k: usize| model[k].iter().copied().fold(0.0, f64::max);
     let basis = |k: usize| {
         format!(
@@ -614,33 +635,57 @@ fn evaluate_plate(
             }
         )
     };
-    let mut reports = report_all(&linear, Some(&model), &|k| match acc.model {
+    let linear_reason = |k: usize| match acc.model {
         ModelChoice::Plate => format!("forced by --model plate; {}", basis(k)),
         _ => format!(
             "auto: the linear plate meets the tolerance {tol:.0e} ({})",
             basis(k)
         ),
+    };
+    let mut stay_reports = stay.iter().enumerate().map(|(j, &k)| {
+        scene_report(
+            g,
+            &scenes[k],
+            &loads[k],
+            j,
+            linear.as_ref().expect("a linear ladder when a scene stays"),
+            tol,
+            Some(&model[k]),
+            linear_reason(k),
+        )
     });
+    // Scenes that climbed at once hold a placeholder until their report is made below.
+    let mut reports: Vec<Option<SceneReport>> = (0..scenes.len())
+        .map(|k| (!climb_now.contains(&k)).then(|| stay_reports.next().expect("one per stay")))
+        .collect();
     if acc.model == ModelChoice::Plate {
-        return Ok(reports);
+        return Ok(reports.into_iter().flatten().collect());
     }
     // Auto: the scenes the linear plate cannot answer within the tolerance climb a rung.
-    let reason = |k: usize, reports: &[SceneReport]| {
+    let reason = |k: usize, linear: Option<&SceneReport>| {
         format!(
-            "auto: the linear plate misses the tolerance {tol:.0e} ({}, discretisation {})",
+            "auto: the linear plate misses the tolerance {tol:.0e} ({}{})",
             basis(k),
-            reports[k]
-                .error
-                .discretisation
-                .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}"))
+            linear.map_or_else(String::new, |r| format!(
+                ", discretisation {}",
+                r.error
+                    .discretisation
+                    .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}"))
+            ))
         )
     };
     if let Some((sub, levels)) = &climbed {
         for (j, &k) in climb_now.iter().enumerate() {
-            let why = reason(k, &reports);
-            reports[k] = scene_report(g, &scenes[k], &sub[j], j, levels, tol, None, why);
+            let why = reason(k, None);
+            reports[k] = Some(scene_report(
+                g, &scenes[k], &sub[j], j, levels, tol, None, why,
+            ));
         }
     }
+    let mut reports: Vec<SceneReport> = reports
+        .into_iter()
+        .map(|r| r.expect("every scene reported"))
+        .collect();
     let climb: Vec<usize> = (0..scenes.len())
         .filter(|&k| !climb_now.contains(&k))
         .filter(|&k| !loads[k].plate.is_empty() && !reports[k].converged)
@@ -652,7 +697,7 @@ fn evaluate_plate(
     let sub: Vec<SceneLoads> = climb.iter().map(|&k| loads[k].clone()).collect();
     let levels = solve_levels(g, &sub, tol, max_levels, mesh, nonlinear)?;
     for (j, &k) in climb.iter().enumerate() {
-        let why = reason(k, &reports);
+        let why = reason(k, Some(&reports[k]));
         reports[k] = scene_report(g, &scenes[k], &sub[j], j, &levels, tol, None, why);
     }
     Ok(reports)
@@ -672,65 +717,46 @@ struct Levels {
     solutions: Vec<Option<crate::fe::PlateSolution>>,
     info: ModelInfo,
     readouts: Vec<Readout>,
+    /// Per scene, the large-deflection plate's touch-down on the coarsest mesh, when found.
+    touch: Vec<Option<CoarseTouch>>,
+}
+
+/// The touch-down found on the coarsest mesh: that mesh's largest deflection at the scene's
+/// load, and the load factor (and local exponent d ln w / d ln F) at which it reaches the gap.
+#[derive(Debug, Clone, Copy)]
+struct CoarseTouch {
+    w_max_um: f64,
+    factor: f64,
+    exponent: f64,
+}
+
+impl CoarseTouch {
+    /// The answer's touch-down: the coarse mesh's, corrected by c = w1 / w_coarse, the ratio of
+    /// the answer's largest deflection `w1_um` to the coarse one at the scene's load (as the
+    /// search over load factors does), through the local power law w ~ F^p at the gap:
+    /// F = F_gap c^(-1/p). The law's error is of second order in ln c (c = 1.02 on the bundled
+    /// design: ~1e-4, under the search's 1e-3).
+    fn touch_down(self, g: &SensorGeometry, w1_um: f64, force_n: f64) -> Option<TouchDown> {
+        if !(w1_um > 0.0 && self.w_max_um > 0.0 && self.exponent > 0.0 && self.factor > 0.0) {
+            return None;
+        }
+        let c = w1_um / self.w_max_um;
+        let factor = self.factor * c.powf(-1.0 / self.exponent);
+        Some(TouchDown {
+            gap_um: g.gap_um,
+            load_n: (factor <= super::touch_down::MAX_FACTOR).then_some(factor * force_n.abs()),
+            basis: format!(
+                "large-deflection plate driven to the gap on the {COARSE_ELEMENT_UM:.0} um mesh \
+                 (displacement control), scaled by the answer's deflection ({c:.4} x, local \
+                 exponent {:.3})",
+                self.exponent
+            ),
+        })
+    }
 }
 
 fn latest(est: &[(Option<f64>, Option<f64>)]) -> (Option<f64>, Option<f64>) {
     est.last().copied().unwrap_or((None, None))
-}
-
-/// One level's solutions on `rung`: the linear plate solves every scene in one multi-column
-/// solve; the large-deflection plate runs Newton per scene on one shared symbolic analysis.
-/// Returns the whole-plate solutions and the Newton iterations spent.
-fn solve_rung(
-    problem: &PlateProblem,
-    cases: &[Vec<crate::fe::Load>],
-    loads: &[SceneLoads],
-    sym: &Symmetry,
-    rung: Rung,
-    previous: &[Option<crate::fe::PlateSolution>],
-) -> Result<(Vec<Option<crate::fe::PlateSolution>>, usize), SensorError> {
-    let used = |l: &SceneLoads| !l.plate.is_empty();
-    // The multi-case rungs: one solution per case, kept where the scene loads the plate.
-    let expand = |solved: Vec<crate::fe::PlateSolution>| {
-        solved
-            .into_iter()
-            .zip(loads)
-            .map(|(s, l)| used(l).then(|| sym.expand(s)))
-            .collect()
-    };
-    match rung {
-        Rung::Linear => Ok((expand(Factorised::new(problem)?.solve(cases)?), 0)),
-        Rung::Estimate(opts) => Ok((
-            expand(VonKarman::new(problem, opts)?.modified_newton(cases, 2)?),
-            0,
-        )),
-        Rung::LargeDeflection(opts) => {
-            let vk = VonKarman::new(problem, opts)?;
-            // Scenes in parallel (each Newton factorisation is sequential), each from the
-            // previous level's field where there is one.
-            let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> = cases
-                .par_iter()
-                .zip(loads)
-                .zip(previous)
-                .map(|((c, l), prev)| {
-                    used(l)
-                        .then(|| {
-                            match prev {
-                                Some(p) => vk.solve_from(c, p),
-                                None => vk.solve(c),
-                            }
-                            .map(|(s, st)| (sym.expand(s), st.iterations))
-                        })
-                        .transpose()
-                })
-                .collect::<Result<_, _>>()?;
-            let iterations = solved.iter().flatten().map(|s| s.1).sum();
-            Ok((
-                solved.into_iter().map(|s| s.map(|s| s.0)).collect(),
-                iterations,
-            ))
-        }
-    }
 }
 
 /// Solves all scenes on the shared mesh sequence until every plate scene's discretisation
@@ -760,8 +786,13 @@ fn solve_levels(
         solutions: vec![None; n],
         info: ModelInfo::direct(),
         readouts: Vec::new(),
+        touch: vec![None; n],
     };
-    let levels = if needs_plate { max_levels } else { 1 };
+    let levels = if needs_plate {
+        max_levels.min(SUBDIVISIONS.len())
+    } else {
+        1
+    };
     let base = base_lines(g, loads, &sym, mesh.graded);
     let (kind, in_plane) = match rung {
         Rung::Linear => (ModelKind::Plate, None),
@@ -769,78 +800,325 @@ fn solve_levels(
             (ModelKind::LargeDeflectionPlate, Some(o.in_plane))
         }
     };
+    let ctx = LevelContext {
+        g,
+        base: &base,
+        sym: &sym,
+        part_cases: &part_cases,
+        loads,
+        rung,
+    };
     let mut newton = 0;
-    for (level, &sub) in SUBDIVISIONS.iter().enumerate().take(levels) {
-        let t0 = Instant::now();
-        let h = COARSE_ELEMENT_UM / sub as f64;
-        let (sols, info) = if needs_plate {
-            let problem = build_problem(g, &base, level, &sym);
-            let per_node = if in_plane.is_some() { 6 } else { 4 };
-            let values = per_node * problem.mesh.n_nodes() * n;
-            if values > MAX_SOLUTION_VALUES {
-                return Err(SensorError::TooLarge {
-                    loads: n,
-                    dofs: per_node * problem.mesh.n_nodes(),
-                    level: level + 1,
-                });
-            }
-            let (sols, iterations) =
-                solve_rung(&problem, &part_cases, loads, &sym, rung, &out.solutions)?;
-            newton += iterations;
-            let info = ModelInfo {
-                kind,
-                elements: problem.mesh.n_elements(),
-                dofs: per_node * problem.mesh.n_nodes(),
-                levels: level + 1,
-                max_element_um: h,
-                observed_order: None,
-                symmetry: sym.describe(),
-                grading: mesh.graded.then(|| grading_description(loads)),
-                reason: String::new(),
-                in_plane,
-                newton_iterations: in_plane.map(|_| newton),
-            };
-            (sols, info)
+    let mut level = 0;
+    while level < levels {
+        // The first estimate needs three levels, so levels 1 and 2 are always both solved: side
+        // by side, each from the coarsest field; beside level 1 the large-deflection plate's
+        // touch-down is found on the coarsest mesh (it needs only that level's answer).
+        let batch: Vec<LevelSolve> = if !needs_plate {
+            vec![LevelSolve::direct(n)]
+        } else if level == 0 && levels >= 3 {
+            let (first, touch) = ctx.first_three(rung)?;
+            out.touch = touch;
+            first
         } else {
-            (vec![None; n], ModelInfo::direct())
+            vec![ctx.solve(level, &out.solutions)?]
         };
-        let dt = t0.elapsed().as_secs_f64() * 1e3;
-        out.elapsed_ms += dt;
-        out.cost.push((h, info.elements, info.dofs, dt));
-        out.readouts = loads
-            .iter()
-            .enumerate()
-            .map(|(k, l)| {
-                let r = read(g, sols[k].as_ref(), &l.direct);
-                let w = sols[k]
-                    .as_ref()
-                    .map_or(0.0, |s| s.deflection_m(l.at_um.0, l.at_um.1));
-                let mut q = vec![w];
-                q.extend(r.electrodes.iter().map(|e| e.charge_pc));
-                q.extend([r.support1_n, r.support2_n]);
-                q.extend(stresses(g, sols[k].as_ref(), l).map(|p| p.map_or(0.0, |p| p.sigma_pa)));
-                out.history[k].push(q);
-                let (errs, order) = discretisation(g, &out.history[k], l.total_force_n);
-                // The peak point stress (last) may never converge: it does not hold the loop.
-                let worst = errs[..errs.len() - 1]
-                    .iter()
-                    .try_fold(0f64, |m, e| e.map(|e| m.max(e)));
-                out.estimates[k].push((worst, order));
-                r
-            })
-            .collect();
-        (out.solutions, out.info) = (sols, info);
+        for solved in batch {
+            newton += solved.iterations;
+            let info = if needs_plate {
+                ModelInfo {
+                    kind,
+                    elements: solved.elements,
+                    dofs: solved.dofs,
+                    levels: level + 1,
+                    max_element_um: solved.h_um,
+                    observed_order: None,
+                    symmetry: sym.describe(),
+                    grading: mesh.graded.then(|| grading_description(loads)),
+                    reason: String::new(),
+                    in_plane,
+                    newton_iterations: in_plane.map(|_| newton),
+                }
+            } else {
+                ModelInfo::direct()
+            };
+            let sols = solved.solutions;
+            out.elapsed_ms += solved.ms;
+            out.cost
+                .push((solved.h_um, info.elements, info.dofs, solved.ms));
+            out.readouts = loads
+                .iter()
+                .enumerate()
+                .map(|(k, l)| {
+                    let r = read(g, sols[k].as_ref(), &l.direct);
+                    let w = sols[k]
+                        .as_ref()
+                        .map_or(0.0, |s| s.deflection_m(l.at_um.0, l.at_um.1));
+                    let mut q = vec![w];
+                    q.extend(r.electrodes.iter().map(|e| e.charge_pc));
+                    q.extend([r.support1_n, r.support2_n]);
+                    q.extend(
+                        stresses(g, sols[k].as_ref(), l).map(|p| p.map_or(0.0, |p| p.sigma_pa)),
+                    );
+                    out.history[k].push(q);
+                    let (errs, order) = discretisation(g, &out.history[k], l.total_force_n);
+                    // The peak point stress (last) may never converge: it does not hold the loop.
+                    let worst = errs[..errs.len() - 1]
+                        .iter()
+                        .try_fold(0f64, |m, e| e.map(|e| m.max(e)));
+                    out.estimates[k].push((worst, order));
+                    r
+                })
+                .collect();
+            (out.solutions, out.info) = (sols, info);
+            level += 1;
+        }
         let done = out
             .estimates
             .iter()
             .zip(loads)
             .all(|(est, l)| l.plate.is_empty() || latest(est).0.is_some_and(|e| e < tol));
-        if done {
+        if done || !needs_plate {
             break;
         }
     }
     Ok(out)
 }
+
+/// What one level needs, shared by the levels solved side by side.
+struct LevelContext<'a> {
+    g: &'a SensorGeometry,
+    base: &'a (Vec<f64>, Vec<f64>),
+    sym: &'a Symmetry,
+    part_cases: &'a [Vec<crate::fe::Load>],
+    loads: &'a [SceneLoads],
+    rung: Rung,
+}
+
+/// One level's answer before its readings are taken.
+struct LevelSolve {
+    solutions: Vec<Option<crate::fe::PlateSolution>>,
+    iterations: usize,
+    h_um: f64,
+    elements: usize,
+    dofs: usize,
+    ms: f64,
+}
+
+impl LevelSolve {
+    /// No plate to solve: every scene is read directly.
+    fn direct(n: usize) -> Self {
+        LevelSolve {
+            solutions: vec![None; n],
+            iterations: 0,
+            h_um: COARSE_ELEMENT_UM,
+            elements: 0,
+            dofs: 0,
+            ms: 0.0,
+        }
+    }
+}
+
+/// A level set up before the coarser field it starts from is known: the linear rungs are
+/// solved outright (they need no start), the large-deflection plate has its dofs, pattern and
+/// symbolic analysis ready for Newton.
+struct Prepared {
+    rung: PreparedRung,
+    h_um: f64,
+    elements: usize,
+    dofs: usize,
+    ms: f64,
+}
+
+enum PreparedRung {
+    Solved(Vec<Option<crate::fe::PlateSolution>>),
+    Nonlinear(Box<VonKarman>),
+}
+
+impl LevelContext<'_> {
+    /// Level `level` of the ladder, each scene from `previous` (a coarser level's field) where
+    /// the rung can use one.
+    fn solve(
+        &self,
+        level: usize,
+        previous: &[Option<crate::fe::PlateSolution>],
+    ) -> Result<LevelSolve, SensorError> {
+        self.finish(self.prepare(level)?, previous)
+    }
+
+    /// Everything of level `level` that does not need a coarser field: the linear plate solves
+    /// every scene in one multi-column solve, the estimate runs its modified-Newton corrections
+    /// for all scenes on one factorisation, the large-deflection plate builds its analysis.
+    fn prepare(&self, level: usize) -> Result<Prepared, SensorError> {
+        let t0 = Instant::now();
+        let n = self.loads.len();
+        let problem = build_problem(self.g, self.base, level, self.sym);
+        let per_node = match self.rung {
+            Rung::Linear => 4,
+            _ => 6,
+        };
+        let dofs = per_node * problem.mesh.n_nodes();
+        if dofs * n > MAX_SOLUTION_VALUES {
+            return Err(SensorError::TooLarge {
+                loads: n,
+                dofs,
+                level: level + 1,
+            });
+        }
+        // One solution per case, kept where the scene loads the plate.
+        let expand = |solved: Vec<crate::fe::PlateSolution>| {
+            solved
+                .into_iter()
+                .zip(self.loads)
+                .map(|(s, l)| (!l.plate.is_empty()).then(|| self.sym.expand(s)))
+                .collect()
+        };
+        let rung = match self.rung {
+            Rung::Linear => {
+                PreparedRung::Solved(expand(Factorised::new(&problem)?.solve(self.part_cases)?))
+            }
+            Rung::Estimate(opts) => PreparedRung::Solved(expand(
+                VonKarman::new(&problem, opts)?.modified_newton(self.part_cases, 2)?,
+            )),
+            Rung::LargeDeflection(opts) => {
+                PreparedRung::Nonlinear(Box::new(VonKarman::new(&problem, opts)?))
+            }
+        };
+        Ok(Prepared {
+            rung,
+            h_um: COARSE_ELEMENT_UM / SUBDIVISIONS[level] as f64,
+            elements: problem.mesh.n_elements(),
+            dofs,
+            ms: t0.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// The rest of a prepared level: Newton per scene (in parallel; each factorisation is
+    /// sequential) from the coarser field where there is one. Returns the whole-plate solutions.
+    fn finish(
+        &self,
+        p: Prepared,
+        previous: &[Option<crate::fe::PlateSolution>],
+    ) -> Result<LevelSolve, SensorError> {
+        let t0 = Instant::now();
+        let (solutions, iterations) = match p.rung {
+            PreparedRung::Solved(s) => (s, 0),
+            PreparedRung::Nonlinear(vk) => {
+                let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> = self
+                    .part_cases
+                    .par_iter()
+                    .zip(self.loads)
+                    .zip(previous)
+                    .map(|((c, l), prev)| {
+                        (!l.plate.is_empty())
+                            .then(|| {
+                                match prev {
+                                    Some(p) => vk.solve_from(c, p),
+                                    None => vk.solve(c),
+                                }
+                                .map(|(s, st)| (self.sym.expand(s), st.iterations))
+                            })
+                            .transpose()
+                    })
+                    .collect::<Result<_, _>>()?;
+                let iterations = solved.iter().flatten().map(|s| s.1).sum();
+                (
+                    solved.into_iter().map(|s| s.map(|s| s.0)).collect(),
+                    iterations,
+                )
+            }
+        };
+        Ok(LevelSolve {
+            solutions,
+            iterations,
+            h_um: p.h_um,
+            elements: p.elements,
+            dofs: p.dofs,
+            ms: p.ms + t0.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+}
+
+impl LevelContext<'_> {
+    /// Levels 0, 1 and 2, overlapped (the first estimate needs all three): level 2 is set up on
+    /// a second thread while level 0 solves, then both finer levels start from level 0's field,
+    /// and beside level 1 the large-deflection plate's touch-down is found on the coarsest mesh.
+    /// Plain threads, not the rayon pool: the second waits for the first's field, which a pool
+    /// of one thread could never deliver.
+    fn first_three(
+        &self,
+        rung: Rung,
+    ) -> Result<(Vec<LevelSolve>, Vec<Option<CoarseTouch>>), SensorError> {
+        let n = self.loads.len();
+        std::thread::scope(|scope| {
+            let (tx, rx) = std::sync::mpsc::channel::<Vec<Option<crate::fe::PlateSolution>>>();
+            let finest = scope.spawn(move || -> Result<Option<LevelSolve>, SensorError> {
+                let p = self.prepare(2)?;
+                // No field means level 0 failed: its error is the one reported.
+                match rx.recv() {
+                    Ok(from) => self.finish(p, &from).map(Some),
+                    Err(_) => Ok(None),
+                }
+            });
+            let zero = self.solve(0, &vec![None; n]);
+            let zero = match zero {
+                Ok(z) => z,
+                Err(e) => {
+                    drop(tx);
+                    let _ = finest.join();
+                    return Err(e);
+                }
+            };
+            let _ = tx.send(zero.solutions.clone());
+            let one = self.solve(1, &zero.solutions);
+            let touch = match rung {
+                Rung::LargeDeflection(o) => coarse_touch_down(self, o, &zero.solutions),
+                _ => vec![None; n],
+            };
+            let two = finest
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
+            let two = two.expect("level 0 delivered its field");
+            Ok((vec![zero, one?, two], touch))
+        })
+    }
+}
+
+/// Per scene, the touch-down on the coarsest mesh: the large-deflection plate driven from the
+/// scene's answer there (`coarse`) to the gap by displacement control
+/// ([`VonKarman::solve_to_deflection`]). None where the scene does not load the plate or the
+/// solve fails (the caller then searches over load factors).
+fn coarse_touch_down(
+    ctx: &LevelContext<'_>,
+    opts: NonlinearOptions,
+    coarse: &[Option<crate::fe::PlateSolution>],
+) -> Vec<Option<CoarseTouch>> {
+    let problem = build_problem(ctx.g, ctx.base, 0, ctx.sym);
+    let Ok(vk) = VonKarman::new(&problem, opts) else {
+        return vec![None; coarse.len()];
+    };
+    let gap_m = ctx.g.gap_um * 1e-6;
+    coarse
+        .iter()
+        .zip(ctx.part_cases)
+        .map(|(sol, case)| {
+            let sol = sol.as_ref()?;
+            let w0 = sol.max_deflection().w_m.abs();
+            let at = vk.solve_to_deflection(case, sol, 1.0, gap_m).ok()?;
+            Some(CoarseTouch {
+                w_max_um: w0 * 1e6,
+                factor: at.lambda,
+                exponent: at.exponent,
+            })
+        })
+        .collect()
+}
+
+/// Newton's energy-ratio tolerance on the ladder: ~1e-6 in displacement for the correction
+/// that stops it (full Newton leaves the square of that; modified Newton a hundredth), far under
+/// the smallest discretisation error a level reports (~1e-3), and the load balanced to ~1e-9;
+/// the default 1e-14 costs one more iteration per level.
+const LADDER_ENERGY_TOL: f64 = 1e-12;
 
 /// Side of the stress-averaging square in plate thicknesses: plate theory answers for the stress
 /// only a few thicknesses from a step or a concentrated load (Saint-Venant), and a square this
@@ -968,7 +1246,7 @@ fn scene_report(
         },
         electrodes: r.electrodes,
         quantities,
-        touch_down: None,
+        touch_down: levels.touch[k].and_then(|c| c.touch_down(g, w_max.abs() * 1e6, f)),
         warnings,
         convergence: convergence_records(history, &levels.cost, &levels.estimates[k]),
         model: info,
