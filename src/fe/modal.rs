@@ -75,6 +75,24 @@ pub struct Modes {
     pub free_dofs: usize,
 }
 
+/// beta L of the first mode of a clamped-clamped beam: the root of cos x cosh x = 1 near 4.73
+/// (Euler-Bernoulli; Blevins, Formulas for Natural Frequency and Mode Shape, Table 8-1: 4.73004),
+/// by bisection, so the reference frequency (beta L)^2 / L^2 sqrt(EI / (rho A)) the plate is
+/// checked against is computed, not copied.
+pub fn clamped_clamped_beta_l() -> f64 {
+    let g = |x: f64| x.cos() * x.cosh() - 1.0;
+    let (mut lo, mut hi) = (4.0f64, 5.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Factorises the problem's stiffness and finds its lowest modes with the mass `mass`.
 #[track_caller]
 pub fn natural_frequencies(

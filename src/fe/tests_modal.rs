@@ -97,22 +97,6 @@ fn frequencies_converge_from_above() {
     assert!(errors[3] < errors[2] / 8.0, "{errors:?}");
 }
 
-/// The root of cos(x) cosh(x) = 1 near 4.73 (clamped-clamped beam, first mode), by bisection.
-fn clamped_clamped_beta_l() -> f64 {
-    let g = |x: f64| x.cos() * x.cosh() - 1.0;
-    let (mut lo, mut hi) = (4.0, 5.0);
-    assert!(g(lo) < 0.0 && g(hi) > 0.0);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if g(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// A plate clamped along y = 0 and y = b, free at both ends, 10 spans long.
 fn long_clamped_plate(nu: f64, ny: usize) -> PlateProblem {
     let (l, b) = (20_000.0, 2_000.0);
@@ -132,7 +116,7 @@ fn long_clamped_plate(nu: f64, ny: usize) -> PlateProblem {
 
 #[test]
 fn long_plate_clamped_on_two_edges_is_the_clamped_clamped_beam() {
-    let bl = clamped_clamped_beta_l();
+    let bl = super::modal::clamped_clamped_beta_l();
     assert!((bl - 4.730_040_7).abs() < 1e-6, "beta L {bl}");
     let b = 2e-3;
     // omega = (beta L)^2 / L^2 sqrt(EI / (rho A)), here per unit width with D for EI.
