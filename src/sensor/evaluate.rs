@@ -713,10 +713,12 @@ struct Levels {
     estimates: Vec<Vec<(Option<f64>, Option<f64>)>>,
     /// Per level: (element size, elements, dofs, ms).
     cost: Vec<(f64, usize, usize, f64)>,
-    elapsed_ms: f64,
+    /// Per scene: the time of the levels it was solved on, its model, last solution and readings
+    /// (a large-deflection scene stops at the level that meets the tolerance, the others go on).
+    elapsed_ms: Vec<f64>,
     solutions: Vec<Option<crate::fe::PlateSolution>>,
-    info: ModelInfo,
-    readouts: Vec<Readout>,
+    info: Vec<ModelInfo>,
+    readouts: Vec<Option<Readout>>,
     /// Per scene, the large-deflection plate's touch-down on the coarsest mesh, when found.
     touch: Vec<Option<CoarseTouch>>,
 }
@@ -782,10 +784,10 @@ fn solve_levels(
         history: vec![Vec::new(); n],
         estimates: vec![Vec::new(); n],
         cost: Vec::new(),
-        elapsed_ms: 0.0,
+        elapsed_ms: vec![0.0; n],
         solutions: vec![None; n],
-        info: ModelInfo::direct(),
-        readouts: Vec::new(),
+        info: vec![ModelInfo::direct(); n],
+        readouts: vec![None; n],
         touch: vec![None; n],
     };
     let levels = if needs_plate {
@@ -808,7 +810,12 @@ fn solve_levels(
         loads,
         rung,
     };
-    let mut newton = 0;
+    let mut newton = vec![0; n];
+    // Each large-deflection scene leaves the ladder at the level that meets the tolerance (its
+    // Newton solves are its own); the linear plate solves all scenes in one multi-column solve,
+    // so they all go on to the level the last one needs.
+    let mut active: Vec<bool> = loads.iter().map(|l| !l.plate.is_empty()).collect();
+    let freeze = matches!(rung, Rung::LargeDeflection(_));
     let mut level = 0;
     while level < levels {
         // The first estimate needs three levels, so levels 1 and 2 are always both solved: side
@@ -821,35 +828,44 @@ fn solve_levels(
             out.touch = touch;
             first
         } else {
-            vec![ctx.solve(level, &out.solutions)?]
+            vec![ctx.solve(level, &out.solutions, &active)?]
         };
         for solved in batch {
-            newton += solved.iterations;
-            let info = if needs_plate {
-                ModelInfo {
-                    kind,
-                    elements: solved.elements,
-                    dofs: solved.dofs,
-                    levels: level + 1,
-                    max_element_um: solved.h_um,
-                    observed_order: None,
-                    symmetry: sym.describe(),
-                    grading: mesh.graded.then(|| grading_description(loads)),
-                    reason: String::new(),
-                    in_plane,
-                    newton_iterations: in_plane.map(|_| newton),
-                }
-            } else {
-                ModelInfo::direct()
-            };
-            let sols = solved.solutions;
-            out.elapsed_ms += solved.ms;
             out.cost
-                .push((solved.h_um, info.elements, info.dofs, solved.ms));
-            out.readouts = loads
+                .push((solved.h_um, solved.elements, solved.dofs, solved.ms));
+            for (k, (l, sol)) in loads.iter().zip(solved.solutions).enumerate() {
+                // Scenes without a plate load are read at every level (directly, no plate).
+                if l.plate.is_empty() || active[k] {
+                    newton[k] += solved.iterations[k];
+                    out.elapsed_ms[k] += solved.ms;
+                    out.info[k] = if needs_plate {
+                        ModelInfo {
+                            kind,
+                            elements: solved.elements,
+                            dofs: solved.dofs,
+                            levels: level + 1,
+                            max_element_um: solved.h_um,
+                            observed_order: None,
+                            symmetry: sym.describe(),
+                            grading: mesh.graded.then(|| grading_description(loads)),
+                            reason: String::new(),
+                            in_plane,
+                            newton_iterations: in_plane.map(|_| newton[k]),
+                        }
+                    } else {
+                        ModelInfo::direct()
+                    };
+                    out.solutions[k] = sol;
+                }
+            }
+            let sols = &out.solutions;
+            let readouts: Vec<Option<Readout>> = loads
                 .iter()
                 .enumerate()
                 .map(|(k, l)| {
+                    if !(l.plate.is_empty() || active[k]) {
+                        return None;
+                    }
                     let r = read(g, sols[k].as_ref(), &l.direct);
                     let w = sols[k]
                         .as_ref()
@@ -867,11 +883,22 @@ fn solve_levels(
                         .iter()
                         .try_fold(0f64, |m, e| e.map(|e| m.max(e)));
                     out.estimates[k].push((worst, order));
-                    r
+                    Some(r)
                 })
                 .collect();
-            (out.solutions, out.info) = (sols, info);
+            for (k, r) in readouts.into_iter().enumerate() {
+                if r.is_some() {
+                    out.readouts[k] = r;
+                }
+            }
             level += 1;
+        }
+        if freeze {
+            for (k, est) in out.estimates.iter().enumerate() {
+                if latest(est).0.is_some_and(|e| e < tol) {
+                    active[k] = false;
+                }
+            }
         }
         let done = out
             .estimates
@@ -898,7 +925,8 @@ struct LevelContext<'a> {
 /// One level's answer before its readings are taken.
 struct LevelSolve {
     solutions: Vec<Option<crate::fe::PlateSolution>>,
-    iterations: usize,
+    /// Per scene, the Newton iterations spent.
+    iterations: Vec<usize>,
     h_um: f64,
     elements: usize,
     dofs: usize,
@@ -910,7 +938,7 @@ impl LevelSolve {
     fn direct(n: usize) -> Self {
         LevelSolve {
             solutions: vec![None; n],
-            iterations: 0,
+            iterations: vec![0; n],
             h_um: COARSE_ELEMENT_UM,
             elements: 0,
             dofs: 0,
@@ -936,14 +964,15 @@ enum PreparedRung {
 }
 
 impl LevelContext<'_> {
-    /// Level `level` of the ladder, each scene from `previous` (a coarser level's field) where
-    /// the rung can use one.
+    /// Level `level` of the ladder for the `active` scenes, each from `previous` (a coarser
+    /// level's field) where the rung can use one.
     fn solve(
         &self,
         level: usize,
         previous: &[Option<crate::fe::PlateSolution>],
+        active: &[bool],
     ) -> Result<LevelSolve, SensorError> {
-        self.finish(self.prepare(level)?, previous)
+        self.finish(self.prepare(level)?, previous, active)
     }
 
     /// Everything of level `level` that does not need a coarser field: the linear plate solves
@@ -993,24 +1022,30 @@ impl LevelContext<'_> {
         })
     }
 
-    /// The rest of a prepared level: Newton per scene (in parallel; each factorisation is
-    /// sequential) from the coarser field where there is one. Returns the whole-plate solutions.
+    /// The rest of a prepared level: Newton per active scene (in parallel; each factorisation
+    /// is sequential) from the coarser field where there is one. Returns the whole-plate
+    /// solutions (None for an inactive scene on the large-deflection plate).
     fn finish(
         &self,
         p: Prepared,
         previous: &[Option<crate::fe::PlateSolution>],
+        active: &[bool],
     ) -> Result<LevelSolve, SensorError> {
         let t0 = Instant::now();
         let (solutions, iterations) = match p.rung {
-            PreparedRung::Solved(s) => (s, 0),
+            PreparedRung::Solved(s) => {
+                let n = s.len();
+                (s, vec![0; n])
+            }
             PreparedRung::Nonlinear(vk) => {
                 let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> = self
                     .part_cases
                     .par_iter()
                     .zip(self.loads)
                     .zip(previous)
-                    .map(|((c, l), prev)| {
-                        (!l.plate.is_empty())
+                    .zip(active)
+                    .map(|(((c, l), prev), &on)| {
+                        (on && !l.plate.is_empty())
                             .then(|| {
                                 match prev {
                                     Some(p) => vk.solve_from(c, p),
@@ -1021,7 +1056,10 @@ impl LevelContext<'_> {
                             .transpose()
                     })
                     .collect::<Result<_, _>>()?;
-                let iterations = solved.iter().flatten().map(|s| s.1).sum();
+                let iterations = solved
+                    .iter()
+                    .map(|s| s.as_ref().map_or(0, |s| s.1))
+                    .collect();
                 (
                     solved.into_iter().map(|s| s.map(|s| s.0)).collect(),
                     iterations,
@@ -1056,11 +1094,12 @@ impl LevelContext<'_> {
                 let p = self.prepare(2)?;
                 // No field means level 0 failed: its error is the one reported.
                 match rx.recv() {
-                    Ok(from) => self.finish(p, &from).map(Some),
+                    Ok(from) => self.finish(p, &from, &vec![true; n]).map(Some),
                     Err(_) => Ok(None),
                 }
             });
-            let zero = self.solve(0, &vec![None; n]);
+            let all = vec![true; n];
+            let zero = self.solve(0, &vec![None; n], &all);
             let zero = match zero {
                 Ok(z) => z,
                 Err(e) => {
@@ -1070,7 +1109,7 @@ impl LevelContext<'_> {
                 }
             };
             let _ = tx.send(zero.solutions.clone());
-            let one = self.solve(1, &zero.solutions);
+            let one = self.solve(1, &zero.solutions, &all);
             let touch = match rung {
                 Rung::LargeDeflection(o) => coarse_touch_down(self, o, &zero.solutions),
                 _ => vec![None; n],
@@ -1156,10 +1195,12 @@ fn scene_report(
     reason: String,
 ) -> SceneReport {
     let sol = levels.solutions[k].as_ref();
-    let r = levels.readouts[k].clone();
+    let r = levels.readouts[k]
+        .clone()
+        .expect("every scene is read on the first level");
     let (_, order_k) = latest(&levels.estimates[k]);
     let mut info = if sol.is_some() {
-        levels.info.clone()
+        levels.info[k].clone()
     } else {
         ModelInfo::direct()
     };
@@ -1225,7 +1266,7 @@ fn scene_report(
     SceneReport {
         scene: scene.name.clone(),
         force_n: f,
-        solve_ms: levels.elapsed_ms,
+        solve_ms: levels.elapsed_ms[k],
         error_estimate: if sol.is_none() {
             Some(0.0)
         } else {
