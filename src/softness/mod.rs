@@ -21,6 +21,8 @@ pub mod composite_beam;
 pub mod continuum;
 pub mod inclusion;
 pub mod inverse;
+pub mod kirsch;
+pub mod mapped;
 pub mod plot;
 pub mod study;
 pub mod tissue_fe;
