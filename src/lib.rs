@@ -97,6 +97,7 @@ pub mod etch;
 pub mod export;
 pub mod fe;
 pub mod finding;
+pub mod hidden;
 pub mod layout;
 pub mod plot;
 pub mod process;

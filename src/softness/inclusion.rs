@@ -290,6 +290,13 @@ pub fn pressure_profile(s: &Slab, nx: usize, ny: usize) -> Result<PressureProfil
     })
 }
 
+/// The sensor-face pressure (Pa) at the face's 2 nx + 1 nodes of the slab with its own feature
+/// only (no background solve): the cached building block of studies that share one background.
+pub fn face_pressure_pa(s: &Slab, nx: usize, ny: usize) -> Result<Vec<f64>, SoftnessError> {
+    check(s, nx, ny)?;
+    face_pressure(s, nx, ny, s.feature)
+}
+
 impl PressureProfile {
     /// One row per sensor-face node, units in the header.
     pub fn csv(&self) -> String {
