@@ -16,9 +16,10 @@
 //! - [`detect`]: the smallest detectable lump over size x depth at a stated noise level.
 
 pub mod cells;
-
+pub mod detect;
 pub mod field;
 pub mod locate;
+pub mod study;
 
 use thiserror::Error;
 
