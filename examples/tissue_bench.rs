@@ -5,6 +5,9 @@
 //!     120 x 40 Q2/P1 elements; two solves: with and without the lump).
 //! (b) The die's unit responses: 30 x 15 cells of 1 mm on the linear plate (tol 0.05, 3 levels).
 //! (c) The inverse on one record (two references, candidate grid 0.5 mm + compass search).
+//! (e) A pulsating vessel (2 mm void 4 mm up, a cylinder across the jaw): two slab solves, 20
+//!     instants of a 1.2 Hz cycle through (b)'s unit responses, the plate's first modes (for the
+//!     quasi-static check) and 5 cycles at 1 ms through the charge amplifiers.
 //! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
 //!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
 
@@ -15,6 +18,7 @@ use tactfab::hidden::cells::{unit_responses, CellGrid};
 use tactfab::hidden::detect::{detectability, MapSpec};
 use tactfab::hidden::field::{Background, Disturbance, Shape};
 use tactfab::hidden::locate::{locate, Search, SNR_THRESHOLD};
+use tactfab::hidden::vessel::{vessel, Pulse};
 use tactfab::process::load_str;
 use tactfab::sensor::{Accuracy, SensorGeometry};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
@@ -94,6 +98,28 @@ fn main() {
     println!(
         "(c) inverse, one record: {ms:.0} ms ({} template evaluations)",
         r.evaluations
+    );
+    let cyl = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
+    let electronics = tactfab::process::ReadoutElectronics::default();
+    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
+    let (ms, v) = time(runs, || {
+        vessel(
+            &g,
+            &ur,
+            &bg,
+            &cyl,
+            centre,
+            Pulse::default_pulse(),
+            &electronics,
+        )
+        .expect("vessel")
+    });
+    println!(
+        "(e) vessel cycle: {ms:.0} ms ({} instants, {} samples x {} channels, f1 {:.0} Hz)",
+        v.instants.len(),
+        v.t_s.len(),
+        v.channels.len(),
+        v.f1_hz
     );
     let spec = MapSpec {
         radii_m: [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0]

@@ -665,6 +665,20 @@ pub struct TissueArgs {
     #[arg(long, value_delimiter = ',', default_value = "3,10",
           value_parser = parse::stiffness_ratio)]
     pub map_stiffness: Vec<f64>,
+    /// With --through-sensor: the void is a vessel pulsing at --pulse-hz between --mean-mmhg
+    /// -/+ half of --pulse-mmhg (paper 002 Fig. 10): 20 instants of a cycle through the sensor,
+    /// then the nine amplifier outputs over 5 cycles (vessel.csv, vessel-readout.csv,
+    /// vessel.svg). Needs --feature void; --shape cylinder lays it across the jaw.
+    #[arg(long)]
+    pub vessel: bool,
+    /// Pulse rate (Hz, 0.01-100) [choice: 1.2 Hz].
+    #[arg(long, default_value = "1.2", value_parser = parse::pulse_hz)]
+    pub pulse_hz: f64,
+    /// Mean vessel pressure and pulse pressure (mmHg, 0-1000) [choice: 100 and 40, i.e. 120/80].
+    #[arg(long, default_value = "100", value_parser = parse::mmhg)]
+    pub mean_mmhg: f64,
+    #[arg(long, default_value = "40", value_parser = parse::mmhg)]
+    pub pulse_mmhg: f64,
     /// Relative error of the plate's unit responses, in (0, 1) (the studies' 0.05).
     #[arg(long, value_parser = parse::tolerance, default_value = "0.05")]
     pub tol: f64,

@@ -126,6 +126,16 @@ pub fn stiffness_ratio(s: &str) -> Parsed<f64> {
     within(s, 1e-3, 1e6, "a stiffness ratio E_lump / E_tissue")
 }
 
+/// A pulse rate, 0.01-100 Hz.
+pub fn pulse_hz(s: &str) -> Parsed<f64> {
+    within(s, 0.01, 100.0, "a pulse rate in Hz")
+}
+
+/// A vessel pressure, 0-1000 mmHg.
+pub fn mmhg(s: &str) -> Parsed<f64> {
+    within(s, 0.0, 1000.0, "a pressure in mmHg")
+}
+
 /// A compression of the slab, 0.001-0.4 of its thickness.
 pub fn compression(s: &str) -> Parsed<f64> {
     within(s, 0.001, 0.4, "a fraction of the thickness")

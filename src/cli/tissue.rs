@@ -4,6 +4,7 @@
 use tactfab::hidden::field::Shape;
 use tactfab::hidden::locate::Verdict;
 use tactfab::hidden::study::{run as through_sensor, Spec};
+use tactfab::hidden::vessel::{Pulse, PA_PER_MMHG};
 use tactfab::sensor::{Accuracy, SensorGeometry};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
@@ -14,7 +15,12 @@ use super::{design, write_dir, Outcome};
 pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
     // The process file is validated (and names the output) as for every study.
     let (_, design) = design(&a.process)?;
-    let sensor = a.through_sensor || a.locate || a.detectability;
+    let sensor = a.through_sensor || a.locate || a.detectability || a.vessel;
+    if a.vessel && a.feature != FeatureArg::Void {
+        anyhow::bail!(
+            "--vessel: a vessel is a void whose wall carries the pressure: add --feature void"
+        );
+    }
     if sensor && a.model != ModelArg::Plate {
         anyhow::bail!(
             "--model: the tissue field is a sum of cell responses, so only the linear plate \
@@ -85,6 +91,13 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             noise_mv: a.noise_mv,
             threshold_snr: a.snr,
             locate: a.locate.then_some(a.seed),
+            vessel: a.vessel.then(|| {
+                let mut p = Pulse::default_pulse();
+                p.freq_hz = a.pulse_hz;
+                p.mean_pa = a.mean_mmhg * PA_PER_MMHG;
+                p.amplitude_pa = 0.5 * a.pulse_mmhg * PA_PER_MMHG;
+                (p, design.process.readout.clone())
+            }),
             map: a.detectability.then(|| {
                 (
                     mm(&a.map_radii_mm),
@@ -151,6 +164,50 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 f(a.snr, 2),
                 f(l.amplitude, 3),
                 f(l.residual_mv, 3)
+            ));
+        }
+        if let Some(v) = &s.vessel {
+            files.push(("vessel.csv".into(), v.csv().into_bytes()));
+            files.push(("vessel-readout.csv".into(), v.readout_csv().into_bytes()));
+            files.push(("vessel.svg".into(), v.svg().into_bytes()));
+            let m2 = v.electrodes.iter().position(|e| e == "M2").unwrap_or(0);
+            let ch = &v.channels[m2];
+            let swing = |xs: &[f64]| {
+                xs.iter().fold(f64::MIN, |a, &b| a.max(b))
+                    - xs.iter().fold(f64::MAX, |a, &b| a.min(b))
+            };
+            let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
+            after.push(format!(
+                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                 pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
+                 the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
+                f(v.pulse.freq_hz, 3),
+                f(v.pulse.mean_pa / PA_PER_MMHG, 1),
+                f(v.pulse.amplitude_pa / PA_PER_MMHG, 1),
+                v.instants.len(),
+                v.electrodes[m2],
+                f(v.grasp_mv[m2], 3),
+                f(v.per_pa_mv[m2] * 1e3, 4),
+                f(swing(&qs), 3),
+                v.amplifier.name(),
+                f(ch.tau_s, 4),
+                f(ch.corner_hz, 4),
+                f(
+                    1e3 * swing(
+                        &ch.voltage_v[ch.voltage_v.len()
+                            - ((1.0 / (v.pulse.freq_hz * v.pulse.dt_s)).round() as usize)
+                                .min(ch.voltage_v.len())..]
+                    ),
+                    3
+                )
+            ));
+            after.push(format!(
+                "  quasi-static: the plate's first natural frequency {} Hz is {}x the pulse; the \
+                 tissue is taken as elastic (its viscoelastic relaxation is not modelled), and \
+                 at these pressures a bare void strains 20 kPa tissue far beyond the linear range: \
+                 the magnitudes are the linear model's",
+                f(v.f1_hz, 0),
+                f(v.f1_over_pulse, 0)
             ));
         }
         if let Some(m) = &s.map {

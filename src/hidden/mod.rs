@@ -20,6 +20,7 @@ pub mod detect;
 pub mod field;
 pub mod locate;
 pub mod study;
+pub mod vessel;
 
 use thiserror::Error;
 

@@ -6,7 +6,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 
 use crate::analysis::noise::Gaussian;
-use crate::process::{Limits, RegionUm, Scene, SceneLoad};
+use crate::process::{Limits, ReadoutElectronics, RegionUm, Scene, SceneLoad};
 use crate::sensor::{evaluate, Accuracy, ModelChoice, SensorGeometry};
 use crate::softness::inclusion::{Feature, Slab};
 
@@ -14,6 +14,7 @@ use super::cells::{unit_responses, CellGrid, UnitResponses};
 use super::detect::{detectability, DetectMap, MapSpec};
 use super::field::{Background, Disturbance, Shape};
 use super::locate::{locate, Located, Search};
+use super::vessel::{vessel, Pulse, Vessel};
 use super::HiddenError;
 
 /// What to run.
@@ -35,6 +36,8 @@ pub struct Spec {
     pub locate: Option<u64>,
     /// The detectability map's axes (None: no map).
     pub map: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    /// A pulsating vessel (the slab's feature must be a void) and the front end to read it.
+    pub vessel: Option<(Pulse, ReadoutElectronics)>,
 }
 
 /// Everything the study reports.
@@ -52,6 +55,7 @@ pub struct Study {
     pub model_error_at_load: Option<f64>,
     pub located: Option<Located>,
     pub map: Option<DetectMap>,
+    pub vessel: Option<Vessel>,
     #[serde(skip)]
     cells: (Vec<f64>, Vec<f64>),
 }
@@ -146,7 +150,20 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
         }
         None => None,
     };
+    let vessel = match &spec.vessel {
+        Some((pulse, electronics)) => Some(vessel(
+            g,
+            &ur,
+            &bg,
+            &dist,
+            spec.centre_um,
+            *pulse,
+            electronics,
+        )?),
+        None => None,
+    };
     Ok(Study {
+        vessel,
         electrodes: ur.electrodes.clone(),
         background_mv,
         feature_mv,

@@ -287,3 +287,51 @@ fn tissue_through_the_sensor_bad_flags_name_themselves() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn tissue_vessel_pulses_through_the_amplifiers() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("vessel");
+    let run = tactfab(&[
+        "tissue",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--across",
+        "60",
+        "--through",
+        "20",
+        "--cell-mm",
+        "1.5",
+        "--max-levels",
+        "2",
+        "--feature",
+        "void",
+        "--shape",
+        "cylinder",
+        "--vessel",
+    ]);
+    run.expect_code(0);
+    let csv = std::fs::read_to_string(out.join("vessel.csv")).unwrap();
+    assert!(csv.starts_with("t_s,p_vessel_pa,V_S11_mv,"), "{csv}");
+    assert_eq!(csv.lines().count(), 21);
+    // 1.2 Hz: the instants span one period, the pressure between 80 and 120 mmHg.
+    let p: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    let (lo, hi) = p
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(lo > 79.0 * 133.322 && hi < 121.0 * 133.322 && hi - lo > 35.0 * 133.322);
+    let rec = std::fs::read_to_string(out.join("vessel-readout.csv")).unwrap();
+    assert!(rec.starts_with("t_s,p_vessel_pa,V_S11_v,"));
+    // 5 cycles of 1/1.2 s at 1 ms: t = 0 to 4.167 s, 4168 samples, and the header.
+    assert_eq!(rec.lines().count(), 4169);
+    assert!(run
+        .stdout
+        .contains("quasi-static: the plate's first natural frequency"));
+    let svg = std::fs::read_to_string(out.join("vessel.svg")).unwrap();
+    assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
+}
