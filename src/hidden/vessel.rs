@@ -23,7 +23,7 @@ use std::fmt::Write as _;
 
 use crate::process::ReadoutElectronics;
 use crate::readout_chain::{run as chain, Amplifier, Channel, Source};
-use crate::sensor::{plate_modes, SensorGeometry};
+use crate::sensor::{plate_modes, SensorGeometry, MODAL_LEVELS, MODES_REPORTED};
 use crate::softness::inclusion::{wall_pressure_face_pa, Feature};
 
 use super::cells::UnitResponses;
@@ -183,7 +183,7 @@ pub fn vessel(
         });
     }
     let channels = chain(&sources, &amplifier, &t_s, &p_pa);
-    let f1_hz = plate_modes(g, 4, 3)?.modes[0].freq_hz;
+    let f1_hz = plate_modes(g, MODES_REPORTED, MODAL_LEVELS)?.modes[0].freq_hz;
     Ok(Vessel {
         pulse,
         electrodes: ur.electrodes.clone(),
