@@ -60,8 +60,12 @@
 //!    and as printable HTML, and `tactfab build`'s in-memory build and `build.json` summary.
 //! 10. The studies call the sensor: [`analysis`] (calibration, load inverse, orientation),
 //!     [`softness`] (composite beam, paper 001 Eq. 7-12, beside a locking-free tissue FE, and the
-//!     inverse), [`sweep`] (paper 001's 15,000 plates, sharded) and [`readout_chain`] (the nine
-//!     channels in time through their charge amplifiers: PVDF senses change).
+//!     inverse; the tissue slab with a hidden lump, void or vessel, checked against Kirsch's
+//!     hole), [`hidden`] (that slab's pressure through the sensor: per-cell unit responses of the
+//!     linear plate, the inverse that locates and classifies the feature, the detectability map,
+//!     the pulsating vessel through the read-out chain), [`sweep`] (paper 001's 15,000 plates,
+//!     sharded) and [`readout_chain`] (the nine channels in time through their charge
+//!     amplifiers: PVDF senses change).
 //!
 //! Every warning, error and rule violation on the way is a [`finding::Finding`]: a code enum per
 //! domain (etch plan, design rules, layout, FE scene) with one stable spelling, a severity, the
@@ -97,6 +101,7 @@ pub mod etch;
 pub mod export;
 pub mod fe;
 pub mod finding;
+pub mod hidden;
 pub mod layout;
 pub mod plot;
 pub mod process;

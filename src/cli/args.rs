@@ -621,6 +621,81 @@ pub struct TissueArgs {
     pub across: u16,
     #[arg(long, default_value = "40", value_parser = clap::value_parser!(u16).range(1..=200))]
     pub through: u16,
+    /// Load the sensor with the slab's pressure: the nine voltages with and without the
+    /// feature (through-sensor.csv, face-pressure.csv, through-sensor.svg). --x-mm and --y-mm
+    /// then place the feature on the die (x along the jaw, y across; default the die centre).
+    #[arg(long)]
+    pub through_sensor: bool,
+    /// With --through-sensor: locate and classify the feature from the voltage difference plus
+    /// seeded Gaussian noise of --noise-mv.
+    #[arg(long)]
+    pub locate: bool,
+    /// With --through-sensor: the smallest detectable lump over --map-radii-mm x
+    /// --map-heights-mm x --map-stiffness at --noise-mv (detectability.csv, detectability.svg).
+    #[arg(long)]
+    pub detectability: bool,
+    /// The feature's centre across the jaw on the die (mm; default the die's middle).
+    #[arg(long, value_parser = parse::length_mm)]
+    pub y_mm: Option<f64>,
+    /// How the 2-D section becomes a feature in plan: a sphere (its disturbance rotated about
+    /// the centre [choice]) or a cylinder lying across the jaw.
+    #[arg(long, value_enum, default_value = "sphere")]
+    pub shape: ShapeArg,
+    /// Side of the pressure cells on the die face (mm, 0.25-30) [choice: 1 mm].
+    #[arg(long, default_value = "1", value_parser = parse::cell_mm)]
+    pub cell_mm: f64,
+    /// Noise per channel (mV rms, > 0) for --locate and --detectability [choice: 1 mV; no
+    /// amplifier noise is modelled].
+    #[arg(long, default_value = "1", value_parser = parse::positive_noise_mv)]
+    pub noise_mv: f64,
+    /// Matched-filter SNR a feature must reach to be reported [choice: 5].
+    #[arg(long, default_value = "5", value_parser = parse::snr)]
+    pub snr: f64,
+    /// Seed of the noise of --locate.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Detectability map axes: lump radii, heights of the centre above the sensor (mm) and
+    /// E_lump / E_tissue.
+    #[arg(long, value_delimiter = ',', default_value = "0.5,0.75,1,1.25,1.5,2,2.5,3",
+          value_parser = parse::length_mm)]
+    pub map_radii_mm: Vec<f64>,
+    #[arg(long, value_delimiter = ',', default_value = "1.5,2.5,3.5,4.5,5.5,6.5,7.5,8.5",
+          value_parser = parse::length_mm)]
+    pub map_heights_mm: Vec<f64>,
+    #[arg(long, value_delimiter = ',', default_value = "3,10",
+          value_parser = parse::stiffness_ratio)]
+    pub map_stiffness: Vec<f64>,
+    /// With --through-sensor: the void is a vessel pulsing at --pulse-hz between --mean-mmhg
+    /// -/+ half of --pulse-mmhg (paper 002 Fig. 10): 20 instants of a cycle through the sensor,
+    /// then the nine amplifier outputs over 5 cycles (vessel.csv, vessel-readout.csv,
+    /// vessel.svg). Needs --feature void; --shape cylinder lays it across the jaw.
+    #[arg(long)]
+    pub vessel: bool,
+    /// Pulse rate (Hz, 0.01-100) [choice: 1.2 Hz].
+    #[arg(long, default_value = "1.2", value_parser = parse::pulse_hz)]
+    pub pulse_hz: f64,
+    /// Mean vessel pressure and pulse pressure (mmHg, 0-1000) [choice: 100 and 40, i.e. 120/80].
+    #[arg(long, default_value = "100", value_parser = parse::mmhg)]
+    pub mean_mmhg: f64,
+    #[arg(long, default_value = "40", value_parser = parse::mmhg)]
+    pub pulse_mmhg: f64,
+    /// Relative error of the plate's unit responses, in (0, 1) (the studies' 0.05).
+    #[arg(long, value_parser = parse::tolerance, default_value = "0.05")]
+    pub tol: f64,
+    /// Most plate mesh levels, 1-10 (the studies' 3).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "3")]
+    pub max_levels: u8,
+    /// Plate rung: only plate (the linear plate: the field is a superposition of cell
+    /// responses); its membrane error at the grasp's force is printed.
+    #[arg(long, value_enum, default_value = "plate")]
+    pub model: ModelArg,
     #[command(flatten)]
     pub replace: OverwriteArgs,
+}
+
+/// `tissue --shape`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShapeArg {
+    Sphere,
+    Cylinder,
 }

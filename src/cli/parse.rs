@@ -106,6 +106,36 @@ pub fn modulus_kpa(s: &str) -> Parsed<f64> {
     within(s, 0.001, 1e9, "a modulus in kPa")
 }
 
+/// A pressure-cell side, 0.25-30 mm.
+pub fn cell_mm(s: &str) -> Parsed<f64> {
+    within(s, 0.25, 30.0, "a cell side in mm")
+}
+
+/// A noise level that can divide: 1e-6-1e4 mV.
+pub fn positive_noise_mv(s: &str) -> Parsed<f64> {
+    within(s, 1e-6, 1e4, "a noise level in mV")
+}
+
+/// A detection threshold, 0.1-100 (SNR).
+pub fn snr(s: &str) -> Parsed<f64> {
+    within(s, 0.1, 100.0, "a signal-to-noise ratio")
+}
+
+/// A lump's stiffness over the tissue's, 1e-3-1e6.
+pub fn stiffness_ratio(s: &str) -> Parsed<f64> {
+    within(s, 1e-3, 1e6, "a stiffness ratio E_lump / E_tissue")
+}
+
+/// A pulse rate, 0.01-100 Hz.
+pub fn pulse_hz(s: &str) -> Parsed<f64> {
+    within(s, 0.01, 100.0, "a pulse rate in Hz")
+}
+
+/// A vessel pressure, 0-1000 mmHg.
+pub fn mmhg(s: &str) -> Parsed<f64> {
+    within(s, 0.0, 1000.0, "a pressure in mmHg")
+}
+
 /// A compression of the slab, 0.001-0.4 of its thickness.
 pub fn compression(s: &str) -> Parsed<f64> {
     within(s, 0.001, 0.4, "a fraction of the thickness")

@@ -1,15 +1,32 @@
 //! `tactfab tissue FILE -o DIR`: the contact pressure a hidden lump or void puts on the sensor face
 //! ([`tactfab::softness::inclusion`]), its P / P0 peak, and `DIR/tissue.csv` + `DIR/tissue.svg`.
 
+use tactfab::hidden::field::Shape;
+use tactfab::hidden::locate::Verdict;
+use tactfab::hidden::study::{run as through_sensor, Spec};
+use tactfab::hidden::vessel::{Pulse, PA_PER_MMHG};
+use tactfab::sensor::{Accuracy, SensorGeometry};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
-use super::args::{FeatureArg, TissueArgs};
+use super::args::{FeatureArg, ModelArg, ShapeArg, TissueArgs};
 use super::output::f;
 use super::{design, write_dir, Outcome};
 
 pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
     // The process file is validated (and names the output) as for every study.
-    let _ = design(&a.process)?;
+    let (_, design) = design(&a.process)?;
+    let sensor = a.through_sensor || a.locate || a.detectability || a.vessel;
+    if a.vessel && a.feature != FeatureArg::Void {
+        anyhow::bail!(
+            "--vessel: a vessel is a void whose wall carries the pressure: add --feature void"
+        );
+    }
+    if sensor && a.model != ModelArg::Plate {
+        anyhow::bail!(
+            "--model: the tissue field is a sum of cell responses, so only the linear plate \
+             (--model plate) answers it; its membrane error at the grasp's force is printed"
+        );
+    }
     let slab = Slab {
         width_m: a.width_mm * 1e-3,
         thickness_m: a.thickness_mm * 1e-3,
@@ -50,10 +67,177 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 other => other.into(),
             }
         })?;
-    let files = [
+    let mut files = vec![
         ("tissue.csv".to_string(), p.csv().into_bytes()),
         ("tissue.svg".to_string(), p.svg(&slab).into_bytes()),
     ];
+    let mut after = Vec::new();
+    if sensor {
+        let g = SensorGeometry::new(&design);
+        let mm = |v: &[f64]| v.iter().map(|x| x * 1e-3).collect::<Vec<_>>();
+        let spec = Spec {
+            slab,
+            elements: (usize::from(a.across), usize::from(a.through)),
+            shape: match a.shape {
+                ShapeArg::Sphere => Shape::Sphere,
+                ShapeArg::Cylinder => Shape::Cylinder,
+            },
+            centre_um: (
+                a.x_mm.map_or(0.5 * g.length_um, |x| x * 1e3),
+                a.y_mm.map_or(0.5 * g.width_um, |y| y * 1e3),
+            ),
+            cell_um: a.cell_mm * 1e3,
+            accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)),
+            noise_mv: a.noise_mv,
+            threshold_snr: a.snr,
+            locate: a.locate.then_some(a.seed),
+            vessel: a.vessel.then(|| {
+                let mut p = Pulse::default_pulse();
+                p.freq_hz = a.pulse_hz;
+                p.mean_pa = a.mean_mmhg * PA_PER_MMHG;
+                p.amplitude_pa = 0.5 * a.pulse_mmhg * PA_PER_MMHG;
+                (p, design.process.readout.clone())
+            }),
+            map: a.detectability.then(|| {
+                (
+                    mm(&a.map_radii_mm),
+                    mm(&a.map_heights_mm),
+                    a.map_stiffness.clone(),
+                )
+            }),
+        };
+        let s = through_sensor(&g, &spec)?;
+        files.push(("through-sensor.csv".into(), s.csv().into_bytes()));
+        files.push(("face-pressure.csv".into(), s.face_csv().into_bytes()));
+        files.push(("through-sensor.svg".into(), s.svg().into_bytes()));
+        let u = &s.unit;
+        after.push(format!(
+            "through the sensor: {} x {} cells of {} x {} mm on the linear plate ({} levels, {} \
+             dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
+            u.grid.nx,
+            u.grid.ny,
+            f(u.grid.size_um().0 * 1e-3, 3),
+            f(u.grid.size_um().1 * 1e-3, 3),
+            u.levels,
+            u.dofs,
+            u.discretisation
+                .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
+            f(spec.centre_um.0 * 1e-3, 2),
+            f(spec.centre_um.1 * 1e-3, 2),
+            match spec.shape {
+                Shape::Sphere => "sphere (the section's disturbance rotated about its centre)",
+                Shape::Cylinder => "cylinder across the jaw",
+            }
+        ));
+        after.push(format!(
+            "  the grasp puts {} N on the die; the linear plate's membrane (model) error at that \
+             force, as a uniform pressure: {}",
+            f(s.background_force_n, 3),
+            s.model_error_at_load
+                .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}"))
+        ));
+        after.push("  electrode   background_mv   feature_mv   difference_mv".into());
+        for (i, e) in s.electrodes.iter().enumerate() {
+            let (b, w) = (s.background_mv[i], s.feature_mv[i]);
+            after.push(format!(
+                "  {e:<9} {:>15} {:>12} {:>15}",
+                f(b, 3),
+                f(w, 3),
+                f(w - b, 3)
+            ));
+        }
+        if let Some(l) = &s.located {
+            after.push(format!(
+                "  inverse (dV + {} mV noise, seed {}): {} at x {} mm{}, SNR {} (threshold {}), \
+                 amplitude {} of the reference, residual {} mV rms",
+                f(a.noise_mv, 3),
+                a.seed,
+                match l.verdict {
+                    Verdict::Lump => "lump",
+                    Verdict::Void => "void",
+                    Verdict::NoneDetected => "none detected (best fit)",
+                },
+                f(l.x_um * 1e-3, 2),
+                l.y_um
+                    .map_or_else(String::new, |y| format!(", y {} mm", f(y * 1e-3, 2))),
+                f(l.snr, 2),
+                f(a.snr, 2),
+                f(l.amplitude, 3),
+                f(l.residual_mv, 3)
+            ));
+        }
+        if let Some(v) = &s.vessel {
+            files.push(("vessel.csv".into(), v.csv().into_bytes()));
+            files.push(("vessel-readout.csv".into(), v.readout_csv().into_bytes()));
+            files.push(("vessel.svg".into(), v.svg().into_bytes()));
+            let m2 = v.electrodes.iter().position(|e| e == "M2").unwrap_or(0);
+            let ch = &v.channels[m2];
+            let swing = |xs: &[f64]| {
+                xs.iter().fold(f64::MIN, |a, &b| a.max(b))
+                    - xs.iter().fold(f64::MAX, |a, &b| a.min(b))
+            };
+            let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
+            after.push(format!(
+                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                 pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
+                 the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
+                f(v.pulse.freq_hz, 3),
+                f(v.pulse.mean_pa / PA_PER_MMHG, 1),
+                f(v.pulse.amplitude_pa / PA_PER_MMHG, 1),
+                v.instants.len(),
+                v.electrodes[m2],
+                f(v.grasp_mv[m2], 3),
+                f(v.per_pa_mv[m2] * 1e3, 4),
+                f(swing(&qs), 3),
+                v.amplifier.name(),
+                f(ch.tau_s, 4),
+                f(ch.corner_hz, 4),
+                f(
+                    1e3 * swing(
+                        &ch.voltage_v[ch.voltage_v.len()
+                            - ((1.0 / (v.pulse.freq_hz * v.pulse.dt_s)).round() as usize)
+                                .min(ch.voltage_v.len())..]
+                    ),
+                    3
+                )
+            ));
+            after.push(format!(
+                "  quasi-static: the plate's first natural frequency {} Hz is {}x the pulse; the \
+                 tissue is taken as elastic (its viscoelastic relaxation is not modelled), and \
+                 at these pressures a bare void strains 20 kPa tissue far beyond the linear range: \
+                 the magnitudes are the linear model's",
+                f(v.f1_hz, 0),
+                f(v.f1_over_pulse, 0)
+            ));
+        }
+        if let Some(m) = &s.map {
+            files.push(("detectability.csv".into(), m.csv().into_bytes()));
+            files.push(("detectability.svg".into(), m.svg().into_bytes()));
+            after.push(format!(
+                "  detectability at {} mV per channel, SNR {} ({} lumps, {} that do not fit \
+                 skipped): smallest detectable radius (mm) by height of the centre (mm)",
+                f(a.noise_mv, 3),
+                f(a.snr, 2),
+                m.rows.len(),
+                m.skipped
+            ));
+            for &k in &m.spec.stiffness_ratios {
+                let line: Vec<String> = m
+                    .smallest
+                    .iter()
+                    .filter(|w| w.0 == k)
+                    .map(|w| {
+                        format!(
+                            "{}: {}",
+                            f(w.1 * 1e3, 2),
+                            w.2.map_or_else(|| "-".into(), |r| f(r * 1e3, 2))
+                        )
+                    })
+                    .collect();
+                after.push(format!("    E ratio {}: {}", f(k, 2), line.join(", ")));
+            }
+        }
+    }
     write_dir(&a.out, &files, a.replace, &a.process)?;
     println!(
         "tissue {} x {} mm, E {} kPa, nu 0.49, squeezed {} %; {} of radius {} mm at x {} mm, {} mm \
@@ -81,10 +265,10 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         f(p.min_x_m * 1e3, 2),
         f(p.p0_pa[p.p0_pa.len() / 2] * 1e-3, 3)
     );
-    println!(
-        "wrote {} and {}",
-        a.out.join("tissue.csv").display(),
-        a.out.join("tissue.svg").display()
-    );
+    for line in after {
+        println!("{line}");
+    }
+    let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+    println!("wrote {} into {}", names.join(", "), a.out.display());
     Ok(Outcome::Ok)
 }

@@ -51,7 +51,7 @@ pub fn lame(e_pa: f64, nu: f64) -> (f64, f64) {
     )
 }
 
-fn gauss(n: usize) -> Vec<(f64, f64)> {
+pub(crate) fn gauss(n: usize) -> Vec<(f64, f64)> {
     match n {
         2 => vec![(-1.0 / 3f64.sqrt(), 1.0), (1.0 / 3f64.sqrt(), 1.0)],
         3 => vec![
@@ -64,7 +64,7 @@ fn gauss(n: usize) -> Vec<(f64, f64)> {
 }
 
 /// 1D Lagrange basis (values, derivatives) of order p at xi on [-1, 1], nodes equally spaced.
-fn lagrange(p: usize, xi: f64) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn lagrange(p: usize, xi: f64) -> (Vec<f64>, Vec<f64>) {
     match p {
         1 => (vec![0.5 * (1.0 - xi), 0.5 * (1.0 + xi)], vec![-0.5, 0.5]),
         _ => (

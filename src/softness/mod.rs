@@ -12,7 +12,10 @@
 //!   ([`continuum`]) tied to an Euler-Bernoulli frame model of the Si plate, clamped at the
 //!   supports.
 //!
-//! [`inverse`] recovers E_t from a voltage and a force with either model.
+//! [`inverse`] recovers E_t from a voltage and a force with either model. [`inclusion`] squeezes a
+//! tissue slab with a hidden lump, void or pressurised vessel between the jaws (paper 002 Figs.
+//! 8-10); [`mapped`] is the same Q2/P1 element on curved meshes, and [`kirsch`] checks it against
+//! the stress concentration 3 at a circular hole.
 //!
 //! Both models assume perfect bonding between tissue and plate, linear elasticity, and neglect the
 //! PVDF film's own stiffness (25 um, 3 GPa against 100 um Si: < 0.5 % of the bending stiffness).
@@ -21,6 +24,8 @@ pub mod composite_beam;
 pub mod continuum;
 pub mod inclusion;
 pub mod inverse;
+pub mod kirsch;
+pub mod mapped;
 pub mod plot;
 pub mod study;
 pub mod tissue_fe;

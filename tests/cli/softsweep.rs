@@ -182,3 +182,156 @@ fn tissue_lump_and_void_through_the_binary() {
     );
     assert!(!t.path().join("bad").exists());
 }
+
+#[test]
+fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
+    // Coarse for speed: 1.5 mm cells, two plate levels, a 60 x 20 slab mesh, a 2 x 2 map.
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("sensor");
+    let run = tactfab(&[
+        "tissue",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--across",
+        "60",
+        "--through",
+        "20",
+        "--cell-mm",
+        "1.5",
+        "--max-levels",
+        "2",
+        "--x-mm",
+        "13",
+        "--y-mm",
+        "8",
+        "--locate",
+        "--detectability",
+        "--map-radii-mm",
+        "1,2",
+        "--map-heights-mm",
+        "4,8.5",
+        "--map-stiffness",
+        "10",
+    ]);
+    run.expect_code(0);
+    let csv = std::fs::read_to_string(out.join("through-sensor.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("electrode,V_background_mv,V_feature_mv,dV_mv")
+    );
+    assert_eq!(lines.count(), 9);
+    let face = std::fs::read_to_string(out.join("face-pressure.csv")).unwrap();
+    assert!(face.starts_with("x_mm,y_mm,P0_pa,dP_pa\n"));
+    // A lump, found within 2 mm of (13, 8) mm.
+    let line = run
+        .stdout
+        .lines()
+        .find(|l| l.contains("inverse ("))
+        .unwrap_or_else(|| panic!("{}", run.stdout));
+    assert!(line.contains(": lump at x "), "{line}");
+    let num = |key: &str| -> f64 {
+        line.split(key)
+            .nth(1)
+            .unwrap()
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .trim_end_matches([',', ' '])
+            .parse()
+            .unwrap()
+    };
+    let (x, y) = (num("lump at x "), num(", y "));
+    assert!((x - 13.0).hypot(y - 8.0) < 2.0, "{line}");
+    let map = std::fs::read_to_string(out.join("detectability.csv")).unwrap();
+    let mut rows = map.lines();
+    assert_eq!(
+        rows.next(),
+        Some("radius_mm,height_mm,stiffness_ratio,peak_P_over_P0,dV_norm_mv,snr,detectable")
+    );
+    // A 2 mm lump centred 8.5 mm up does not fit in the 10 mm slab: skipped.
+    assert_eq!(rows.count(), 3, "{map}");
+    for svg in ["through-sensor.svg", "detectability.svg"] {
+        let s = std::fs::read_to_string(out.join(svg)).unwrap();
+        assert!(tactfab::plot::text_outside_canvas(&s).is_empty(), "{svg}");
+    }
+}
+
+#[test]
+fn tissue_through_the_sensor_bad_flags_name_themselves() {
+    let t = tempfile::tempdir().unwrap();
+    for (flags, named) in [
+        (
+            &["--through-sensor", "--model", "large-deflection"][..],
+            "--model",
+        ),
+        (&["--through-sensor", "--cell-mm", "0.1"][..], "--cell-mm"),
+        (&["--locate", "--noise-mv", "0"][..], "--noise-mv"),
+        (
+            &["--detectability", "--map-stiffness", "3,-1"][..],
+            "--map-stiffness",
+        ),
+    ] {
+        let out = t.path().join("bad");
+        let mut args = vec![
+            "tissue",
+            "process/mis-grasper.yaml",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(flags);
+        let r = tactfab(&args);
+        assert_eq!(r.code, 2, "{flags:?}: {}", r.stderr);
+        assert!(r.stderr.contains(named), "{flags:?}: {}", r.stderr);
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn tissue_vessel_pulses_through_the_amplifiers() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("vessel");
+    let run = tactfab(&[
+        "tissue",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--across",
+        "60",
+        "--through",
+        "20",
+        "--cell-mm",
+        "1.5",
+        "--max-levels",
+        "2",
+        "--feature",
+        "void",
+        "--shape",
+        "cylinder",
+        "--vessel",
+    ]);
+    run.expect_code(0);
+    let csv = std::fs::read_to_string(out.join("vessel.csv")).unwrap();
+    assert!(csv.starts_with("t_s,p_vessel_pa,V_S11_mv,"), "{csv}");
+    assert_eq!(csv.lines().count(), 21);
+    // 1.2 Hz: the instants span one period, the pressure between 80 and 120 mmHg.
+    let p: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    let (lo, hi) = p
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(lo > 79.0 * 133.322 && hi < 121.0 * 133.322 && hi - lo > 35.0 * 133.322);
+    let rec = std::fs::read_to_string(out.join("vessel-readout.csv")).unwrap();
+    assert!(rec.starts_with("t_s,p_vessel_pa,V_S11_v,"));
+    // 5 cycles of 1/1.2 s at 1 ms: t = 0 to 4.167 s, 4168 samples, and the header.
+    assert_eq!(rec.lines().count(), 4169);
+    assert!(run
+        .stdout
+        .contains("quasi-static: the plate's first natural frequency"));
+    let svg = std::fs::read_to_string(out.join("vessel.svg")).unwrap();
+    assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
+}

@@ -1,0 +1,147 @@
+//! Time of issue 17's tissue pieces: `cargo run --release --example tissue_bench [runs=5]`;
+//! wall-clock medians on the bundled design (2 cores shared).
+//!
+//! (a) One P / P0 profile (`tactfab tissue` defaults: 30 x 10 mm slab, 2 mm lump 4 mm up,
+//!     120 x 40 Q2/P1 elements; two solves: with and without the lump).
+//! (b) The die's unit responses: 30 x 15 cells of 1 mm on the linear plate (tol 0.05, 3 levels).
+//! (c) The inverse on one record (two references, candidate grid 0.5 mm + compass search).
+//! (e) A pulsating vessel (2 mm void 4 mm up, a cylinder across the jaw): two slab solves, 20
+//!     instants of a 1.2 Hz cycle through (b)'s unit responses, the plate's first modes (for the
+//!     quasi-static check) and 5 cycles at 1 ms through the charge amplifiers.
+//! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
+//!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
+
+use std::time::Instant;
+
+use tactfab::design::Design;
+use tactfab::hidden::cells::{unit_responses, CellGrid};
+use tactfab::hidden::detect::{detectability, MapSpec};
+use tactfab::hidden::field::{Background, Disturbance, Shape};
+use tactfab::hidden::locate::{locate, Search, SNR_THRESHOLD};
+use tactfab::hidden::vessel::{vessel, Pulse};
+use tactfab::process::load_str;
+use tactfab::sensor::{Accuracy, SensorGeometry};
+use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
+
+const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Median wall time (ms) of `runs` calls of `f`, and its last result.
+fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..runs {
+        let t0 = Instant::now();
+        last = Some(f());
+        times.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    (median(times), last.expect("at least one run"))
+}
+
+fn main() {
+    let runs: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5)
+        .max(1);
+    let loaded = load_str(PROCESS, "mis-grasper.yaml", &[]).expect("bundled process");
+    let design = Design::new(loaded.process).expect("design");
+    let g = SensorGeometry::new(&design);
+    let lump = Feature::Lump {
+        e_pa: 200e3,
+        nu: 0.4,
+    };
+    let slab = Slab {
+        width_m: 30e-3,
+        thickness_m: 10e-3,
+        tissue_e_pa: 20e3,
+        tissue_nu: 0.49,
+        compression: 0.1,
+        feature: lump,
+        centre_x_m: 15e-3,
+        centre_height_m: 4e-3,
+        radius_m: 2e-3,
+    };
+    let (ms, p) = time(runs, || pressure_profile(&slab, 120, 40).expect("profile"));
+    println!(
+        "(a) P/P0 profile, 120 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
+        p.peak_ratio
+    );
+    let grid = CellGrid::new(&g, 1000.0).expect("grid");
+    let acc = Accuracy::new(0.05, 3);
+    let (ms_ur, ur) = time(runs.min(3), || {
+        unit_responses(&g, grid, acc).expect("units")
+    });
+    println!(
+        "(b) unit responses, {} cells: {ms_ur:.0} ms ({} levels, {} dofs), median of {}",
+        grid.len(),
+        ur.levels,
+        ur.dofs,
+        runs.min(3)
+    );
+    let bg = Background::new(&slab, 120, 40, g.length_um).expect("background");
+    let reference = Disturbance::new(&bg, lump, 2e-3, 4e-3, Shape::Sphere).expect("lump");
+    let void = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Sphere).expect("void");
+    let dv = ur.voltages_mv(&reference.cells(&bg, &grid, (12_300.0, 6_100.0)));
+    let search = Search {
+        step_um: 500.0,
+        noise_mv: 1.0,
+        threshold_snr: SNR_THRESHOLD,
+    };
+    let (ms, r) = time(runs, || {
+        locate(&ur, &bg, &[&reference, &void], &dv, search).expect("locate")
+    });
+    println!(
+        "(c) inverse, one record: {ms:.0} ms ({} template evaluations)",
+        r.evaluations
+    );
+    let cyl = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
+    let electronics = tactfab::process::ReadoutElectronics::default();
+    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
+    let (ms, v) = time(runs, || {
+        vessel(
+            &g,
+            &ur,
+            &bg,
+            &cyl,
+            centre,
+            Pulse::default_pulse(),
+            &electronics,
+        )
+        .expect("vessel")
+    });
+    println!(
+        "(e) vessel cycle: {ms:.0} ms ({} instants, {} samples x {} channels, f1 {:.0} Hz)",
+        v.instants.len(),
+        v.t_s.len(),
+        v.channels.len(),
+        v.f1_hz
+    );
+    let spec = MapSpec {
+        radii_m: [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0]
+            .iter()
+            .map(|r| r * 1e-3)
+            .collect(),
+        heights_m: [1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 8.5]
+            .iter()
+            .map(|h| h * 1e-3)
+            .collect(),
+        stiffness_ratios: vec![3.0, 10.0],
+        lump_nu: 0.4,
+        shape: Shape::Sphere,
+        centre_um: (0.5 * g.length_um, 0.5 * g.width_um),
+        noise_mv: 1.0,
+        threshold_snr: SNR_THRESHOLD,
+    };
+    let (ms_map, m) = time(runs.min(3), || detectability(&ur, &bg, &spec).expect("map"));
+    println!(
+        "(d) detectability map, {} lumps ({} skipped): {ms_map:.0} ms; with (b): {:.1} s",
+        m.rows.len(),
+        m.skipped,
+        (ms_map + ms_ur) * 1e-3
+    );
+}

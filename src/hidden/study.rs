@@ -1,0 +1,243 @@
+//! `tactfab tissue --through-sensor` as one library call: the slab's background and feature,
+//! the cells' unit responses, the nine voltages with and without the feature, and optionally
+//! the inverse on them (with seeded noise) and the detectability map.
+
+use serde::Serialize;
+use std::fmt::Write as _;
+
+use crate::analysis::noise::Gaussian;
+use crate::process::{Limits, ReadoutElectronics, RegionUm, Scene, SceneLoad};
+use crate::sensor::{evaluate, Accuracy, ModelChoice, SensorGeometry};
+use crate::softness::inclusion::{Feature, Slab};
+
+use super::cells::{unit_responses, CellGrid, UnitResponses};
+use super::detect::{detectability, DetectMap, MapSpec};
+use super::field::{Background, Disturbance, Shape};
+use super::locate::{locate, Located, Search};
+use super::vessel::{vessel, Pulse, Vessel};
+use super::HiddenError;
+
+/// What to run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Spec {
+    /// The slab with its feature (its `centre_x_m` is ignored: the feature's place on the die is
+    /// `centre_um`).
+    pub slab: Slab,
+    pub elements: (usize, usize),
+    pub shape: Shape,
+    /// The feature's centre on the die face (um): x along the jaw, y across.
+    pub centre_um: (f64, f64),
+    pub cell_um: f64,
+    pub accuracy: Accuracy,
+    /// Noise per channel (mV rms) for the inverse and the map; the inverse's SNR threshold.
+    pub noise_mv: f64,
+    pub threshold_snr: f64,
+    /// Run the inverse on the difference plus seeded noise.
+    pub locate: Option<u64>,
+    /// The detectability map's axes (None: no map).
+    pub map: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    /// A pulsating vessel (the slab's feature must be a void) and the front end to read it.
+    pub vessel: Option<(Pulse, ReadoutElectronics)>,
+}
+
+/// Everything the study reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Study {
+    pub electrodes: Vec<String>,
+    pub background_mv: Vec<f64>,
+    pub feature_mv: Vec<f64>,
+    pub unit: UnitResponses,
+    pub peak_ratio: f64,
+    pub min_ratio: f64,
+    /// Total force of the background on the die (N) and the linear plate's model error at it
+    /// (a uniform pressure of that total: its membrane stiffening, which superposition omits).
+    pub background_force_n: f64,
+    pub model_error_at_load: Option<f64>,
+    pub located: Option<Located>,
+    pub map: Option<DetectMap>,
+    pub vessel: Option<Vessel>,
+    #[serde(skip)]
+    cells: (Vec<f64>, Vec<f64>),
+}
+
+/// Runs the study on the sensor `g`.
+pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
+    let (nx, ny) = spec.elements;
+    let bg = Background::new(&spec.slab, nx, ny, g.length_um)?;
+    let grid = CellGrid::new(g, spec.cell_um)?;
+    let dist = Disturbance::new(
+        &bg,
+        spec.slab.feature,
+        spec.slab.radius_m,
+        spec.slab.centre_height_m,
+        spec.shape,
+    )?;
+    let ur = unit_responses(g, grid, spec.accuracy)?;
+    let p0 = bg.cells(&grid);
+    let dp = dist.cells(&bg, &grid, spec.centre_um);
+    let background_mv = ur.voltages_mv(&p0);
+    let dv = ur.voltages_mv(&dp);
+    let feature_mv: Vec<f64> = background_mv.iter().zip(&dv).map(|(a, b)| a + b).collect();
+    let background_force_n: f64 = p0.iter().sum::<f64>() * grid.area_m2();
+    let model_error_at_load = if background_force_n > 0.0 {
+        let scene = Scene {
+            name: "tissue-background".into(),
+            load: SceneLoad::Pressure {
+                force_n: background_force_n,
+                region: Some(RegionUm {
+                    x0_um: 0.0,
+                    y0_um: 0.0,
+                    x1_um: g.length_um,
+                    y1_um: g.width_um,
+                }),
+            },
+            limits: Limits::default(),
+        };
+        let coarse = Accuracy {
+            max_levels: 1,
+            ..spec.accuracy.with_model(ModelChoice::Plate)
+        };
+        evaluate(g, &scene, coarse)?.error.model
+    } else {
+        None
+    };
+    let located = match spec.locate {
+        Some(seed) => {
+            let mut noise = Gaussian::new(seed);
+            let measured: Vec<f64> = dv
+                .iter()
+                .map(|v| v + spec.noise_mv * noise.sample())
+                .collect();
+            // References of the assumed size and depth: a lump of the slab's lump modulus (or
+            // paper 002's 10x tissue when the feature is a void) and a void.
+            let lump = match spec.slab.feature {
+                Feature::Lump { .. } => spec.slab.feature,
+                _ => Feature::Lump {
+                    e_pa: 10.0 * spec.slab.tissue_e_pa,
+                    nu: 0.4,
+                },
+            };
+            let r = (spec.slab.radius_m, spec.slab.centre_height_m);
+            let refs = [
+                Disturbance::new(&bg, lump, r.0, r.1, spec.shape)?,
+                Disturbance::new(&bg, Feature::Void, r.0, r.1, spec.shape)?,
+            ];
+            let search = Search {
+                step_um: 500.0,
+                noise_mv: spec.noise_mv,
+                threshold_snr: spec.threshold_snr,
+            };
+            Some(locate(&ur, &bg, &[&refs[0], &refs[1]], &measured, search)?)
+        }
+        None => None,
+    };
+    let map = match &spec.map {
+        Some((radii_m, heights_m, ratios)) => {
+            let m = MapSpec {
+                radii_m: radii_m.clone(),
+                heights_m: heights_m.clone(),
+                stiffness_ratios: ratios.clone(),
+                lump_nu: match spec.slab.feature {
+                    Feature::Lump { nu, .. } => nu,
+                    _ => 0.4,
+                },
+                shape: spec.shape,
+                centre_um: spec.centre_um,
+                noise_mv: spec.noise_mv,
+                threshold_snr: spec.threshold_snr,
+            };
+            Some(detectability(&ur, &bg, &m)?)
+        }
+        None => None,
+    };
+    let vessel = match &spec.vessel {
+        Some((pulse, electronics)) => Some(vessel(
+            g,
+            &ur,
+            &bg,
+            &dist,
+            spec.centre_um,
+            *pulse,
+            electronics,
+        )?),
+        None => None,
+    };
+    Ok(Study {
+        vessel,
+        electrodes: ur.electrodes.clone(),
+        background_mv,
+        feature_mv,
+        unit: ur,
+        peak_ratio: dist.peak_ratio,
+        min_ratio: dist.min_ratio,
+        background_force_n,
+        model_error_at_load,
+        located,
+        map,
+        cells: (p0, dp),
+    })
+}
+
+impl Study {
+    /// `through-sensor.csv`: each electrode's voltage without and with the feature.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("electrode,V_background_mv,V_feature_mv,dV_mv\n");
+        for (i, e) in self.electrodes.iter().enumerate() {
+            let (a, b) = (self.background_mv[i], self.feature_mv[i]);
+            let _ = writeln!(s, "{e},{a:.6e},{b:.6e},{:.6e}", b - a);
+        }
+        s
+    }
+
+    /// `face-pressure.csv`: each cell's centre, background and extra pressure.
+    pub fn face_csv(&self) -> String {
+        let g = &self.unit.grid;
+        let mut s = String::from("x_mm,y_mm,P0_pa,dP_pa\n");
+        for k in 0..g.len() {
+            let (x0, y0, x1, y1) = g.rect(k);
+            let _ = writeln!(
+                s,
+                "{:.4},{:.4},{:.6e},{:.6e}",
+                0.5e-3 * (x0 + x1),
+                0.5e-3 * (y0 + y1),
+                self.cells.0[k],
+                self.cells.1[k]
+            );
+        }
+        s
+    }
+
+    /// `through-sensor.svg`: the nine voltage differences, electrode by electrode.
+    pub fn svg(&self) -> String {
+        use crate::plot::{xy_svg, Axis, Series, Style, XyPlot};
+        let points = |v: &[f64]| -> Vec<(f64, f64)> {
+            v.iter()
+                .enumerate()
+                .map(|(i, y)| ((i + 1) as f64, *y))
+                .collect()
+        };
+        let dv: Vec<f64> = self
+            .feature_mv
+            .iter()
+            .zip(&self.background_mv)
+            .map(|(a, b)| a - b)
+            .collect();
+        xy_svg(
+            &XyPlot {
+                title: format!(
+                    "Feature minus background, electrodes 1-9 = {}",
+                    self.electrodes.join(", ")
+                ),
+                x: Axis::linear("electrode (model order)"),
+                y: Axis::linear("voltage difference (mV)"),
+                series: vec![Series {
+                    name: "dV".into(),
+                    points: points(&dv),
+                    style: Style::Markers,
+                }],
+            },
+            800,
+            480,
+        )
+    }
+}
