@@ -62,6 +62,20 @@ pub struct Study {
 
 /// Runs the study on the sensor `g`.
 pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
+    let (cx, cy) = spec.centre_um;
+    let on = |v: f64, hi: f64| v.is_finite() && (0.0..=hi).contains(&v);
+    if !(on(cx, g.length_um) && on(cy, g.width_um)) {
+        return Err(HiddenError::Input {
+            problem: format!(
+                "the feature's centre ({:.3}, {:.3}) mm is not on the die (0-{:.3} x 0-{:.3} mm)",
+                cx * 1e-3,
+                cy * 1e-3,
+                g.length_um * 1e-3,
+                g.width_um * 1e-3
+            ),
+            hint: "place it with --x-mm (along the jaw) and --y-mm (across) inside the die",
+        });
+    }
     let (nx, ny) = spec.elements;
     let bg = Background::new(&spec.slab, nx, ny, g.length_um)?;
     let grid = CellGrid::new(g, spec.cell_um)?;

@@ -268,6 +268,8 @@ fn tissue_through_the_sensor_bad_flags_name_themselves() {
         ),
         (&["--through-sensor", "--cell-mm", "0.1"][..], "--cell-mm"),
         (&["--locate", "--noise-mv", "0"][..], "--noise-mv"),
+        // A feature off the die would read nothing and pass as "no signal".
+        (&["--through-sensor", "--y-mm", "100"][..], "--y-mm"),
         (
             &["--detectability", "--map-stiffness", "3,-1"][..],
             "--map-stiffness",
