@@ -194,7 +194,7 @@ impl Stepper {
 
     /// The signed height whose zero level is the top edge of the etched silicon (where the
     /// surface leaves the mask): the surface height at exposed nodes; at covered nodes the
-    /// height the nearest exposed wall would have there ([`Field::rise`]), > 0, or one wall
+    /// height the nearest exposed wall would have there (`Field::rise`), > 0, or one wall
     /// step above 0 when no neighbour is exposed. Linear interpolation of its zero places the
     /// edge within a cell instead of at the last covered node.
     pub fn top_field(&self, s: &Surface) -> Vec<f64> {
