@@ -127,14 +127,29 @@ pub struct Surface {
 }
 
 impl Surface {
-    /// A flat wafer with the mask where `drawn` is true.
+    /// A flat wafer with the mask where `drawn` is true (a closed raster: nodes on a drawn
+    /// edge are true).
+    ///
+    /// The lid is the drawn raster eroded by one node: an exposed node beside the lid stands at
+    /// the top of the wall that rises into it (`Field::rise`), so the first exposed node, not the
+    /// last covered one, is where the drawn edge is. Without this the mask would act one cell
+    /// larger.
     #[track_caller]
     pub fn new(grid: Grid, drawn: Vec<bool>) -> Surface {
         assert_eq!(drawn.len(), grid.len(), "mask raster does not fit the grid");
+        let (nx, ny) = (grid.nx, grid.ny);
+        let at = |i: isize, j: isize| drawn[Grid::mirror(j, ny) * nx + Grid::mirror(i, nx)];
+        let mut covered = vec![false; grid.len()];
+        for j in 0..ny as isize {
+            for i in 0..nx as isize {
+                covered[j as usize * nx + i as usize] =
+                    at(i, j) && at(i - 1, j) && at(i + 1, j) && at(i, j - 1) && at(i, j + 1);
+            }
+        }
         Surface {
             grid,
             h_um: vec![0.0; grid.len()],
-            covered: drawn,
+            covered,
             time_h: 0.0,
         }
     }

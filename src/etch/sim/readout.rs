@@ -64,6 +64,72 @@ pub fn contour(field: &[f64], g: &Grid, level: f64) -> Vec<[f64; 4]> {
     out
 }
 
+/// Bilinear value of a node field at (x, y) (clamped into the grid).
+pub fn sample(field: &[f64], g: &Grid, x_um: f64, y_um: f64) -> f64 {
+    let fx = ((x_um - g.x0_um) / g.dx_um).clamp(0.0, (g.nx - 1) as f64);
+    let fy = ((y_um - g.y0_um) / g.dy_um).clamp(0.0, (g.ny - 1) as f64);
+    let (i, j) = ((fx as usize).min(g.nx - 2), (fy as usize).min(g.ny - 2));
+    let (tx, ty) = (fx - i as f64, fy - j as f64);
+    let v = |a: usize, b: usize| field[b * g.nx + a];
+    (1.0 - ty) * ((1.0 - tx) * v(i, j) + tx * v(i + 1, j))
+        + ty * ((1.0 - tx) * v(i, j + 1) + tx * v(i + 1, j + 1))
+}
+
+/// Distance from (x, y) along the unit direction `dir` to the first place where the bilinear
+/// field falls from > `level` to <= `level` (sampled at a quarter cell, then linear), within
+/// `max_um`.
+pub fn crossing_on_ray(
+    field: &[f64],
+    g: &Grid,
+    from_um: (f64, f64),
+    dir: (f64, f64),
+    level: f64,
+    max_um: f64,
+) -> Option<f64> {
+    let ds = 0.25 * g.dx_um.min(g.dy_um);
+    let at = |s: f64| sample(field, g, from_um.0 + s * dir.0, from_um.1 + s * dir.1);
+    let n = (max_um / ds).floor() as usize;
+    let mut a = at(0.0);
+    for k in 1..=n {
+        let b = at(k as f64 * ds);
+        if a > level && b <= level {
+            return Some(ds * ((k - 1) as f64 + (a - level) / (a - b)));
+        }
+        a = b;
+    }
+    None
+}
+
+/// The crystal plane families a facet is named after, as sorted |Miller indices|.
+pub const FAMILIES: [(&str, [f64; 3]); 8] = [
+    ("100", [1.0, 0.0, 0.0]),
+    ("110", [1.0, 1.0, 0.0]),
+    ("111", [1.0, 1.0, 1.0]),
+    ("211", [2.0, 1.0, 1.0]),
+    ("311", [3.0, 1.0, 1.0]),
+    ("411", [4.0, 1.0, 1.0]),
+    ("221", [2.0, 2.0, 1.0]),
+    ("331", [3.0, 3.0, 1.0]),
+];
+
+/// The family nearest a crystal-axis normal and the angle to it (deg): by the rearrangement
+/// inequality the closest member of a family is the one sorted like the normal.
+pub fn nearest_family(n: [f64; 3]) -> (&'static str, f64) {
+    let mut a = [n[0].abs(), n[1].abs(), n[2].abs()];
+    a.sort_by(|x, y| y.total_cmp(x));
+    let la = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let mut best = ("", f64::INFINITY);
+    for (name, f) in FAMILIES {
+        let lf = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        let c = ((a[0] * f[0] + a[1] * f[1] + a[2] * f[2]) / (la * lf)).clamp(-1.0, 1.0);
+        let ang = c.acos().to_degrees();
+        if ang < best.1 {
+            best = (name, ang);
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
