@@ -15,6 +15,8 @@ pub mod tooth;
 
 #[cfg(test)]
 mod tests_closed_form;
+#[cfg(test)]
+mod tests_tooth;
 
 pub use level_set::{Grid, Stepper, Surface};
 pub use rate_table::{RateModel, RateTable};

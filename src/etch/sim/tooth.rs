@@ -167,7 +167,7 @@ pub fn simulate_cell(
         corner_shape,
         tolerance_um,
         edge_undercut_um,
-        compensator_consumed_h: consumed(&history),
+        compensator_consumed_h: consumed(&history, 0.5 * g.dx_um),
         floor_depth_um,
         floor_residue_height_um,
         floor_residue_area_um2,
@@ -180,9 +180,9 @@ pub fn simulate_cell(
 }
 
 /// The first time the corner deviation falls to 0 (linear between the readings), when it
-/// started above 0.
-fn consumed(history: &[CornerAt]) -> Option<f64> {
-    if history.first()?.corner_deviation_um <= 0.0 {
+/// started more than `drawn_um` (half a cell: a compensator is drawn) above 0.
+fn consumed(history: &[CornerAt], drawn_um: f64) -> Option<f64> {
+    if history.first()?.corner_deviation_um <= drawn_um {
         return None;
     }
     history.windows(2).find_map(|w| {
