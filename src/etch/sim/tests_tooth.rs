@@ -79,10 +79,7 @@ fn corner_is_symmetric_and_monotone_in_the_compensator() {
     let t = base.compensator_consumed_h.unwrap();
     assert!(t > 0.0 && t < base.time_h, "{t}");
     assert!((base.floor_depth_um - 204.0).abs() < 1e-6);
-    assert_eq!(
-        base.facets[0].family.as_str() == "111" || base.facets[1].family == "111",
-        true
-    );
+    assert!(base.facets.iter().take(2).any(|f| f.family == "111"));
     // Symmetry of the etched field itself.
     let (p, plan, masks) = design(&[]);
     let cell = tooth_cell(&masks, &p.geometry.teeth, grid).unwrap();
