@@ -5,6 +5,10 @@
 //!
 //! cargo run --release --example etch_sim_bench -- [RUNS] [--grid-um 5] [--set path=value ...]
 //!     [--export DIR] [--viennaps DIR]
+//!
+//! The peer: `--export DIR` writes DIR/cell.json (the cell's drawn polygons and the rates);
+//! `python3 benches/viennaps_wet.py DIR` etches it with ViennaPS's WetEtching model and writes
+//! DIR/viennaps.json; `--viennaps DIR` prints both side by side.
 
 use std::time::Instant;
 
@@ -65,6 +69,12 @@ fn main() -> anyhow::Result<()> {
         sim.floor_residue_height_um,
         sim.floor_residue_area_um2
     );
+    if let Some(dir) = flag(&args, "--export").first() {
+        export(dir, &sim, &masks, p, grid_um)?;
+    }
+    if let Some(dir) = flag(&args, "--viennaps").first() {
+        compare(dir, &sim)?;
+    }
     for f in &sim.facets {
         println!(
             "  facet {{{}}} {:.1} % (mean {:.2} deg off)",
@@ -73,5 +83,71 @@ fn main() -> anyhow::Result<()> {
             f.mean_deviation_deg
         );
     }
+    Ok(())
+}
+
+/// The same mask (the cell's drawn polygons clipped to it) and rates for benches/viennaps_wet.py.
+fn export(
+    dir: &str,
+    sim: &tactfab::etch::sim::ToothSimulation,
+    masks: &tactfab::layout::MaskSet,
+    p: &tactfab::process::Process,
+    grid_um: f64,
+) -> anyhow::Result<()> {
+    use tactfab::layout::boolean::{intersection, rect};
+    let cell = tactfab::etch::sim::cell::tooth_cell(masks, &p.geometry.teeth, grid_um)?;
+    let [x0, y0, x1, y1] = sim.cell_um;
+    let clipped = intersection(&cell.polygons, &[rect(x0, y0, x1, y1)]);
+    let polys: Vec<Vec<[f64; 2]>> = clipped
+        .iter()
+        .map(|q| {
+            q.exterior()
+                .coords()
+                .map(|c| [c.x - x0, c.y - y0])
+                .collect()
+        })
+        .collect();
+    let r = &sim.rates;
+    let v = serde_json::json!({
+        "cell_um": [x1 - x0, y1 - y0],
+        "grid_um": grid_um,
+        "time_h": sim.time_h,
+        "tooth_top_um": sim.tooth_top_um,
+        "rates_um_per_h": {
+            "r100": r.r100_um_per_h, "r110": r.r110_um_per_h, "r111": r.r111_um_per_h,
+            "r311": r.r311_um_per_h.unwrap_or(f64::NAN),
+        },
+        "polygons": polys,
+        "tactfab": {
+            "corner_deviation_um": sim.corner_deviation_um,
+            "edge_undercut_um": sim.edge_undercut_um,
+        },
+    });
+    std::fs::create_dir_all(dir)?;
+    std::fs::write(
+        std::path::Path::new(dir).join("cell.json"),
+        serde_json::to_string_pretty(&v)?,
+    )?;
+    println!("wrote {dir}/cell.json (run benches/viennaps_wet.py {dir})");
+    Ok(())
+}
+
+/// Prints ViennaPS's corner and edge beside ours, and its time.
+fn compare(dir: &str, sim: &tactfab::etch::sim::ToothSimulation) -> anyhow::Result<()> {
+    let text = std::fs::read_to_string(std::path::Path::new(dir).join("viennaps.json"))?;
+    let v: serde_json::Value = serde_json::from_str(&text)?;
+    let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    println!(
+        "ViennaPS {} (grid {} um): corner {:.1} um vs tactfab {:.1} um (difference {:.1}); edge \
+         undercut {:.1} vs {:.1} um; wall time {:.1} s",
+        v["version"].as_str().unwrap_or("?"),
+        num("grid_um"),
+        num("corner_deviation_um"),
+        sim.corner_deviation_um,
+        sim.corner_deviation_um - num("corner_deviation_um"),
+        num("edge_undercut_um"),
+        sim.edge_undercut_um,
+        num("seconds")
+    );
     Ok(())
 }
