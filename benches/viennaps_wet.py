@@ -84,7 +84,10 @@ def main():
     mask.setBoundaryConditions(
         [BoundaryType.REFLECTIVE_BOUNDARY, BoundaryType.REFLECTIVE_BOUNDARY, BoundaryType.INFINITE_BOUNDARY]
     )
-    mask.setBoundaryPadding(0.0, 0.0)
+    # --pad-um P: a free mesa (the closed-form corner check) rather than a cell filled to its
+    # mirror sides.
+    pad = float(sys.argv[sys.argv.index("--pad-um") + 1]) if "--pad-um" in sys.argv else 0.0
+    mask.setBoundaryPadding(pad, pad)
     psd.GDSReader(mask, f"{d}/mask.gds").apply()
     bounds = mask.getBounds()
     # mask=False: the drawn polygons are the oxide (light field), not holes in it.
@@ -124,9 +127,14 @@ def main():
     zs = [z for _, _, z in nodes]
     print(f"silicon surface: {len(nodes)} points, z {min(zs):.1f} .. {max(zs):.1f} um", file=sys.stderr)
     top = [(x - x0, y - y0) for x, y, z in nodes if z > -0.5 * grid]
-    # The simulated tooth's quarter is the cell's lower-left half (the diagonal neighbour's is
-    # the upper-right one).
-    top = [(x, y) for x, y in top if x + y < 0.5 * (lx + ly)]
+    if pad > 0:
+        # A free mesa: its upper-right quarter, from its centre.
+        c = cell["centre_um"]
+        top = [(x - c[0], y - c[1]) for x, y in top if x >= c[0] and y >= c[1]]
+    else:
+        # The simulated tooth's quarter is the cell's lower-left half (the diagonal
+        # neighbour's is the upper-right one).
+        top = [(x, y) for x, y in top if x + y < 0.5 * (lx + ly)]
     diag = [(x + y) / math.sqrt(2) for x, y in top if abs(x - y) < grid]
     edge = [x for x, y in top if y < grid]
     out = {
