@@ -56,7 +56,9 @@ pub struct Frame {
 
 /// The etched tooth cell. Sign convention: `corner_deviation_um` is measured along the tooth's
 /// diagonal from the drawn tooth-top corner to the etched top edge, > 0 outwards (silicon left
-/// beyond the drawn corner: over-compensated), < 0 inwards (the corner receded: rounded).
+/// beyond the drawn corner: over-compensated), < 0 inwards (the corner receded: rounded). A top
+/// that reaches the middle of the street (bridged to the diagonal neighbour) is reported as
+/// that far out.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ToothSimulation {
     pub time_h: f64,
@@ -113,11 +115,13 @@ pub fn simulate_cell(
     let half = cell.top_um / 2.0;
     let diag = std::f64::consts::FRAC_1_SQRT_2;
     let reach = g.nx as f64 * g.dx_um + g.ny as f64 * g.dy_um;
+    // Along the diagonal only up to the middle of the street (beyond is the neighbour's half):
+    // a top still unbroken there bridges to the neighbour, reported as that far out.
+    let street_mid = 0.5 * (g.x_um(g.nx - 1) - cx).min(g.y_um(g.ny - 1) - cy) * 2f64.sqrt();
     let corner = |s: &Surface| {
         let f = stepper.top_field(s);
-        crossing_on_ray(&f, &g, (cx, cy), (diag, diag), 0.0, reach)
-            .map(|d| d - half * 2f64.sqrt())
-            .unwrap_or(-half * 2f64.sqrt())
+        crossing_on_ray(&f, &g, (cx, cy), (diag, diag), 0.0, street_mid).unwrap_or(street_mid)
+            - half * 2f64.sqrt()
     };
     let mut history = vec![CornerAt {
         time_h: 0.0,
