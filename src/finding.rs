@@ -79,6 +79,8 @@ codes! {
             "the measured rate and the model differ by more than 30 %",
         PiezoConstantsInconsistent = "PIEZO_CONSTANTS_INCONSISTENT":
             "g = d / (eps0 eps_r) does not hold for the given constants",
+        EtchedCornerDeviation = "ETCHED_CORNER_DEVIATION":
+            "the simulated etched tooth corner lies beyond etchants.etched_corner_tolerance_um",
     }
 }
 

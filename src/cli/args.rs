@@ -151,6 +151,21 @@ pub struct EtchArgs {
     /// Print the plan as JSON (stable contract) instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Simulate the front etch of one tooth's symmetry cell from the drawn mask (2.5-D level
+    /// set, the recipe's time): corner deviation, undercut, compensator, floor, facets (JSON
+    /// `simulation`); a few seconds at 5 um (release build).
+    #[arg(long)]
+    pub simulate: bool,
+    /// Grid step of the simulation (1-50 um).
+    #[arg(long, default_value = "5", value_parser = parse::sim_grid_um, requires = "simulate")]
+    pub grid_um: f64,
+    /// Also sweep the {311} and {411} rates over their stated bands (five more runs; JSON
+    /// `simulation.sensitivity`).
+    #[arg(long, requires = "simulate")]
+    pub sensitivity: bool,
+    /// Write the plan view of the simulated tooth (contours at several times) to this SVG file.
+    #[arg(long, value_name = "FILE", requires = "simulate")]
+    pub svg: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Args)]

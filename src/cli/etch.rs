@@ -1,5 +1,9 @@
-//! `tactfab etch FILE [--json]`: the etch plan.
+//! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
+use tactfab::etch::sim::sensitivity::Sensitivity;
+use tactfab::etch::sim::ToothSimulation;
+use tactfab::etch::EtchPlan;
+use tactfab::process::Process;
 use tactfab::spelling::yaml;
 
 use super::args::EtchArgs;
@@ -8,10 +12,21 @@ use super::{load, Outcome};
 
 pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     let loaded = load(&args.process)?;
-    let plan = tactfab::etch::plan(&loaded.process);
+    let mut plan = tactfab::etch::plan(&loaded.process);
+    let sim = if args.simulate {
+        Some(simulate(args, &loaded.process, &mut plan)?)
+    } else {
+        None
+    };
     if args.json {
         let mut v = serde_json::to_value(&plan)?;
         v["defaults_used"] = serde_json::to_value(&loaded.defaults_used)?;
+        if let Some((s, sweep)) = &sim {
+            v["simulation"] = serde_json::to_value(s)?;
+            if let Some(sw) = sweep {
+                v["simulation"]["sensitivity"] = serde_json::to_value(sw)?;
+            }
+        }
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         let mut out = String::new();
@@ -119,6 +134,9 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             f(y1, 1),
             f(y1 - y0, 1)
         ));
+        if let Some((s, sweep)) = &sim {
+            out.push_str(&simulation_text(s, sweep.as_ref()));
+        }
         out.push_str(&checks(&plan.warnings));
         print!("{out}");
     }
@@ -127,4 +145,84 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     } else {
         Outcome::Ok
     })
+}
+
+/// Runs the tooth simulation (and the sweep), writes the SVG, adds the finding to the plan.
+fn simulate(
+    args: &EtchArgs,
+    p: &Process,
+    plan: &mut EtchPlan,
+) -> anyhow::Result<(ToothSimulation, Option<Sensitivity>)> {
+    let masks = tactfab::layout::build(p, plan)?;
+    let sim = tactfab::etch::sim::simulate(p, plan, &masks, args.grid_um)?;
+    let sweep = if args.sensitivity {
+        Some(tactfab::etch::sim::sensitivity::sweep(
+            p,
+            plan,
+            &masks,
+            args.grid_um,
+        )?)
+    } else {
+        None
+    };
+    if let Some(path) = &args.svg {
+        tactfab::export::write_atomic(path, tactfab::etch::sim::svg::plan_view(&sim).as_bytes())?;
+    }
+    plan.warnings.extend(tactfab::etch::sim::finding(&sim));
+    Ok((sim, sweep))
+}
+
+/// The simulation's lines of the text report.
+fn simulation_text(s: &ToothSimulation, sweep: Option<&Sensitivity>) -> String {
+    let mut out = format!(
+        "simulated tooth ({}, {}) cell, {} h on a {} um grid ({} nodes, {} steps): rates um/h \
+         (100) {} (110) {} (111) {} (311) {} (411) {}\n",
+        s.tooth[0],
+        s.tooth[1],
+        f(s.time_h, 2),
+        f(s.grid_um, 2),
+        s.nodes,
+        s.time_steps,
+        f(s.rates.r100_um_per_h, 2),
+        f(s.rates.r110_um_per_h, 2),
+        f(s.rates.r111_um_per_h, 3),
+        s.rates.r311_um_per_h.map_or("-".into(), |r| f(r, 2)),
+        s.rates
+            .r411_um_per_h
+            .map_or("interpolated".into(), |r| f(r, 2)),
+    );
+    out.push_str(&format!(
+        "  corner {} um along the diagonal from the drawn corner ({}; tolerance {} um), edge \
+         undercut {} um; compensator consumed {}\n",
+        f(s.corner_deviation_um, 1),
+        yaml(&s.corner_shape),
+        s.tolerance_um,
+        f(s.edge_undercut_um, 1),
+        s.compensator_consumed_h
+            .map_or("never (or none drawn)".into(), |t| format!(
+                "at {} h",
+                f(t, 2)
+            ))
+    ));
+    out.push_str(&format!(
+        "  floor {} um deep; residue up to {} um over {} um2 of the cell; facets {}\n",
+        f(s.floor_depth_um, 1),
+        f(s.floor_residue_height_um, 1),
+        f(s.floor_residue_area_um2, 0),
+        s.facets
+            .iter()
+            .map(|x| format!("{{{}}} {} %", x.family, f(100.0 * x.area_share, 0)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    if let Some(sw) = sweep {
+        for c in &sw.cases {
+            out.push_str(&format!(
+                "  sensitivity {}: corner {} um\n",
+                c.case,
+                f(c.corner_deviation_um, 1)
+            ));
+        }
+    }
+    out
 }

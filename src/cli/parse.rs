@@ -95,6 +95,11 @@ pub fn grid_step_mm(s: &str) -> Parsed<f64> {
     within(s, 0.1, 30.0, "a grid step in mm")
 }
 
+/// The etch simulation's grid step: 1-50 um.
+pub fn sim_grid_um(s: &str) -> Parsed<f64> {
+    within(s, 1.0, 50.0, "a grid step in um")
+}
+
 /// A contact radius: 0.01-5 mm.
 /// A slab dimension or feature size, 0.01-1000 mm.
 pub fn length_mm(s: &str) -> Parsed<f64> {

@@ -10,6 +10,7 @@ pub mod oxidation;
 mod plan;
 pub mod rate;
 pub mod resist;
+pub mod sim;
 
 pub use compensation::{design as compensation_design, CompensationDesign};
 pub use plan::*;

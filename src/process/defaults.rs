@@ -122,6 +122,20 @@ pub fn tmah_r110_over_r100() -> f64 {
 pub fn tmah_r100_over_r111() -> f64 {
     30.0
 }
+/// \[est\] no TMAH {311} rate in ../shared; 1.3 (band 0.9-1.75, the top at R110 so that the
+/// convex-corner planes stay near {110} as reference/process-physics.md says for TMAH).
+pub fn tmah_r311_over_r100() -> f64 {
+    1.3
+}
+/// \[lit\] Sato et al. 1998, 30 % KOH 70 C: 1.436 / 0.797 um/min.
+pub fn koh_r311_over_r100() -> f64 {
+    1.436 / 0.797
+}
+/// \[choice\] 25 um along the diagonal: about the corner rounding an optical inspection of a
+/// 2 mm tooth top tells apart.
+pub fn etched_corner_tolerance_um() -> f64 {
+    25.0
+}
 pub fn koh_r100_over_r111() -> f64 {
     // Sato 1998: 0.797 / 0.005 um/min.
     159.4
@@ -345,6 +359,18 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "etchants.koh_r100_over_r111",
         source: "[lit] Sato 1998, 30 % KOH 70 C",
+    },
+    DefaultSource {
+        path: "etchants.tmah_r311_over_r100",
+        source: "[est] no source in ../shared; band 0.9-1.75 (below R110: TMAH's corner planes are near {110}, Shikida 2000)",
+    },
+    DefaultSource {
+        path: "etchants.koh_r311_over_r100",
+        source: "[lit] Sato 1998, 30 % KOH 70 C: 1.436 / 0.797",
+    },
+    DefaultSource {
+        path: "etchants.etched_corner_tolerance_um",
+        source: "[choice] 25 um along the diagonal of a 2 mm tooth top",
     },
     DefaultSource {
         path: "etchants.tmah_oxide_rate_um_per_h",

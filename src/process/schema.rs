@@ -351,6 +351,22 @@ pub struct Etchants {
     /// R(100)/R(111) for KOH (Sato 1998).
     #[serde(default = "d::koh_r100_over_r111")]
     pub koh_r100_over_r111: f64,
+    /// R(311)/R(100) for TMAH, the etch simulation's orientation table.
+    #[serde(default = "d::tmah_r311_over_r100")]
+    pub tmah_r311_over_r100: f64,
+    /// R(411)/R(100) for TMAH; none: interpolated between {100} and {311}.
+    #[serde(default)]
+    pub tmah_r411_over_r100: Option<f64>,
+    /// R(311)/R(100) for KOH (Sato 1998).
+    #[serde(default = "d::koh_r311_over_r100")]
+    pub koh_r311_over_r100: f64,
+    /// R(411)/R(100) for KOH; none: interpolated between {100} and {311}.
+    #[serde(default)]
+    pub koh_r411_over_r100: Option<f64>,
+    /// How far the simulated etched tooth-top corner may lie from the drawn corner, along the
+    /// diagonal, before `tactfab etch --simulate` reports ETCHED_CORNER_DEVIATION.
+    #[serde(default = "d::etched_corner_tolerance_um")]
+    pub etched_corner_tolerance_um: f64,
     /// Thermal SiO2 loss in TMAH (worst case).
     #[serde(default = "d::tmah_oxide_rate_um_per_h")]
     pub tmah_oxide_rate_um_per_h: f64,
@@ -370,6 +386,11 @@ impl Default for Etchants {
             tmah_r110_over_r100: d::tmah_r110_over_r100(),
             tmah_r100_over_r111: d::tmah_r100_over_r111(),
             koh_r100_over_r111: d::koh_r100_over_r111(),
+            tmah_r311_over_r100: d::tmah_r311_over_r100(),
+            tmah_r411_over_r100: None,
+            koh_r311_over_r100: d::koh_r311_over_r100(),
+            koh_r411_over_r100: None,
+            etched_corner_tolerance_um: d::etched_corner_tolerance_um(),
             tmah_oxide_rate_um_per_h: d::tmah_oxide_rate_um_per_h(),
             koh_oxide_rate_um_per_h: d::koh_oxide_rate_um_per_h(),
             boe_rate_um_per_min: d::boe_rate_um_per_min(),

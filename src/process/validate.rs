@@ -628,6 +628,24 @@ fn etchants(v: &mut V, et: &Etchants) {
         true,
         "",
     );
+    for (path, r) in [
+        ("etchants.tmah_r311_over_r100", Some(et.tmah_r311_over_r100)),
+        ("etchants.tmah_r411_over_r100", et.tmah_r411_over_r100),
+        ("etchants.koh_r311_over_r100", Some(et.koh_r311_over_r100)),
+        ("etchants.koh_r411_over_r100", et.koh_r411_over_r100),
+    ] {
+        if let Some(r) = r {
+            v.range(path, r, 0.0, 10.0, true, "");
+        }
+    }
+    v.range(
+        "etchants.etched_corner_tolerance_um",
+        et.etched_corner_tolerance_um,
+        0.0,
+        10_000.0,
+        true,
+        "um",
+    );
     v.range(
         "etchants.tmah_oxide_rate_um_per_h",
         et.tmah_oxide_rate_um_per_h,

@@ -4,6 +4,7 @@
 mod analyses;
 mod bad_input;
 mod build;
+mod etch_sim;
 mod harness;
 mod kill;
 mod masks;

@@ -1,0 +1,113 @@
+//! Plan-view SVG of the simulated tooth: the drawn mask, the etched top edge at several times
+//! and the base at the end, mirrored from the symmetry cell about the tooth's centre lines.
+
+use std::fmt::Write;
+
+use super::tooth::ToothSimulation;
+
+/// Colours of the frames, earliest first (then repeated).
+const FRAME_COLOURS: [&str; 4] = ["#9ecae1", "#4292c6", "#2171b5", "#08306b"];
+
+/// The SVG text: 800 px wide, the cell and its mirror images around the tooth centre.
+pub fn plan_view(sim: &ToothSimulation) -> String {
+    let [x0, y0, x1, y1] = sim.cell_um;
+    let (w, h) = (x1 - x0, y1 - y0);
+    let px = 800.0 / (2.0 * w);
+    let hpx = 2.0 * h * px;
+    // Die um to px: the tooth centre (x0, y0) at the middle; y up.
+    let tx = |x: f64| (x - x0 + w) * px;
+    let ty = |y: f64| hpx - (y - y0 + h) * px;
+    let mirror = |x: f64, y: f64, q: usize| {
+        let (sx, sy) = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)][q];
+        (x0 + sx * (x - x0), y0 + sy * (y - y0))
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"{:.0}\" \
+         viewBox=\"0 0 800 {:.0}\" font-family=\"sans-serif\" font-size=\"12\">",
+        hpx + 60.0,
+        hpx + 60.0
+    );
+    let _ = writeln!(
+        out,
+        "<rect width=\"800\" height=\"{:.0}\" fill=\"white\"/>",
+        hpx + 60.0
+    );
+    let seg_path = |segs: &[[f64; 4]], out: &mut String, colour: &str, width: f64| {
+        let mut d = String::new();
+        for q in 0..4 {
+            for s in segs {
+                let (a, b) = (mirror(s[0], s[1], q), mirror(s[2], s[3], q));
+                let _ = write!(
+                    d,
+                    "M{:.1} {:.1}L{:.1} {:.1}",
+                    tx(a.0),
+                    ty(a.1),
+                    tx(b.0),
+                    ty(b.1)
+                );
+            }
+        }
+        let _ = writeln!(
+            out,
+            "<path d=\"{d}\" stroke=\"{colour}\" stroke-width=\"{width}\" fill=\"none\"/>"
+        );
+    };
+    // The drawn mask, clipped to the mirrored cell by the viewBox.
+    for q in 0..4 {
+        for p in &sim.drawn {
+            let mut d = String::new();
+            for (k, c) in p.exterior().coords().enumerate() {
+                let (x, y) = mirror(c.x, c.y, q);
+                let _ = write!(
+                    d,
+                    "{}{:.1} {:.1}",
+                    if k == 0 { "M" } else { "L" },
+                    tx(x),
+                    ty(y)
+                );
+            }
+            let _ = writeln!(
+                out,
+                "<path d=\"{d}Z\" fill=\"#eeeeee\" stroke=\"#888888\" stroke-dasharray=\"4 3\"/>"
+            );
+        }
+    }
+    seg_path(&sim.base, &mut out, "#d95f02", 1.0);
+    for (k, f) in sim.frames.iter().enumerate() {
+        seg_path(&f.segments, &mut out, FRAME_COLOURS[k % 4], 1.5);
+    }
+    let mut legend = format!(
+        "top edge at {} h (light to dark); orange: base at 95 % depth; dashed: drawn mask",
+        sim.frames
+            .iter()
+            .map(|f| format!("{:.2}", f.time_h))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = write!(
+        legend,
+        ". Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
+        sim.corner_deviation_um, sim.corner_shape, sim.edge_undercut_um
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"8\" y=\"{:.0}\">{}</text>",
+        hpx + 22.0,
+        legend.replace('<', "&lt;").replace('&', "&amp;")
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"8\" y=\"{:.0}\">tooth ({}, {}) of the die, {:.0} x {:.0} um around its centre, \
+         grid {:.2} um</text>",
+        hpx + 42.0,
+        sim.tooth[0],
+        sim.tooth[1],
+        2.0 * w,
+        2.0 * h,
+        sim.grid_um
+    );
+    out.push_str("</svg>\n");
+    out
+}

@@ -1,0 +1,126 @@
+//! `tactfab etch --simulate`: the simulated tooth in the JSON, the text and the SVG, its
+//! finding against the process file's tolerance, and bad input (through the real binary, on a
+//! coarse grid to stay quick).
+
+use serde_json::Value;
+
+use super::harness::{tactfab, REFERENCE};
+
+fn simulate(extra: &[&str]) -> (i32, Value) {
+    let mut args = vec!["etch", REFERENCE, "--json", "--simulate", "--grid-um", "20"];
+    args.extend_from_slice(extra);
+    let run = tactfab(&args);
+    assert!(run.code == 0, "exit {}: {}", run.code, run.stderr);
+    (run.code, serde_json::from_str(&run.stdout).expect("JSON"))
+}
+
+fn codes(v: &Value) -> Vec<&str> {
+    v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["code"].as_str().unwrap())
+        .collect()
+}
+
+#[test]
+fn simulation_reports_the_corner_and_writes_the_plan_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("tooth.svg");
+    let (_, v) = simulate(&["--svg", svg.to_str().unwrap()]);
+    let s = &v["simulation"];
+    // The bundled TMAH recipe with the KOH rule a = h / 0.544: the compensator is gone before
+    // the end and the corner rounds (sign: < 0 inwards).
+    let dev = s["corner_deviation_um"].as_f64().unwrap();
+    assert!(dev < -25.0, "{dev}");
+    assert_eq!(s["corner_shape"], "rounded");
+    let t = s["compensator_consumed_h"].as_f64().unwrap();
+    assert!(t > 1.0 && t < 8.5, "{t}");
+    assert!((s["floor_depth_um"].as_f64().unwrap() - 204.0).abs() < 1e-6);
+    assert!((s["time_h"].as_f64().unwrap() - 8.5).abs() < 1e-12);
+    let und = s["edge_undercut_um"].as_f64().unwrap();
+    assert!(und > 0.0 && und < 20.0, "{und}");
+    assert!(s["facets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|f| f["family"] == "111"));
+    assert_eq!(s["history"].as_array().unwrap().len(), 41);
+    assert!(codes(&v).contains(&"ETCHED_CORNER_DEVIATION"));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+    assert!(text.matches("<path").count() > 10, "contours drawn");
+}
+
+#[test]
+fn tolerance_and_rates_come_from_the_process_file() {
+    let (_, v) = simulate(&["--set", "etchants.etched_corner_tolerance_um=1000"]);
+    assert_eq!(v["simulation"]["corner_shape"], "square");
+    assert!(!codes(&v).contains(&"ETCHED_CORNER_DEVIATION"));
+    let (_, w) = simulate(&["--set", "etchants.tmah_r411_over_r100=1.5"]);
+    let r = &w["simulation"]["rates"];
+    assert!((r["r411_um_per_h"].as_f64().unwrap() - 36.0).abs() < 1e-9);
+    assert!((r["r311_um_per_h"].as_f64().unwrap() - 1.3 * 24.0).abs() < 1e-9);
+    // The defaults used are listed with their source.
+    let used = v["defaults_used"].as_array().unwrap();
+    assert!(used
+        .iter()
+        .any(|d| d["path"] == "etchants.tmah_r311_over_r100"
+            && d["source"].as_str().unwrap().starts_with("[est]")));
+}
+
+#[test]
+fn text_report_and_sensitivity() {
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--simulate",
+        "--grid-um",
+        "30",
+        "--sensitivity",
+    ]);
+    run.expect_code(0);
+    assert!(
+        run.stdout.contains("simulated tooth (4, 2) cell"),
+        "{}",
+        run.stdout
+    );
+    for case in ["nominal", "r311_low", "r311_high", "r411_low", "r411_high"] {
+        assert!(
+            run.stdout.contains(&format!("sensitivity {case}: corner")),
+            "{}",
+            run.stdout
+        );
+    }
+}
+
+#[test]
+fn bad_simulation_input_is_exit_2() {
+    let run = tactfab(&["etch", REFERENCE, "--simulate", "--grid-um", "0.5"]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("--grid-um"), "{}", run.stderr);
+    let run = tactfab(&["etch", REFERENCE, "--grid-um", "5"]);
+    run.expect_code(2);
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--simulate",
+        "--set",
+        "etchants.tmah_r311_over_r100=-1",
+    ]);
+    run.expect_code(2);
+    assert!(
+        run.stderr.contains("etchants.tmah_r311_over_r100"),
+        "{}",
+        run.stderr
+    );
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--simulate",
+        "--set",
+        "geometry.teeth.pattern=none",
+    ]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("no teeth"), "{}", run.stderr);
+}
