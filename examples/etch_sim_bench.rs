@@ -12,10 +12,8 @@
 
 use std::time::Instant;
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+mod support;
+use support::median;
 
 fn flag<'a>(args: &'a [String], name: &str) -> Vec<&'a String> {
     args.windows(2)

@@ -20,6 +20,9 @@ use tactfab::fe::*;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::sensor::{evaluate_many_with, Accuracy, MeshOptions, SensorGeometry};
 
+mod support;
+use support::median;
+
 const ALPHA_P: f64 = 0.0056120;
 const SIDE_UM: f64 = 10_000.0;
 const E_PA: f64 = 169e9;
@@ -31,11 +34,6 @@ const SENSOR_TOLS: [f64; 4] = [0.05, 0.02, 0.01, 0.005];
 /// Levels 0..=7 split the 2 mm coarse mesh up to 16 times (125 um); enough for the tolerances
 /// above.
 const SENSOR_MAX_LEVELS: usize = 8;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 /// One plain-plate solve; returns (alpha, elements, free dofs).
 fn plate_once(mesh: RectMesh) -> (f64, usize, usize) {

@@ -10,7 +10,6 @@
 //!     plus nine channels over 5 s at 1 ms, and the filter alone on 1e6 samples.
 
 use std::f64::consts::PI;
-use std::time::Instant;
 
 use tactfab::design::Design;
 use tactfab::fe::*;
@@ -18,24 +17,10 @@ use tactfab::process::load_str;
 use tactfab::readout_chain::{high_pass, study, HistoryKind, ReadoutSpec};
 use tactfab::sensor::{plate_modes, Accuracy, SensorGeometry};
 
+mod support;
+use support::time;
+
 const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Median wall time (ms) of `runs` calls of `f`, and its last result.
-fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..runs {
-        let t0 = Instant::now();
-        last = Some(f());
-        times.push(t0.elapsed().as_secs_f64() * 1e3);
-    }
-    (median(times), last.expect("at least one run"))
-}
 
 fn main() {
     faer::set_global_parallelism(faer::Par::Seq);

@@ -14,13 +14,11 @@ use std::time::Instant;
 use tactfab::fe::material::DieEdge;
 use tactfab::fe::solid::*;
 
+mod support;
+use support::median;
+
 const SPAN_UM: f64 = 10_000.0;
 const T_UM: f64 = 100.0;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
 
 fn plate(h_um: f64, nz: usize) -> SolidProblem {
     let n = (SPAN_UM / h_um).round() as usize;

@@ -15,10 +15,8 @@ use std::time::Instant;
 use tactfab::fe::material::DieEdge;
 use tactfab::fe::solid::*;
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+mod support;
+use support::median;
 
 fn plane(axis: Axis3, at_um: f64) -> NodeSet {
     NodeSet::Plane { axis, at_um }

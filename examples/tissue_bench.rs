@@ -11,8 +11,6 @@
 //! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
 //!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
 
-use std::time::Instant;
-
 use tactfab::design::Design;
 use tactfab::hidden::cells::{unit_responses, CellGrid};
 use tactfab::hidden::detect::{detectability, MapSpec};
@@ -23,24 +21,10 @@ use tactfab::process::load_str;
 use tactfab::sensor::{Accuracy, SensorGeometry};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
+mod support;
+use support::time;
+
 const PROCESS: &str = include_str!("../process/mis-grasper.yaml");
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Median wall time (ms) of `runs` calls of `f`, and its last result.
-fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..runs {
-        let t0 = Instant::now();
-        last = Some(f());
-        times.push(t0.elapsed().as_secs_f64() * 1e3);
-    }
-    (median(times), last.expect("at least one run"))
-}
 
 fn main() {
     let runs: usize = std::env::args()

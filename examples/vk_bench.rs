@@ -27,6 +27,9 @@ use tactfab::fe::*;
 use tactfab::process::{load_str, Limits, Scene, SceneLoad};
 use tactfab::sensor::{evaluate, Accuracy, ModelChoice, SensorGeometry};
 
+mod support;
+use support::median;
+
 const SPAN_UM: f64 = 2000.0;
 const SQUARE_UM: f64 = 10_000.0;
 const WIDTH_UM: f64 = 500.0;
@@ -64,11 +67,6 @@ fn strip(n: usize, pressure_pa: f64) -> PlateProblem {
         total_force_n: pressure_pa * SPAN_UM * WIDTH_UM * 1e-12,
     }]);
     p
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 fn main() {

@@ -4,25 +4,10 @@
 //!
 //! cargo run --release --example wafer_bench -- [RUNS] [--set path=value ...]
 
-use std::time::Instant;
-
 use tactfab::export::gds::GdsOptions;
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    v[v.len() / 2]
-}
-
-fn time<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut ts = Vec::new();
-    let mut last = None;
-    for _ in 0..runs {
-        let t = Instant::now();
-        last = Some(f());
-        ts.push(t.elapsed().as_secs_f64() * 1e3);
-    }
-    (median(ts), last.expect("runs > 0"))
-}
+mod support;
+use support::time;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
