@@ -46,17 +46,7 @@ fn fixture() -> &'static Fixture {
 }
 
 fn slab() -> Slab {
-    Slab {
-        width_m: 30e-3,
-        thickness_m: 10e-3,
-        tissue_e_pa: 20e3,
-        tissue_nu: 0.49,
-        compression: 0.1,
-        feature: Feature::None,
-        centre_x_m: 15e-3,
-        centre_height_m: 4e-3,
-        radius_m: 2e-3,
-    }
+    Slab::paper_002(Feature::None)
 }
 
 const LUMP: Feature = Feature::Lump {

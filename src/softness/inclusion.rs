@@ -47,6 +47,25 @@ pub struct Slab {
     pub radius_m: f64,
 }
 
+impl Slab {
+    /// Paper 002's tissue (sec. V.B: 20 kPa, nu 0.49) in a 30 x 10 mm slab squeezed by 10 %, with
+    /// `feature` as a disc of radius 2 mm centred 4 mm above the sensor at x = 15 mm [choice: the
+    /// paper gives no geometry; `tactfab tissue`'s defaults].
+    pub fn paper_002(feature: Feature) -> Slab {
+        Slab {
+            width_m: 30e-3,
+            thickness_m: 10e-3,
+            tissue_e_pa: 20e3,
+            tissue_nu: 0.49,
+            compression: 0.1,
+            feature,
+            centre_x_m: 15e-3,
+            centre_height_m: 4e-3,
+            radius_m: 2e-3,
+        }
+    }
+}
+
 /// Contact pressure on the sensor face (compression positive, Pa) at the face's nodes.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PressureProfile {
@@ -444,21 +463,8 @@ impl PressureProfile {
 mod tests {
     use super::*;
 
-    /// Paper 002's tissue and lump (sec. V.B) in a 30 x 10 mm slab, 10 % compression; the disc of
-    /// radius 2 mm centred 4 mm above the sensor at x = 15 mm [choice: the paper gives no
-    /// geometry].
     fn slab(feature: Feature) -> Slab {
-        Slab {
-            width_m: 30e-3,
-            thickness_m: 10e-3,
-            tissue_e_pa: 20e3,
-            tissue_nu: 0.49,
-            compression: 0.1,
-            feature,
-            centre_x_m: 15e-3,
-            centre_height_m: 4e-3,
-            radius_m: 2e-3,
-        }
+        Slab::paper_002(feature)
     }
 
     #[test]
