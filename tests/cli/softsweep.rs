@@ -183,12 +183,10 @@ fn tissue_lump_and_void_through_the_binary() {
     assert!(!t.path().join("bad").exists());
 }
 
-#[test]
-fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
-    // Coarse for speed: 1.5 mm cells, two plate levels, a 60 x 20 slab mesh, a 2 x 2 map.
-    let t = tempfile::tempdir().unwrap();
-    let out = t.path().join("sensor");
-    let run = tactfab(&[
+/// `tactfab tissue` into `out`, coarse for speed (a 60 x 20 slab mesh, 1.5 mm cells, two plate
+/// levels), with `extra` flags.
+fn coarse_tissue(out: &std::path::Path, extra: &[&str]) -> super::harness::Run {
+    let mut args = vec![
         "tissue",
         "process/mis-grasper.yaml",
         "-o",
@@ -201,19 +199,33 @@ fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
         "1.5",
         "--max-levels",
         "2",
-        "--x-mm",
-        "13",
-        "--y-mm",
-        "8",
-        "--locate",
-        "--detectability",
-        "--map-radii-mm",
-        "1,2",
-        "--map-heights-mm",
-        "4,8.5",
-        "--map-stiffness",
-        "10",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    tactfab(&args)
+}
+
+#[test]
+fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
+    // Coarse for speed: 1.5 mm cells, two plate levels, a 60 x 20 slab mesh, a 2 x 2 map.
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("sensor");
+    let run = coarse_tissue(
+        &out,
+        &[
+            "--x-mm",
+            "13",
+            "--y-mm",
+            "8",
+            "--locate",
+            "--detectability",
+            "--map-radii-mm",
+            "1,2",
+            "--map-heights-mm",
+            "4,8.5",
+            "--map-stiffness",
+            "10",
+        ],
+    );
     run.expect_code(0);
     let csv = std::fs::read_to_string(out.join("through-sensor.csv")).unwrap();
     let mut lines = csv.lines();
@@ -294,25 +306,10 @@ fn tissue_through_the_sensor_bad_flags_name_themselves() {
 fn tissue_vessel_pulses_through_the_amplifiers() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("vessel");
-    let run = tactfab(&[
-        "tissue",
-        "process/mis-grasper.yaml",
-        "-o",
-        out.to_str().unwrap(),
-        "--across",
-        "60",
-        "--through",
-        "20",
-        "--cell-mm",
-        "1.5",
-        "--max-levels",
-        "2",
-        "--feature",
-        "void",
-        "--shape",
-        "cylinder",
-        "--vessel",
-    ]);
+    let run = coarse_tissue(
+        &out,
+        &["--feature", "void", "--shape", "cylinder", "--vessel"],
+    );
     run.expect_code(0);
     let csv = std::fs::read_to_string(out.join("vessel.csv")).unwrap();
     assert!(csv.starts_with("t_s,p_vessel_pa,V_S11_mv,"), "{csv}");
