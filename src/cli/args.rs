@@ -255,7 +255,8 @@ pub struct BuildArgs {
     #[command(flatten)]
     pub gate: GateArgs,
     /// Also solve each declared scene on the 3D solid rung (2 levels, minutes) and fail where the
-    /// linear plate differs from it by more than --tol; writes `<device>-solid-check.json`.
+    /// plate rung the ladder picks differs from it by more than --tol; writes
+    /// `<device>-solid-check.json`.
     #[arg(long)]
     pub verify_solid: bool,
 }
@@ -405,7 +406,8 @@ pub enum ModelArg {
     Beam,
     Plate,
     LargeDeflection,
-    /// The 3D solid (`fe` only): linear, at most 3 levels, compared with the linear plate.
+    /// The 3D solid (`fe` only): at most 3 levels, nonlinear where auto picks the
+    /// large-deflection plate (and compared with it), else linear against the linear plate.
     Solid,
 }
 

@@ -13,13 +13,18 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{get_global_parallelism, Conj, MatMut, Side};
+use faer::{get_global_parallelism, Conj, MatMut, Par, Side};
 
 use crate::fe::error::{FeError, FeResult};
 
 /// Symbolic analysis of a lower-triangle pattern under a given elimination order.
 #[derive(Debug, Clone)]
 pub struct SymbolicFactor(Arc<SymbolicCholesky<usize>>);
+
+/// Factors with more entries than this (f64s, 160 MB) are factorised on every core whatever the
+/// global setting: threads lost on the plate meshes (up to ~5e6 entries, benches/README.md) but win
+/// on the solid's dense separators. \[choice\]
+pub const THREADED_FACTOR_ENTRIES: usize = 20_000_000;
 
 /// Numeric factor L L^T of a matrix with the analysed pattern.
 #[derive(Debug, Clone)]
@@ -72,6 +77,16 @@ impl SymbolicFactor {
             })
     }
 
+    /// The global parallelism, except for factors above [`THREADED_FACTOR_ENTRIES`], which use
+    /// every core: the solid rung's 1e8-entry factors ran 1.55x faster on 2 cores (6.3 to 4.1 s).
+    fn parallelism(&self) -> Par {
+        if self.0.len_val() > THREADED_FACTOR_ENTRIES {
+            Par::rayon(0)
+        } else {
+            get_global_parallelism()
+        }
+    }
+
     /// Entries of L (the memory the numeric factor takes, in f64s).
     pub fn factor_len(&self) -> usize {
         self.0.len_val()
@@ -80,7 +95,7 @@ impl SymbolicFactor {
     /// Numeric factorisation of `mat` (same pattern, lower triangle). A matrix that is not positive
     /// definite is a returned error naming the likely cause, never NaN.
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
-        let par = get_global_parallelism();
+        let par = self.parallelism();
         let mut values = vec![0.0; self.0.len_val()];
         let mut mem = MemBuffer::try_new(
             self.0
@@ -115,7 +130,7 @@ impl SymbolicFactor {
 impl CholeskyFactor {
     /// Solves A X = B in place for every column of `rhs`.
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        let par = get_global_parallelism();
+        let par = self.symbolic.parallelism();
         let s = &self.symbolic.0;
         let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(rhs.ncols(), par));
         LltRef::new(s, &self.values).solve_in_place_with_conj(

@@ -110,9 +110,14 @@ impl Built {
         let mut f = super::sheet::failures(&self.traveler);
         for r in &self.solid_check {
             for (name, d) in r.disagreements(self.solid_tol) {
+                let rung = if r.nonlinear {
+                    "large-deflection"
+                } else {
+                    "linear"
+                };
                 f.push(format!(
-                    "scene `{}`: the linear plate's {name} differs from the solid rung's by {d:.1e} \
-                     (> {:.0e})",
+                    "scene `{}`: the {rung} plate's {name} differs from the solid rung's by {d:.1e} \
+                     (> {:.0e}; difference plus the solid's own estimate where it has one)",
                     r.scene, self.solid_tol
                 ));
             }
@@ -233,6 +238,7 @@ pub fn build(
                     levels,
                     tol: o.tol_rel,
                     symmetry: true,
+                    nonlinear: false,
                 };
                 solid_check.push(crate::sensor::solid::solid_against_plate(&g, s, run, o)?);
             }

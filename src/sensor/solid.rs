@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::fe::solid::SolidModel;
+use crate::fe::solid::{SolidModel, TlOptions, TlSolid};
 use crate::fe::ThreeMesh;
 use crate::process::{Scene, SceneLoad};
 
@@ -33,6 +33,9 @@ fn line_strip_um(g: &SensorGeometry) -> f64 {
 pub struct SolidLevel {
     pub element_um: f64,
     pub dofs: usize,
+    /// Newton iterations (each a tangent assembly and a factorisation) of the geometrically
+    /// nonlinear solve; None for the linear one (one factorisation).
+    pub newton_iterations: Option<usize>,
     /// Entries of the Cholesky factor (f64), a measure of the memory it takes.
     pub factor_entries: usize,
     #[serde(skip)]
@@ -48,8 +51,12 @@ pub struct SolidQuantity {
     pub value: f64,
     /// Three-mesh estimate relative to the quantity's scale; None before three levels.
     pub discretisation: Option<f64>,
-    /// The linear plate rung's value and its difference from the solid's, relative to the
-    /// quantity's scale: the plate's model error as the solid sees it.
+    /// Richardson's limit of the three meshes when they converge monotonically, else the finest
+    /// value: the solid's best value, `discretisation` its uncertainty.
+    pub extrapolated: f64,
+    /// The plate rung's value (linear or large-deflection, as `SolidReport::plate_rung`) and its
+    /// difference from `extrapolated`, relative to the quantity's scale: the plate's model error
+    /// as the solid sees it, known to within `discretisation`.
     pub plate_value: Option<f64>,
     pub plate_difference: Option<f64>,
 }
@@ -62,6 +69,11 @@ pub struct SolidReport {
     /// "quarter, mirrors x = 15 mm and y = 7.5 mm" or "whole die".
     pub part_solved: String,
     pub base: String,
+    /// Geometrically nonlinear (Total Lagrangian, St. Venant-Kirchhoff, dead load) rather than
+    /// linear: chosen when the plate ladder answers the scene with the large-deflection plate.
+    pub nonlinear: bool,
+    /// The plate rung compared with: "plate" or "large_deflection_plate".
+    pub plate_rung: String,
     pub levels: Vec<SolidLevel>,
     pub quantities: Vec<SolidQuantity>,
     /// Every quantity's discretisation estimate under the tolerance.
@@ -268,6 +280,8 @@ pub struct SolidRun {
     pub tol: f64,
     /// Solve half or a quarter where the die and the load are mirror-symmetric.
     pub symmetry: bool,
+    /// Geometrically nonlinear solve (Newton on the Total Lagrangian model).
+    pub nonlinear: bool,
 }
 
 /// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
@@ -302,16 +316,36 @@ pub fn evaluate_solid(
         let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
         let solid =
             build(g, std::slice::from_ref(&loads), base, opts, mx, my).map_err(SensorError::Fe)?;
-        let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
-        let sol = model
-            .solve(&solid.problem.load_cases)
-            .map_err(SensorError::Fe)?;
-        let readout = read(g, &solid, &sol[0], at, patch);
+        let (readout, dofs, factor_entries, newton_iterations) = if run.nonlinear {
+            let model =
+                TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
+            let sol = model
+                .solve(&solid.problem.load_cases[0])
+                .map_err(SensorError::Fe)?;
+            (
+                read(g, &solid, &sol, at, patch),
+                model.n_free_dofs(),
+                model.factor_len(),
+                Some(sol.stats().iterations),
+            )
+        } else {
+            let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
+            let sol = model
+                .solve(&solid.problem.load_cases)
+                .map_err(SensorError::Fe)?;
+            (
+                read(g, &solid, &sol[0], at, patch),
+                model.n_free_dofs(),
+                model.factor_len(),
+                None,
+            )
+        };
         contact = contact.min(solid.loaded_fraction[0]);
         out.push(SolidLevel {
             element_um: opts.element_um,
-            dofs: model.n_free_dofs(),
-            factor_entries: model.factor_len(),
+            dofs,
+            newton_iterations,
+            factor_entries,
             seconds: start.elapsed().as_secs_f64(),
             readout,
         });
@@ -326,26 +360,27 @@ pub fn evaluate_solid(
         .iter()
         .enumerate()
         .map(|(i, (name, unit, value, scale))| {
-            let discretisation = (tables.len() >= 3).then(|| {
+            let three = (tables.len() >= 3).then(|| {
                 let n = tables.len();
-                let tm = ThreeMesh::new(
+                ThreeMesh::new(
                     tables[n - 3][i].2,
                     tables[n - 2][i].2,
                     tables[n - 1][i].2,
                     r,
                     r,
-                );
-                tm.fine_error() / scale.max(f64::MIN_POSITIVE)
+                )
             });
+            let scale = scale.max(f64::MIN_POSITIVE);
+            let extrapolated = three.map_or(*value, |t| t.richardson.extrapolated);
             let plate_value = plate.iter().find(|(n, _)| n == name).map(|p| p.1);
             SolidQuantity {
                 name: name.clone(),
                 unit,
                 value: *value,
-                discretisation,
+                discretisation: three.map(|t| t.fine_error() / scale),
+                extrapolated,
                 plate_value,
-                plate_difference: plate_value
-                    .map(|p| (p - value).abs() / scale.max(f64::MIN_POSITIVE)),
+                plate_difference: plate_value.map(|p| (p - extrapolated).abs() / scale),
             }
         })
         .collect();
@@ -375,6 +410,8 @@ pub fn evaluate_solid(
                 format!("elastic, {thickness_um:.0} um, E {:.2} GPa", e_pa * 1e-9)
             }
         },
+        nonlinear: run.nonlinear,
+        plate_rung: String::new(),
         levels: out,
         quantities,
         converged,
@@ -382,32 +419,48 @@ pub fn evaluate_solid(
     })
 }
 
-/// The solid rung on `scene` beside the linear plate rung at `acc` (its tolerance and levels):
-/// each quantity's difference is the linear plate's model error as the solid measures it.
+/// The solid rung on `scene` beside the plate rung the ladder picks for it at `acc` (its
+/// tolerance and levels): where that is the large-deflection plate the solid is solved
+/// geometrically nonlinear and compared with it, else linear and compared with the linear plate.
+/// Each quantity's difference is that plate rung's model error as the solid measures it.
 pub fn solid_against_plate(
     g: &SensorGeometry,
     scene: &Scene,
     run: SolidRun,
     acc: super::Accuracy,
 ) -> Result<SolidReport, SensorError> {
-    let plate = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?;
+    use super::evaluate::ModelKind;
+    let auto = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Auto))?;
+    let nonlinear = auto.model.kind == ModelKind::LargeDeflectionPlate;
+    let plate = if nonlinear {
+        auto
+    } else {
+        super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?
+    };
     let values: Vec<(String, f64)> = plate
         .quantities
         .iter()
         .map(|q| (q.name.clone(), q.value))
         .collect();
-    evaluate_solid(g, scene, run, &values)
+    let mut report = evaluate_solid(g, scene, SolidRun { nonlinear, ..run }, &values)?;
+    report.plate_rung = plate.model.kind.to_string();
+    Ok(report)
 }
 
 impl SolidReport {
-    /// Quantities where the linear plate and the solid differ by more than `tol` (relative to
-    /// the quantity's scale), worst first; the peak stress at a re-entrant corner is left out
-    /// (the plate has no such value).
+    /// Quantities where the plate rung and the solid may differ by more than `tol` (relative to
+    /// the quantity's scale), worst first, as the difference plus the solid's own discretisation
+    /// estimate: agreement is only claimed where the solid is fine enough to show it (without
+    /// an estimate, the difference is taken as it is). The peak stress at a re-entrant corner is
+    /// left out (the plate has no such value).
     pub fn disagreements(&self, tol: f64) -> Vec<(&str, f64)> {
         let mut v: Vec<(&str, f64)> = self
             .quantities
             .iter()
-            .filter_map(|q| q.plate_difference.map(|d| (q.name.as_str(), d)))
+            .filter_map(|q| {
+                q.plate_difference
+                    .map(|d| (q.name.as_str(), d + q.discretisation.unwrap_or(0.0)))
+            })
             .filter(|&(_, d)| d.is_nan() || d > tol)
             .collect();
         v.sort_by(|a, b| b.1.total_cmp(&a.1));

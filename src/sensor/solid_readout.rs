@@ -9,7 +9,7 @@
 
 use serde::Serialize;
 
-use crate::fe::solid::{hex27, SolidSolution};
+use crate::fe::solid::{hex27, SolidField};
 
 use super::evaluate::STRESS_AVERAGING_THICKNESSES;
 use super::geometry::{ElectrodeSide, SensorGeometry};
@@ -47,7 +47,7 @@ fn principal_in_plane(s: [f64; 3]) -> f64 {
 /// The stress tensor (xx, yy, xy) averaged over a square of side `side_um` centred at (x, y) on
 /// the plate's underside (4 x 4 Gauss points); None if part of it is off the part solved.
 fn underside_mean(
-    sol: &SolidSolution,
+    sol: &impl SolidField,
     z_um: f64,
     (x, y): (f64, f64),
     side_um: f64,
@@ -72,7 +72,7 @@ fn underside_mean(
 /// across `patch` (x0, y0, x1, y1), clipped to the part solved.
 fn averaged_stress(
     s: &SensorSolid,
-    sol: &SolidSolution,
+    sol: &impl SolidField,
     g: &SensorGeometry,
     patch: [f64; 4],
 ) -> f64 {
@@ -133,7 +133,7 @@ fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
 pub fn read(
     g: &SensorGeometry,
     s: &SensorSolid,
-    sol: &SolidSolution,
+    sol: &impl SolidField,
     at_um: (f64, f64),
     patch_um: [f64; 4],
 ) -> SolidReadout {
@@ -179,8 +179,10 @@ pub fn read(
                     // pC/m^2 from pC/N x Pa.
                     let d3 = g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_ + g.d33_pc_per_n * sz;
                     if support_film {
-                        // Compressive force (N): the film's mean of -s_zz over its area.
-                        let f = -sz * dv / t_film;
+                        // Compressive force (N): the film's mean of the nominal -P_zz over its
+                        // area (sigma_zz when linear).
+                        let pzz = sol.traction_z_at([i, j, k], xi).expect("active element")[2];
+                        let f = -pzz * dv / t_film;
                         if p[1] < 0.5 * g.width_um {
                             s1 += f;
                         } else {

@@ -36,6 +36,7 @@ fn run(levels: usize, symmetry: bool) -> SolidRun {
         levels,
         tol: 0.01,
         symmetry,
+        nonlinear: false,
     }
 }
 
@@ -103,6 +104,49 @@ fn supports_carry_the_load_and_each_scales_with_it() {
         assert!((2.0 * a - b).abs() <= 1e-9 * b.abs().max(1e-3), "{a} {b}");
     }
     assert!((2.0 * r1.deflection_at_load_um - r2.deflection_at_load_um).abs() < 1e-9);
+}
+
+#[test]
+fn the_nonlinear_solid_stiffens_and_keeps_equilibrium_in_the_deformed_state() {
+    // A quarter of a short matrix die, centre load. At 4 N the plate deflects most of its own
+    // thickness: membrane action stiffens it (less deflection than the linear solid) and the
+    // films still carry the load exactly (nominal stresses through the reference section). At
+    // 10 mN the two models agree to the square of the load's effect (w/t ~ 0.01).
+    let mut sets = SHORT.to_vec();
+    sets.push("geometry.teeth.pattern=matrix");
+    let g = geometry(&sets);
+    let nl = |f: f64, nonlinear: bool| {
+        let r = evaluate_solid(
+            &g,
+            &point(6000.0, 7500.0, f),
+            SolidRun {
+                nonlinear,
+                ..run(1, true)
+            },
+            &[],
+        )
+        .unwrap();
+        assert_eq!(r.nonlinear, nonlinear);
+        assert_eq!(r.levels[0].newton_iterations.is_some(), nonlinear);
+        r.levels[0].readout.clone()
+    };
+    let (lin, tl) = (nl(4.0, false), nl(4.0, true));
+    assert!((tl.support1_n + tl.support2_n - 4.0).abs() < 1e-9, "{tl:?}");
+    let t = g.plate_thickness_um;
+    assert!(lin.deflection_at_load_um > 0.5 * t, "{lin:?}");
+    let stiffening = tl.deflection_at_load_um / lin.deflection_at_load_um;
+    assert!(stiffening > 0.5 && stiffening < 0.98, "{stiffening}");
+    let (lin, tl) = (nl(0.01, false), nl(0.01, true));
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    assert!(
+        rel(tl.deflection_at_load_um, lin.deflection_at_load_um) < 1e-3,
+        "{tl:?} {lin:?}"
+    );
+    let m2 = 4;
+    assert!(
+        rel(tl.charge_pc[m2], lin.charge_pc[m2]) < 2e-3,
+        "{tl:?} {lin:?}"
+    );
 }
 
 #[test]

@@ -29,6 +29,7 @@
 pub mod assemble;
 pub mod dofs;
 pub mod elasticity;
+pub mod field;
 pub mod grid;
 pub mod hex27;
 pub mod loads;
@@ -46,6 +47,7 @@ mod tests;
 mod tests_tl;
 
 pub use elasticity::Elasticity;
+pub use field::SolidField;
 pub use grid::{uniform_lines, HexGrid, NodeMap, MAX_DOFS};
 pub use nonlinear::{NewtonIterate, TlOptions, TlSolid, TlSolution};
 pub use principal::principal_stresses_pa;

@@ -174,6 +174,12 @@ impl TlSolid {
         self.ctx.dofs.n_free()
     }
 
+    /// Entries of the tangent's Cholesky factor (f64s), a measure of the memory a Newton
+    /// iteration takes.
+    pub fn factor_len(&self) -> usize {
+        self.symbolic.factor_len()
+    }
+
     /// Internal force over all dofs (N, 3 per lattice node), the tangent's values on the pattern
     /// if asked, the largest sum of element force magnitudes at a dof (the scale of the force's
     /// round-off), and the product of the full tangent (free and constrained dofs) with `apply`;
@@ -557,6 +563,12 @@ impl TlSolution {
         self.field.grid()
     }
 
+    /// The displacement field as a linear solution (its stresses are the linear C eps, not this
+    /// model's: for locating points and reading displacements).
+    pub(crate) fn linear_field(&self) -> &SolidSolution {
+        &self.field
+    }
+
     /// Undeformed node positions (after the node map), um.
     pub fn node_positions_um(&self) -> &[[f64; 3]] {
         self.field.node_positions_um()
@@ -633,6 +645,23 @@ impl TlSolution {
     pub fn second_piola_kirchhoff_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
         let (x, m, u) = self.element(element)?;
         Some(tl::second_piola_kirchhoff_pa(
+            &x,
+            self.field.material(m),
+            &u,
+            xi,
+        ))
+    }
+
+    /// First Piola-Kirchhoff (nominal) stress P = F S (Pa, P[i][J] force along i per undeformed
+    /// area of normal J) at local point `xi` of element (i, j, k); None if void.
+    #[track_caller]
+    pub fn first_piola_kirchhoff_at(
+        &self,
+        element: [usize; 3],
+        xi: [f64; 3],
+    ) -> Option<[[f64; 3]; 3]> {
+        let (x, m, u) = self.element(element)?;
+        Some(tl::first_piola_kirchhoff_pa(
             &x,
             self.field.material(m),
             &u,

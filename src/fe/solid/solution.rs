@@ -1,5 +1,5 @@
 //! One load case's solid solution: displacements anywhere, stresses at element-local points,
-//! reactions at the constrained dofs and the largest principal stress over a set of elements.
+//! reactions at the constrained dofs (its read-outs: [`crate::fe::solid::SolidField`]).
 
 use std::sync::Arc;
 
@@ -8,7 +8,6 @@ use crate::fe::solid::dofs::SolidDofs;
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::HexGrid;
 use crate::fe::solid::hex27::{self, DOFS};
-use crate::fe::solid::principal::principal_stresses_pa;
 
 /// What a solution needs of the model (shared by all load cases).
 #[derive(Debug)]
@@ -233,36 +232,6 @@ impl SolidSolution {
     pub fn displacement_m(&self, p_um: [f64; 3]) -> Option<[f64; 3]> {
         let (e, xi) = self.locate(p_um)?;
         self.displacement_at(e, xi)
-    }
-
-    /// The largest principal stress over the 27 Gauss points of each given element (void ones
-    /// skipped); None if no element is active.
-    pub fn max_principal_stress(
-        &self,
-        elements: impl IntoIterator<Item = usize>,
-    ) -> Option<PrincipalPeak> {
-        let grid = &self.ctx.grid;
-        let mut best: Option<PrincipalPeak> = None;
-        for e in elements {
-            let ijk = grid.element_ijk(e);
-            let Some(m) = grid.material(e) else { continue };
-            let x = element_nodes_m(grid, &self.ctx.pos_um, e);
-            let u = self.element_u(e);
-            let mat = &self.ctx.materials[usize::from(m)];
-            for (xi, _) in hex27::gauss_points() {
-                let s = principal_stresses_pa(&hex27::stress_pa(&x, mat, &u, xi))[0];
-                if best.is_none_or(|b| s > b.stress_pa) {
-                    let p = hex27::position(&x, xi).map(|v| v * 1e6);
-                    best = Some(PrincipalPeak {
-                        stress_pa: s,
-                        element: ijk,
-                        xi,
-                        position_um: p,
-                    });
-                }
-            }
-        }
-        best
     }
 }
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use super::tests::{end_shear, plane, prescribe_linear_on_faces};
 use crate::fe::error::FeError;
 use crate::fe::material::DieEdge;
+use crate::fe::solid::tl::green_lagrange;
 use crate::fe::solid::*;
 use crate::fe::vonkarman::clamped_strip_reference;
 
@@ -251,6 +252,34 @@ fn small_loads_give_the_linear_solution() {
     assert!(r3.abs() < r2.abs() / 30.0, "{r2:e} {r3:e}");
     assert!(a2 < 1e-4 && a3 < a2 / 30.0, "{a2:e} {a3:e}");
     assert!(w2 < 1e-2 && w3 < w2 / 8.0, "{w2:e} {w3:e}");
+}
+
+/// Tiny loads converge as fast as any: the strain comes from the displacement gradient, not from
+/// F^T F - I, which left a 1e-7 strain ~9 digits and stalled Newton on its own round-off until
+/// the load steps ran out (a sensor scene at 10 mN did).
+#[test]
+fn tiny_loads_converge_in_a_few_iterations() {
+    let slender = 20.0;
+    let (p, ei) = cantilever(slender, 10, 0.3);
+    let model = TlSolid::new(&p, TlOptions::default()).unwrap();
+    for alpha in [1e-4, 1e-6, 1e-8] {
+        let nl = model.solve(&tip_load(slender, ei, alpha)).unwrap();
+        let st = nl.stats();
+        assert!(
+            st.iterations <= 4 && st.load_steps == 1,
+            "alpha {alpha:e}: {st:?}"
+        );
+    }
+    // The strain of a tiny gradient keeps its digits: E = sym(H) + H^T H / 2 exactly.
+    let h = [
+        [3e-9, 1e-9, -2e-9],
+        [5e-10, -4e-9, 7e-10],
+        [2e-9, 1e-9, 6e-9],
+    ];
+    let e = green_lagrange(&h);
+    let quad = |a: usize, b: usize| (0..3).map(|k| h[k][a] * h[k][b]).sum::<f64>();
+    assert!((e[0] - (h[0][0] + 0.5 * quad(0, 0))).abs() < 1e-24);
+    assert!((e[3] - (h[1][2] + h[2][1] + quad(1, 2))).abs() < 1e-24);
 }
 
 /// A clamped-clamped Si strip (<110>, 10 mm x 100 um; a half span with a symmetry plane, plane

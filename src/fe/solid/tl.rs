@@ -23,34 +23,42 @@
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::hex27::{self, DOFS, NODES};
 
-/// F = I + sum_n u_n (dN_n/dX)^T, `[i][j]` = dx_i / dX_j (Bathe sec. 6.2.3).
-pub fn deformation_gradient(dn_dx: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> [[f64; 3]; 3] {
-    let mut f = [[0.0; 3]; 3];
-    for (i, row) in f.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
+/// The displacement gradient H = sum_n u_n (dN_n/dX)^T, `[i][j]` = du_i / dX_j.
+pub fn displacement_gradient(dn_dx: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> [[f64; 3]; 3] {
+    let mut h = [[0.0; 3]; 3];
     for (n, g) in dn_dx.iter().enumerate() {
         for i in 0..3 {
             let u = u_m[3 * n + i];
             for j in 0..3 {
-                f[i][j] += u * g[j];
+                h[i][j] += u * g[j];
             }
         }
+    }
+    h
+}
+
+/// F = I + H, `[i][j]` = dx_i / dX_j (Bathe sec. 6.2.3).
+pub fn deformation_gradient(dn_dx: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> [[f64; 3]; 3] {
+    let mut f = displacement_gradient(dn_dx, u_m);
+    for (i, row) in f.iter_mut().enumerate() {
+        row[i] += 1.0;
     }
     f
 }
 
-/// Green-Lagrange strain E = (F^T F - I) / 2 in Voigt order xx, yy, zz, yz, xz, xy with
-/// engineering shears (2 E_ij), so the energy density is E C E / 2 as in the linear core.
-pub fn green_lagrange(f: &[[f64; 3]; 3]) -> [f64; 6] {
-    let c = |a: usize, b: usize| (0..3).map(|k| f[k][a] * f[k][b]).sum::<f64>();
+/// Green-Lagrange strain E = (H + H^T + H^T H) / 2 (= (F^T F - I) / 2) from the displacement
+/// gradient, in Voigt order xx, yy, zz, yz, xz, xy with engineering shears (2 E_ij), so the
+/// energy density is E C E / 2 as in the linear core. From H, not F: F^T F - I cancels the
+/// identity and leaves a strain of 1e-7 with only ~9 digits, which stalled Newton at small loads.
+pub fn green_lagrange(h: &[[f64; 3]; 3]) -> [f64; 6] {
+    let e = |a: usize, b: usize| h[a][b] + h[b][a] + (0..3).map(|k| h[k][a] * h[k][b]).sum::<f64>();
     [
-        0.5 * (c(0, 0) - 1.0),
-        0.5 * (c(1, 1) - 1.0),
-        0.5 * (c(2, 2) - 1.0),
-        c(1, 2),
-        c(0, 2),
-        c(0, 1),
+        0.5 * e(0, 0),
+        0.5 * e(1, 1),
+        0.5 * e(2, 2),
+        e(1, 2),
+        e(0, 2),
+        e(0, 1),
     ]
 }
 
@@ -101,12 +109,13 @@ pub fn internal_force(
     for (xi, w) in hex27::gauss_points() {
         let g = hex27::geometry(nodes_m, xi);
         let dv = w * g.det_j;
+        let h = displacement_gradient(&g.dn_dx, u_m);
         let f = deformation_gradient(&g.dn_dx, u_m);
         let det_f = hex27::det3(&f);
         if det_f.is_nan() || det_f <= 0.0 {
             return Err(Inverted { det_f });
         }
-        let s = material.stress_pa(&green_lagrange(&f));
+        let s = material.stress_pa(&green_lagrange(&h));
         let b: [[f64; 6]; DOFS] = std::array::from_fn(|p| b_column(&f, &g.dn_dx[p / 3], p % 3));
         for (fp, bp) in fint.iter_mut().zip(&b) {
             *fp += dv * (0..6).map(|r| bp[r] * s[r]).sum::<f64>();
@@ -163,7 +172,7 @@ pub fn strain_energy(nodes_m: &[[f64; 3]; NODES], material: &Elasticity, u_m: &[
         .iter()
         .map(|&(xi, w)| {
             let g = hex27::geometry(nodes_m, xi);
-            let e = green_lagrange(&deformation_gradient(&g.dn_dx, u_m));
+            let e = green_lagrange(&displacement_gradient(&g.dn_dx, u_m));
             let s = material.stress_pa(&e);
             0.5 * w * g.det_j * (0..6).map(|r| e[r] * s[r]).sum::<f64>()
         })
@@ -172,7 +181,7 @@ pub fn strain_energy(nodes_m: &[[f64; 3]; NODES], material: &Elasticity, u_m: &[
 
 /// Green-Lagrange strain (Voigt, engineering shears) at local point `xi`.
 pub fn strain_at(nodes_m: &[[f64; 3]; NODES], u_m: &[f64; DOFS], xi: [f64; 3]) -> [f64; 6] {
-    green_lagrange(&deformation_gradient(
+    green_lagrange(&displacement_gradient(
         &hex27::geometry(nodes_m, xi).dn_dx,
         u_m,
     ))
@@ -188,6 +197,21 @@ pub fn second_piola_kirchhoff_pa(
     material.stress_pa(&strain_at(nodes_m, u_m, xi))
 }
 
+/// First Piola-Kirchhoff (nominal) stress P = F S (Pa; P[i][J]: force along i per undeformed
+/// area of normal J) at local point `xi` (Bathe sec. 6.2): what a cut through the undeformed body
+/// transmits, so its integral over a reference face is the force through it.
+pub fn first_piola_kirchhoff_pa(
+    nodes_m: &[[f64; 3]; NODES],
+    material: &Elasticity,
+    u_m: &[f64; DOFS],
+    xi: [f64; 3],
+) -> [[f64; 3]; 3] {
+    let dn_dx = hex27::geometry(nodes_m, xi).dn_dx;
+    let f = deformation_gradient(&dn_dx, u_m);
+    let s = voigt_tensor(&material.stress_pa(&green_lagrange(&displacement_gradient(&dn_dx, u_m))));
+    std::array::from_fn(|i| std::array::from_fn(|k| (0..3).map(|m| f[i][m] * s[m][k]).sum()))
+}
+
 /// Cauchy stress sigma = F S F^T / det F (Voigt, Pa) at local point `xi`: the push-forward of S
 /// (Bathe sec. 6.2; Belytschko, Liu & Moran ch. 3), in the fixed x, y, z axes.
 pub fn cauchy_pa(
@@ -196,8 +220,9 @@ pub fn cauchy_pa(
     u_m: &[f64; DOFS],
     xi: [f64; 3],
 ) -> [f64; 6] {
-    let f = deformation_gradient(&hex27::geometry(nodes_m, xi).dn_dx, u_m);
-    let s = voigt_tensor(&material.stress_pa(&green_lagrange(&f)));
+    let dn_dx = hex27::geometry(nodes_m, xi).dn_dx;
+    let f = deformation_gradient(&dn_dx, u_m);
+    let s = voigt_tensor(&material.stress_pa(&green_lagrange(&displacement_gradient(&dn_dx, u_m))));
     let j = hex27::det3(&f);
     let fs: [[f64; 3]; 3] =
         std::array::from_fn(|i| std::array::from_fn(|k| (0..3).map(|m| f[i][m] * s[m][k]).sum()));
