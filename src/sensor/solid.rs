@@ -311,6 +311,8 @@ pub fn evaluate_solid(
         .sum();
     let mut out = Vec::new();
     let mut contact = 1.0f64;
+    // The nonlinear solve of each level starts from the coarser level's field.
+    let mut coarser: Option<crate::fe::solid::TlSolution> = None;
     for level in 0..levels {
         let start = Instant::now();
         let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
@@ -319,15 +321,20 @@ pub fn evaluate_solid(
         let (readout, dofs, factor_entries, newton_iterations) = if run.nonlinear {
             let model =
                 TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
-            let sol = model
-                .solve(&solid.problem.load_cases[0])
-                .map_err(SensorError::Fe)?;
-            (
+            let loads = &solid.problem.load_cases[0];
+            let sol = match &coarser {
+                Some(c) => model.solve_from(loads, |p| c.displacement_m(p)),
+                None => model.solve(loads),
+            }
+            .map_err(SensorError::Fe)?;
+            let answer = (
                 read(g, &solid, &sol, at, patch),
                 model.n_free_dofs(),
                 model.factor_len(),
                 Some(sol.stats().iterations),
-            )
+            );
+            coarser = Some(sol);
+            answer
         } else {
             let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
             let sol = model

@@ -269,6 +269,48 @@ impl TlSolid {
         }
     }
 
+    /// Solves one load case by Newton at the full load from a guessed field (`guess` gives the
+    /// displacement, m, at an undeformed position, um; e.g. a coarser mesh's solution), falling
+    /// back to [`Self::solve`] from the undeformed state if that fails or the model prescribes
+    /// displacements. A good guess saves the load steps and most iterations of a refinement
+    /// sequence; the answer is the same converged field either way. The stats count both tries.
+    pub fn solve_from(
+        &self,
+        loads: &[SolidLoad],
+        guess: impl Fn([f64; 3]) -> Option<[f64; 3]>,
+    ) -> FeResult<TlSolution> {
+        let c = &self.ctx;
+        if c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0) {
+            return self.solve(loads);
+        }
+        let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
+        let mut u = vec![0.0; f.len()];
+        for &d in &c.dofs.free_dofs {
+            if let Some(g) = guess(c.pos_um[d / 3]) {
+                if g.iter().all(|v| v.is_finite()) {
+                    u[d] = g[d % 3];
+                }
+            }
+        }
+        let mut stats = NewtonStats {
+            load_steps: 0,
+            iterations: 0,
+            factorisations: 0,
+        };
+        match self.newton(&mut u, &f, 1.0, &mut stats) {
+            Ok(history) => {
+                stats.load_steps = 1;
+                self.solution(u, &f, stats, history)
+            }
+            Err(_) => {
+                let mut fresh = self.solve(loads)?;
+                fresh.stats.iterations += stats.iterations;
+                fresh.stats.factorisations += stats.factorisations;
+                Ok(fresh)
+            }
+        }
+    }
+
     /// Solves one load case from the undeformed state, stepping the load (and the prescribed
     /// displacements) up from zero: the step halves when Newton fails (divergence, an inverted
     /// element, a tangent that is not positive definite, too many iterations) and doubles after

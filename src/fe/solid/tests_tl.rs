@@ -254,6 +254,48 @@ fn small_loads_give_the_linear_solution() {
     assert!(w2 < 1e-2 && w3 < w2 / 8.0, "{w2:e} {w3:e}");
 }
 
+/// A refinement sequence: the finer grid started from the coarser grid's field converges to the
+/// same field as from rest, in fewer iterations and one load step; a useless guess (a wild field)
+/// falls back to load stepping and still converges.
+#[test]
+fn a_coarser_field_starts_the_finer_newton() {
+    let slender = 20.0;
+    let alpha = 2.0;
+    let (coarse, ei) = cantilever(slender, 10, 0.3);
+    let (fine, _) = cantilever(slender, 20, 0.3);
+    let loads = tip_load(slender, ei, alpha);
+    let c = TlSolid::new(&coarse, TlOptions::default())
+        .unwrap()
+        .solve(&loads)
+        .unwrap();
+    let model = TlSolid::new(&fine, TlOptions::default()).unwrap();
+    let cold = model.solve(&loads).unwrap();
+    let warm = model.solve_from(&loads, |p| c.displacement_m(p)).unwrap();
+    let scale = cold
+        .displacements_m()
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = cold
+        .displacements_m()
+        .iter()
+        .zip(warm.displacements_m())
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
+    let (w, k) = (warm.stats(), cold.stats());
+    assert!(
+        w.load_steps == 1 && w.iterations < k.iterations,
+        "{w:?} {k:?}"
+    );
+    let wild = model.solve_from(&loads, |p| Some([0.0, 0.0, 1e-3 * (p[0] * 0.1).sin()]));
+    let wild = wild.unwrap();
+    let diff = cold
+        .displacements_m()
+        .iter()
+        .zip(wild.displacements_m())
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
+}
+
 /// Tiny loads converge as fast as any: the strain comes from the displacement gradient, not from
 /// F^T F - I, which left a 1e-7 strain ~9 digits and stalled Newton on its own round-off until
 /// the load steps ran out (a sensor scene at 10 mN did).
