@@ -100,6 +100,8 @@ pub struct Built {
     /// The solid rung beside the linear plate per declared scene (`--verify-solid`), and the
     /// tolerance it was checked at.
     pub solid_check: Vec<crate::sensor::solid::SolidReport>,
+    /// Each solid report's scene limits checked against the solid's values.
+    pub solid_limits: Vec<Vec<super::LimitCheck>>,
     pub solid_tol: f64,
 }
 
@@ -108,7 +110,10 @@ impl Built {
     /// declared FE limits.
     pub fn failures(&self) -> Vec<String> {
         let mut f = super::sheet::failures(&self.traveler);
-        for r in &self.solid_check {
+        for (r, checks) in self.solid_check.iter().zip(&self.solid_limits) {
+            for c in checks.iter().filter(|c| !c.passed) {
+                f.push(format!("scene `{}` on the solid rung: {c}", r.scene));
+            }
             for (name, d) in r.disagreements(self.solid_tol) {
                 let rung = if r.nonlinear {
                     "large-deflection"
@@ -153,7 +158,11 @@ impl Built {
         files.push((md, self.markdown.clone().into_bytes()));
         files.push((html, self.html.clone().into_bytes()));
         if !self.solid_check.is_empty() {
-            let v = serde_json::json!({ "tol": self.solid_tol, "scenes": self.solid_check });
+            let v = serde_json::json!({
+                "tol": self.solid_tol,
+                "scenes": self.solid_check,
+                "limits": self.solid_limits,
+            });
             let text = serde_json::to_string_pretty(&v).unwrap_or_default() + "\n";
             files.push((format!("{d}-solid-check.json"), text.into_bytes()));
         }
@@ -228,6 +237,7 @@ pub fn build(
     };
 
     let mut solid_check = Vec::new();
+    let mut solid_limits = Vec::new();
     if let (Some(levels), Some(o)) = (opts.verify_solid_levels, opts.fe) {
         if !scenes.is_empty() && !plan.has_errors() {
             progress(Stage::Solid(scenes.len()));
@@ -240,7 +250,13 @@ pub fn build(
                     symmetry: true,
                     nonlinear: false,
                 };
-                solid_check.push(crate::sensor::solid::solid_against_plate(&g, s, run, o)?);
+                let report = crate::sensor::solid::solid_against_plate(&g, s, run, o)?;
+                solid_limits.push(super::limits::check_solid_limits(
+                    &report,
+                    &s.limits,
+                    g.fracture_strength_mpa,
+                ));
+                solid_check.push(report);
             }
         }
     }
@@ -281,6 +297,7 @@ pub fn build(
         html: page,
         plan_json,
         solid_check,
+        solid_limits,
         solid_tol: opts.fe.map_or(0.0, |o| o.tol_rel),
     })
 }

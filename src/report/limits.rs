@@ -104,6 +104,43 @@ fn check_values(
     v
 }
 
+/// Every declared limit of `l` checked against the solid rung's answer `r` (`build
+/// --verify-solid`), each value taken on its unsafe side by the solid's own estimate: the
+/// averaged stress extrapolated and raised by its estimate (the safety factor from it against
+/// `fracture_mpa`), the largest deflection and the largest electrode voltage per newton of the
+/// finest mesh moved by the estimates of the deflection and of the charges.
+pub fn check_solid_limits(
+    r: &crate::sensor::solid::SolidReport,
+    l: &Limits,
+    fracture_mpa: f64,
+) -> Vec<LimitCheck> {
+    let q = |name: &str| r.quantities.iter().find(|q| q.name == name);
+    let disc = |name: &str| q(name).and_then(|q| q.discretisation).unwrap_or(0.0);
+    let charge_disc = r
+        .quantities
+        .iter()
+        .filter(|q| q.name.starts_with("charge_"))
+        .filter_map(|q| q.discretisation)
+        .fold(0.0, f64::max);
+    let Some(finest) = r.levels.last() else {
+        return Vec::new();
+    };
+    let stress = q("max_stress_averaged").map_or(f64::NAN, |q| q.extrapolated)
+        * (1.0 + disc("max_stress_averaged"));
+    let volts = finest
+        .readout
+        .voltage_mv
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    check_values(
+        volts / r.force_n.abs() * (1.0 - charge_disc),
+        stress,
+        fracture_mpa / stress,
+        finest.readout.max_deflection_um.abs() * (1.0 + disc("deflection_at_load")),
+        l,
+    )
+}
+
 /// The limits `r` violates, as readable lines (`stress 812.0 MPa > 500 MPa`).
 pub fn limit_failures(r: &SceneReport, l: &Limits) -> Vec<String> {
     check_limits(r, l)

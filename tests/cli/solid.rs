@@ -287,6 +287,9 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         "--max-levels",
         "2",
         "--allow-unconverged",
+        // A safety factor no rung meets: the solid's own check must say so too.
+        "--set",
+        "checks.scenes[0].limits.min_safety_factor=1000",
     ];
     for s in SHORT {
         args.extend(["--set", s]);
@@ -298,9 +301,32 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         "{}",
         run.stdout
     );
+    assert!(
+        run.stdout
+            .contains("scene `centre-1n` on the solid rung: safety factor"),
+        "{}",
+        run.stdout
+    );
     let text = std::fs::read_to_string(out.join("mis-grasper-solid-check.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["scenes"].as_array().unwrap().len(), 4);
+    let sf = &v["limits"][0][0];
+    assert_eq!(sf["limit"], "min_safety_factor");
+    assert_eq!(sf["passed"], false);
+    // The solid's factor against the stress it reports, taken on the unsafe side.
+    let stress = v["scenes"][0]["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|q| q["name"] == "max_stress_averaged")
+        .unwrap()["extrapolated"]
+        .as_f64()
+        .unwrap();
+    let factor = sf["value"].as_f64().unwrap();
+    assert!(
+        factor > 0.0 && factor * stress <= 4000.0 * (1.0 + 1e-12),
+        "{factor} {stress}"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("build.json")).unwrap()).unwrap();
     assert_eq!(summary["passed"], false);
