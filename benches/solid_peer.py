@@ -1,0 +1,355 @@
+"""Independent re-solve of tactfab's solid rung with scikit-fem (issue 16).
+
+Usage:
+    pip install -r benches/requirements.txt        # scikit-fem, pypardiso (MKL PARDISO)
+    cargo run --release --example solid_export -- process/mis-grasper.yaml centre-1n 0 /tmp/c0.json
+    python3 benches/solid_peer.py /tmp/c0.json [more exports ...] [--intorder N] [--json OUT]
+
+Reads the export of `examples/solid_export.rs` (its doc comment gives the format): node positions,
+27-node connectivity in tactfab's order, materials (6 x 6 C in die axes), zero constraints,
+pressure faces and point forces, the film and its electrodes. Everything else is its own: a
+`MeshHex2` (tactfab's node order mapped to scikit-fem's, checked by every element's volume
+against tactfab's), scikit-fem's triquadratic Lagrange basis and Gauss rule (intorder 5: 3 x 3 x
+3 points, as tactfab; `--intorder 7` takes 4 x 4 x 4), linear elasticity assembled from
+sigma = C eps, the pressures integrated over the loaded facets with their own normals, the
+constraints condensed, PARDISO (symmetric positive definite, MKL, through pypardiso) or scipy's
+SuperLU without it, and the read-outs from its own stresses at its own quadrature points:
+the deflection -u_z at the read-out node, each electrode's charge Q = sign (1/t) integral of
+D3 = d31 s1 + d32 s2 + d33 s3 over the film under it (a point inside k mirror images counts k
+times), the support films' compressive forces, the reactions K u - f per constraint group, the
+silicon's largest principal stress at the Gauss points.
+
+Prints each quantity, tactfab against the peer and their relative difference, the largest
+difference of the displacement fields and of the load vectors, and each code's dofs, wall time
+and peak memory (tactfab's as its export measured them: median of its runs, VmHWM; the peer's:
+one run, ru_maxrss, JSON reading excluded from the time but not from the memory).
+"""
+
+import argparse
+import json
+import resource
+import sys
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from skfem import (Basis, BilinearForm, ElementHex2, ElementVector, FacetBasis, LinearForm,
+                   MeshHex2, asm, condense)
+
+# scikit-fem's local order of ElementHex2's 27 nodes: their reference points in [0, 1]^3 (the 8
+# vertices, then the midpoints of RefHex's edges and facets and the centre, in that order).
+SKFEM_REF = np.asarray(ElementHex2.doflocs)
+# tactfab's local node a + 3 b + 9 c sits at reference (a, b, c) / 2 in [0, 1]^3.
+TACTFAB_OF_SKFEM = (2 * SKFEM_REF[:, 0] + 6 * SKFEM_REF[:, 1] + 18 * SKFEM_REF[:, 2]).astype(int)
+assert sorted(TACTFAB_OF_SKFEM) == list(range(27))
+
+
+def peak_rss_mb():
+    """Peak resident memory of this process so far (ru_maxrss is in kB on Linux)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def voigt(e):
+    """Voigt strain (xx, yy, zz, yz, xz, xy), engineering shears, of a 3 x 3 symmetric tensor."""
+    return [e[0, 0], e[1, 1], e[2, 2], 2 * e[1, 2], 2 * e[0, 2], 2 * e[0, 1]]
+
+
+def sym(g):
+    return 0.5 * (g + np.swapaxes(g, 0, 1))
+
+
+def stiffness_form(c):
+    """a(u, v) = eps(v)^T C eps(u) for a constant 6 x 6 C (zero entries skipped)."""
+    nz = [(i, j, c[i][j]) for i in range(6) for j in range(6) if c[i][j] != 0.0]
+
+    @BilinearForm
+    def form(u, v, w):
+        eu, ev = voigt(sym(u.grad)), voigt(sym(v.grad))
+        out = 0.0
+        for i, j, cij in nz:
+            out = out + ev[i] * (cij * eu[j])
+        return out
+    return form
+
+
+@LinearForm
+def pressure_form(v, w):
+    """Consistent nodal forces of a pressure p pushing into the material: -p n . v."""
+    return -w["p"] * (w.n[0] * v[0] + w.n[1] * v[1] + w.n[2] * v[2])
+
+
+def solve_spd(a, b):
+    """K x = b for symmetric positive definite K: PARDISO (mtype 2, upper triangle) when
+    pypardiso is installed, else scipy's SuperLU (slow and memory-hungry at 1e5 3-D dofs).
+    Returns x and the solver's name."""
+    try:
+        import pypardiso
+    except ImportError:
+        print("  (pypardiso not installed: scipy's SuperLU)")
+        return spla.spsolve(a.tocsc(), b), "scipy SuperLU"
+    solver = pypardiso.PyPardisoSolver(mtype=2)
+    solver.set_iparm(10, 8)   # pivot perturbation 1e-8 (MKL's default for symmetric)
+    solver.set_iparm(11, 0)   # no scaling, no matching: not needed for SPD
+    solver.set_iparm(13, 0)
+    upper = sp.triu(a, format="csr")
+    upper.sort_indices()
+    solver.factorize(upper)
+    x = solver.solve(upper, b)
+    # One step of iterative refinement on the same factor, as tactfab does.
+    x += solver.solve(upper, b - a @ x)
+    solver.free_memory(everything=True)
+    return x, "MKL PARDISO, SPD, one refinement step"
+
+
+def principal_max(s):
+    """Largest eigenvalue of each symmetric stress tensor s (3, 3, ...)."""
+    t = np.moveaxis(s.reshape(3, 3, -1), -1, 0)
+    return np.linalg.eigvalsh(t)[:, -1]
+
+
+class PeerSolve:
+    """The export's model solved in scikit-fem, with its read-outs (SI inside)."""
+
+    def __init__(self, ex, intorder=5):
+        self.times = {}
+        t = time.perf_counter()
+        self.ex = ex
+        nodes_m = np.asarray(ex["nodes_um"], dtype=float) * 1e-6
+        el = np.asarray(ex["elements"], dtype=np.int64)  # (nelem, 27), tactfab's order
+        t27 = np.ascontiguousarray(el[:, TACTFAB_OF_SKFEM].T)  # (27, nelem), scikit-fem's
+        mesh = MeshHex2(np.ascontiguousarray(nodes_m.T), t27)
+        sb = Basis(mesh, ElementHex2(), intorder=intorder)
+        # Export node -> scikit-fem node: the scalar basis lists each element's 27 nodes in the
+        # order t27 gave them.
+        perm = np.full(len(nodes_m), -1, dtype=np.int64)
+        perm[t27] = sb.element_dofs
+        assert (perm >= 0).all(), "a node of no element"
+        assert np.array_equal(perm[t27], sb.element_dofs), "inconsistent node map"
+        self.node_move_m = np.abs(mesh.doflocs[:, perm].T - nodes_m).max()
+        assert self.node_move_m < 1e-12, f"node positions moved by {self.node_move_m} m"
+        assert (sb.dx > 0).all(), "an inverted element: the node order is wrong"
+        vol = sb.dx.sum(axis=1) * 1e18
+        ref = np.asarray(ex["element_volume_um3"])
+        self.volume_diff = np.abs(vol - ref).max() / ref.max()
+        self.mesh, self.perm = mesh, perm
+        self.material = np.asarray(ex["material"], dtype=int)
+        self.vb = Basis(mesh, ElementVector(ElementHex2()), intorder=intorder)
+        self.times["mesh"] = time.perf_counter() - t
+
+        # Stiffness, one material at a time.
+        t = time.perf_counter()
+        k = None
+        for m, mat in enumerate(ex["materials"]):
+            els = np.nonzero(self.material == m)[0]
+            if len(els) == 0:
+                continue
+            b = Basis(mesh, ElementVector(ElementHex2()), intorder=intorder, elements=els)
+            km = asm(stiffness_form(mat["c_pa"]), b)
+            k = km if k is None else k + km
+        self.k = k.tocsr()
+        self.times["assembly"] = time.perf_counter() - t
+
+        # Loads: pressures over the loaded facets (found by their vertices), point forces.
+        t = time.perf_counter()
+        f = np.zeros(self.vb.N)
+        f2v = {tuple(sorted(fv)): i for i, fv in enumerate(mesh.facets.T)}
+        boundary = set(mesh.boundary_facets().tolist())
+        facets, pressure = [], []
+        for p in ex["pressures"]:
+            ax = "xyz".index(p["face"][1])
+            at = 1.0 if p["face"][0] == "+" else 0.0
+            verts = [mesh.t[i, p["element"]] for i in range(8) if SKFEM_REF[i, ax] == at]
+            fi = f2v[tuple(sorted(verts))]
+            assert fi in boundary, "a loaded face inside the body"
+            facets.append(fi)
+            pressure.append(p["pressure_pa"])
+        if facets:
+            fb = FacetBasis(mesh, ElementVector(ElementHex2()), facets=np.array(facets),
+                            intorder=intorder)
+            nqp = fb.X.shape[-1]
+            f += asm(pressure_form, fb, p=np.repeat(np.array(pressure)[:, None], nqp, axis=1))
+        for pt in ex["points"]:
+            for c in range(3):
+                f[3 * perm[pt["node"]] + c] += pt["force_n"][c]
+        self.f = f
+        # Constraints: every listed dof at zero.
+        cons = np.asarray(ex["constrained"], dtype=np.int64).reshape(-1, 3)
+        self.cons_dof = 3 * perm[cons[:, 0]] + cons[:, 1]
+        self.cons_group = cons[:, 2]
+        self.times["loads"] = time.perf_counter() - t
+
+        t = time.perf_counter()
+        a, b, _, inner = condense(self.k, f, D=self.cons_dof)
+        x, self.solver = solve_spd(a, b)
+        u = np.zeros(self.vb.N)
+        u[inner] = x
+        self.u = u
+        self.free_dofs = len(inner)
+        self.residual = np.linalg.norm(a @ x - b) / np.linalg.norm(b)
+        self.times["solve"] = time.perf_counter() - t
+
+        t = time.perf_counter()
+        self.read()
+        self.times["readout"] = time.perf_counter() - t
+
+    def node_u(self, node):
+        return self.u[3 * self.perm[node] + np.arange(3)]
+
+    def read(self):
+        ex, vb = self.ex, self.vb
+        film = ex["film"]
+        # Deflection at the read-out point: a node of the mesh.
+        pts = np.asarray(ex["nodes_um"])
+        d = np.linalg.norm(pts - np.asarray(ex["deflection_point_um"]), axis=1)
+        n = int(np.argmin(d))
+        assert d[n] < 1e-6, f"the read-out point is {d[n]} um from the nearest node"
+        self.deflection_um = -self.node_u(n)[2] * 1e6
+
+        # Stresses at every quadrature point of every element.
+        grad = vb.interpolate(self.u).grad  # (3, 3, nelem, nqp)
+        eps = voigt(sym(grad))
+        c = np.asarray([m["c_pa"] for m in ex["materials"]])[self.material]  # (nelem, 6, 6)
+        sig = [sum(c[:, i, j][:, None] * eps[j] for j in range(6)) for i in range(6)]
+        x_um = vb.global_coordinates().value * 1e6  # (3, nelem, nqp)
+        dv = vb.dx  # (nelem, nqp), m^3
+        zc = x_um[2].mean(axis=1)
+        pvdf = np.array([m["name"] == "pvdf" for m in ex["materials"]])[self.material]
+        support_film = pvdf & (zc > 0.0) & (zc < film["support_film_top_um"])
+        floor_film = pvdf & (zc > film["floor_film_bottom_um"]) & (zc < film["plate_bottom_um"])
+        s1, s2 = (sig[0], sig[1]) if film["drawn_axis"] == "x" else (sig[1], sig[0])
+        d3 = (film["d31_pc_per_n"] * s1 + film["d32_pc_per_n"] * s2
+              + film["d33_pc_per_n"] * sig[2])  # pC/m^2
+        t_f = film["thickness_um"] * 1e-6
+        self.charge_pc = []
+        self.electrode_elements_match = True
+        for e in ex["electrodes"]:
+            layer = floor_film if e["side"] == "middle" else support_film
+            count = np.zeros_like(dv)
+            for r in e["images_um"]:
+                count += ((x_um[0] >= r[0]) & (x_um[0] <= r[2])
+                          & (x_um[1] >= r[1]) & (x_um[1] <= r[3]))
+            count *= layer[:, None]
+            self.charge_pc.append(e["sign"] * np.sum(count * d3 * dv) / t_f)
+            mine = {(int(i), int(count[i, 0])) for i in np.nonzero(count.max(axis=1))[0]}
+            theirs = {(int(i), int(k)) for i, k in e["elements"]}
+            if mine != theirs:
+                self.electrode_elements_match = False
+        # Support forces: the films' compression, split at the die's centre line, then the
+        # whole die from the part solved (as tactfab reports them).
+        comp = -sig[2] * dv / t_f * support_film[:, None]
+        lower = x_um[1] < film["die_centre_y_um"]
+        f1, f2 = np.sum(comp * lower), np.sum(comp * ~lower)
+        k = 2.0 if ex["mirror_x_um"] is not None else 1.0
+        if ex["mirror_y_um"] is not None:
+            self.support_n = (f1 * k, f1 * k)
+        else:
+            self.support_n = (f1 * k, f2 * k)
+        # Reactions K u - f per group.
+        r = self.k @ self.u - self.f
+        self.reactions_n = {}
+        for gi, name in enumerate(ex["groups"]):
+            sel = self.cons_dof[self.cons_group == gi]
+            self.reactions_n[name] = [float(r[sel[sel % 3 == c]].sum()) for c in range(3)]
+        self.applied_n = [float(self.f[c::3].sum()) for c in range(3)]
+        # Silicon's largest principal stress.
+        si = np.array([m["name"] == "silicon" for m in ex["materials"]])[self.material]
+        st = np.array([[sig[0], sig[5], sig[4]], [sig[5], sig[1], sig[3]],
+                       [sig[4], sig[3], sig[2]]])[:, :, si]
+        self.max_principal_mpa = float(principal_max(st).max()) * 1e-6
+
+    def field_difference(self):
+        """max |u_peer - u_tactfab| / max |u_tactfab| over every node and component."""
+        ut = np.asarray(self.ex["results"]["u_m"])
+        up = self.u.reshape(-1, 3)[self.perm]
+        return np.abs(up - ut).max() / np.abs(ut).max()
+
+    def load_difference(self):
+        """max |f_peer - f_tactfab| / max |f_tactfab| over the load vectors' entries."""
+        ft = np.zeros((len(self.perm), 3))
+        for n, c, v in self.ex["results"]["load_vector_n"]:
+            ft[n, c] = v
+        fp = self.f.reshape(-1, 3)[self.perm]
+        return np.abs(fp - ft).max() / np.abs(ft).max()
+
+
+def rel(a, b, scale=None):
+    s = abs(a) if scale is None else scale
+    return (b - a) / s if s > 0 else float("nan")
+
+
+def report(ex, peer, t_read):
+    r = ex["results"]
+    print(f"== {ex['scene']} level {ex['level']} (h {ex['element_um']:.0f} um), mirrors x "
+          f"{ex['mirror_x_um']}, y {ex['mirror_y_um']}: {len(ex['elements'])} elements, "
+          f"{len(ex['nodes_um'])} nodes")
+    print(f"  node map: positions equal to {peer.node_move_m:.1e} m; element volumes against "
+          f"tactfab's {peer.volume_diff:.1e} (of the largest); load vectors differ by "
+          f"{peer.load_difference():.1e}; electrode film elements "
+          f"{'the same' if peer.electrode_elements_match else 'DIFFER'}")
+    print(f"  peer solve: {peer.solver}, relative residual {peer.residual:.1e}")
+    rows = [("deflection_at_load", "um", r["deflection_at_load_um"], peer.deflection_um, None)]
+    names = [e["name"] for e in ex["electrodes"]]
+    sides = [e["side"] for e in ex["electrodes"]]
+    for i, name in enumerate(names):
+        kind = [abs(q) for q, s in zip(r["charge_pc"], sides) if (s == "middle") == (sides[i] == "middle")]
+        rows.append((f"charge_{name}", "pC", r["charge_pc"][i], peer.charge_pc[i], max(kind)))
+    rows.append(("support1", "N", r["support1_n"], peer.support_n[0], None))
+    rows.append(("support2", "N", r["support2_n"], peer.support_n[1], None))
+    for name, v in r["reactions_n"]:
+        for c in range(3):
+            scale = max(abs(x) for x in peer.applied_n)
+            rows.append((f"reaction_{name}_{'xyz'[c]}", "N", v[c], peer.reactions_n[name][c], scale))
+    rows.append(("max_principal", "MPa", r["max_principal_mpa"], peer.max_principal_mpa, None))
+    print(f"  {'quantity':24} {'unit':4} {'tactfab':>16} {'scikit-fem':>16} {'rel. diff':>10}")
+    worst = 0.0
+    for name, unit, a, b, scale in rows:
+        d = rel(a, b, scale)
+        if name.startswith("reaction") and abs(a) < 1e-9 * (scale or 1):
+            d = (b - a) / scale  # a component that is zero: relative to the load
+        worst = max(worst, abs(d)) if np.isfinite(d) else worst
+        print(f"  {name:24} {unit:4} {a:16.9g} {b:16.9g} {d:10.1e}")
+    print(f"  displacement field: max |u_peer - u_tactfab| / max |u| = {peer.field_difference():.1e}")
+    print(f"  largest relative difference of a quantity: {worst:.1e} (charges relative to the "
+          f"largest of their kind, reaction components to the load)")
+    tsum = sum(peer.times.values())
+    print(f"  {'code':10} {'free dofs':>10} {'wall s':>8} {'peak MB':>8}  parts")
+    print(f"  {'tactfab':10} {r['free_dofs']:>10} {r['seconds']:8.2f} "
+          f"{(r.get('peak_rss_mb') or float('nan')):8.0f}  median of {r['runs']}: build, "
+          f"nested-dissection Cholesky (faer), solve with one refinement step, read-out")
+    parts = ", ".join(f"{k} {v:.2f}" for k, v in peer.times.items())
+    print(f"  {'scikit-fem':10} {peer.free_dofs:>10} {tsum:8.2f} {peak_rss_mb():8.0f}  {parts} "
+          f"(JSON read {t_read:.2f} s not counted)")
+    return {
+        "scene": ex["scene"], "level": ex["level"], "worst_rel_diff": worst,
+        "field_diff": peer.field_difference(), "tactfab_s": r["seconds"], "peer_s": tsum,
+        "peer_times": peer.times, "tactfab_dofs": r["free_dofs"], "peer_dofs": peer.free_dofs,
+        "tactfab_peak_mb": r.get("peak_rss_mb"), "peer_peak_mb": peak_rss_mb(),
+        "rows": [(n, u, a, b) for n, u, a, b, _ in rows],
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("exports", nargs="+", help="JSON files written by examples/solid_export.rs")
+    ap.add_argument("--intorder", type=int, default=5,
+                    help="scikit-fem quadrature order (5: 3x3x3 Gauss points, tactfab's rule)")
+    ap.add_argument("--json", help="write the comparison here")
+    args = ap.parse_args()
+    out = []
+    for path in args.exports:
+        t = time.perf_counter()
+        with open(path) as fh:
+            ex = json.load(fh)
+        t_read = time.perf_counter() - t
+        assert ex["format"] == "tactfab-solid-export 1", ex.get("format")
+        peer = PeerSolve(ex, intorder=args.intorder)
+        out.append(report(ex, peer, t_read))
+        del peer
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
