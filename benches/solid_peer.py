@@ -108,6 +108,43 @@ def principal_max(s):
     return np.linalg.eigvalsh(t)[:, -1]
 
 
+VOIGT_PAIRS = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)]
+
+
+def cubic_tensor(c11, c12, c44):
+    """The 4th-order stiffness C_ijkl of a cubic crystal in its crystal axes."""
+    c = np.zeros((3, 3, 3, 3))
+    for i in range(3):
+        for j in range(3):
+            c[i, i, j, j] = c11 if i == j else c12
+            if i != j:
+                c[i, j, i, j] = c[i, j, j, i] = c44
+    return c
+
+
+def voigt_matrix(c):
+    """6 x 6 Voigt matrix of a 4th-order stiffness (engineering shears)."""
+    return np.array([[c[i, j, k, l] for (k, l) in VOIGT_PAIRS] for (i, j) in VOIGT_PAIRS])
+
+
+def silicon_check(c_voigt):
+    """The silicon's C from the export against a cubic crystal rotated by the peer itself: read
+    C11 = C33', C12 = C13', C44 = C44' (a rotation about z keeps them), rotate the tensor
+    C'_ijkl = a_ip a_jq a_kr a_ls C_pqrs by 0 and 45 deg about [001], and return the angle that
+    matches and the largest difference relative to C11."""
+    c = np.asarray(c_voigt)
+    base = cubic_tensor(c[2, 2], c[0, 2], c[3, 3])
+    best = None
+    for deg in (0.0, 45.0):
+        t = np.radians(deg)
+        a = np.array([[np.cos(t), np.sin(t), 0], [-np.sin(t), np.cos(t), 0], [0, 0, 1]])
+        rot = np.einsum("ip,jq,kr,ls,pqrs->ijkl", a, a, a, a, base)
+        d = np.abs(voigt_matrix(rot) - c).max() / c[2, 2]
+        if best is None or d < best[1]:
+            best = (deg, d)
+    return best
+
+
 class PeerSolve:
     """The export's model solved in scikit-fem, with its read-outs (SI inside)."""
 
@@ -287,6 +324,10 @@ def report(ex, peer, t_read):
           f"tactfab's {peer.volume_diff:.1e} (of the largest); load vectors differ by "
           f"{peer.load_difference():.1e}; electrode film elements "
           f"{'the same' if peer.electrode_elements_match else 'DIFFER'}")
+    si = [m for m in ex["materials"] if m["name"] == "silicon"][0]
+    deg, d = silicon_check(si["c_pa"])
+    print(f"  silicon C in die axes: the cubic crystal rotated {deg:.0f} deg about [001] by the "
+          f"peer's own tensor rotation, to {d:.1e} of C11")
     print(f"  peer solve: {peer.solver}, relative residual {peer.residual:.1e}")
     rows = [("deflection_at_load", "um", r["deflection_at_load_um"], peer.deflection_um, None)]
     names = [e["name"] for e in ex["electrodes"]]
