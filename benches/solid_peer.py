@@ -50,27 +50,26 @@ def peak_rss_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def voigt(e):
-    """Voigt strain (xx, yy, zz, yz, xz, xy), engineering shears, of a 3 x 3 symmetric tensor."""
-    return [e[0, 0], e[1, 1], e[2, 2], 2 * e[1, 2], 2 * e[0, 2], 2 * e[0, 1]]
+def voigt_of_grad(g):
+    """Voigt strain (xx, yy, zz, yz, xz, xy), engineering shears, of a displacement gradient."""
+    return [g[0, 0], g[1, 1], g[2, 2], g[1, 2] + g[2, 1], g[0, 2] + g[2, 0], g[0, 1] + g[1, 0]]
 
 
-def sym(g):
-    return 0.5 * (g + np.swapaxes(g, 0, 1))
+def stiffness_form(c, nthreads):
+    """a(u, v) = eps(v)^T C eps(u) for a constant 6 x 6 C (entries under 1e-12 of the largest,
+    rotation round-off, skipped)."""
+    c = np.asarray(c)
+    cut = 1e-12 * np.abs(c).max()
+    rows = [[(j, c[i, j]) for j in range(6) if abs(c[i, j]) > cut] for i in range(6)]
 
-
-def stiffness_form(c):
-    """a(u, v) = eps(v)^T C eps(u) for a constant 6 x 6 C (zero entries skipped)."""
-    nz = [(i, j, c[i][j]) for i in range(6) for j in range(6) if c[i][j] != 0.0]
-
-    @BilinearForm
     def form(u, v, w):
-        eu, ev = voigt(sym(u.grad)), voigt(sym(v.grad))
+        eu, ev = voigt_of_grad(u.grad), voigt_of_grad(v.grad)
         out = 0.0
-        for i, j, cij in nz:
-            out = out + ev[i] * (cij * eu[j])
+        for i, row in enumerate(rows):
+            if row:
+                out = out + ev[i] * sum(cij * eu[j] for j, cij in row)
         return out
-    return form
+    return BilinearForm(form, nthreads=nthreads)
 
 
 @LinearForm
@@ -148,7 +147,7 @@ def silicon_check(c_voigt):
 class PeerSolve:
     """The export's model solved in scikit-fem, with its read-outs (SI inside)."""
 
-    def __init__(self, ex, intorder=5):
+    def __init__(self, ex, intorder=5, nthreads=2):
         self.times = {}
         t = time.perf_counter()
         self.ex = ex
@@ -182,7 +181,7 @@ class PeerSolve:
             if len(els) == 0:
                 continue
             b = Basis(mesh, ElementVector(ElementHex2()), intorder=intorder, elements=els)
-            km = asm(stiffness_form(mat["c_pa"]), b)
+            km = asm(stiffness_form(mat["c_pa"], nthreads), b)
             k = km if k is None else k + km
         self.k = k.tocsr()
         self.times["assembly"] = time.perf_counter() - t
@@ -245,7 +244,7 @@ class PeerSolve:
 
         # Stresses at every quadrature point of every element.
         grad = vb.interpolate(self.u).grad  # (3, 3, nelem, nqp)
-        eps = voigt(sym(grad))
+        eps = voigt_of_grad(grad)
         c = np.asarray([m["c_pa"] for m in ex["materials"]])[self.material]  # (nelem, 6, 6)
         sig = [sum(c[:, i, j][:, None] * eps[j] for j in range(6)) for i in range(6)]
         x_um = vb.global_coordinates().value * 1e6  # (3, nelem, nqp)
@@ -356,8 +355,8 @@ def report(ex, peer, t_read):
     tsum = sum(peer.times.values())
     print(f"  {'code':10} {'free dofs':>10} {'wall s':>8} {'peak MB':>8}  parts")
     print(f"  {'tactfab':10} {r['free_dofs']:>10} {r['seconds']:8.2f} "
-          f"{(r.get('peak_rss_mb') or float('nan')):8.0f}  median of {r['runs']}: build, "
-          f"nested-dissection Cholesky (faer), solve with one refinement step, read-out")
+          f"{(r.get('peak_rss_mb') or float('nan')):8.0f}  median of {r['runs']}; last run: "
+          + ", ".join(f"{k} {v:.2f}" for k, v in r.get("phases_s", [])))
     parts = ", ".join(f"{k} {v:.2f}" for k, v in peer.times.items())
     print(f"  {'scikit-fem':10} {peer.free_dofs:>10} {tsum:8.2f} {peak_rss_mb():8.0f}  {parts} "
           f"(JSON read {t_read:.2f} s not counted)")
@@ -370,26 +369,83 @@ def report(ex, peer, t_read):
     }
 
 
+def three_mesh(f3, f2, f1, r=2 ** 0.5):
+    """tactfab's three-mesh estimate (src/fe/convergence.rs, ThreeMesh) written again: Richardson's
+    limit at the observed order (equal ratios r), and the error of each value as
+    max(|f - f_ext|, |f_ext - f1|, |f1 - f2| / (r - 1)). Returns (f_ext, p, errors of f3, f2, f1);
+    without monotone convergence the first-order term alone."""
+    e21, e32 = f2 - f1, f3 - f2
+    floor = abs(e21) / (r - 1)
+    ext, p = f1, None
+    if e21 != 0 and e32 / e21 > 1:
+        p = np.log(e32 / e21) / np.log(r)
+        ext = f1 + (f1 - f2) / (r ** p - 1)
+    floor = max(floor, abs(ext - f1))
+    return ext, p, [max(abs(f - ext), floor) for f in (f3, f2, f1)]
+
+
+def summary(results):
+    """Per scene with three consecutive levels: each quantity's three-mesh error per level (the
+    peer's values; tactfab's agree to round-off) beside each code's wall time for that level."""
+    by_scene = {}
+    for r in results:
+        by_scene.setdefault(r["scene"], {})[r["level"]] = r
+    for scene, levels in by_scene.items():
+        ls = sorted(levels)
+        if len(ls) < 3 or ls[-1] - ls[-3] != 2:
+            continue
+        rs = [levels[k] for k in ls[-3:]]
+        print(f"== {scene}: three-mesh errors on levels {ls[-3:]} (ratio sqrt 2), and the cost "
+              f"of each level")
+        print(f"  {'quantity':20} {'extrapolated':>13} {'order':>6} "
+              + " ".join(f"{'err L' + str(k):>9}" for k in ls[-3:]))
+        for name in ("deflection_at_load", "charge_M2", "charge_S12", "charge_M3"):
+            vals = [dict((n, b) for n, _, _, b in r["rows"])[name] for r in rs]
+            ext, p, errs = three_mesh(*vals)
+            order = f"{p:6.2f}" if p is not None else "     -"
+            print(f"  {name:20} {ext:13.6g} {order} "
+                  + " ".join(f"{e / abs(ext):9.2e}" for e in errs))
+        print(f"  {'level':>5} {'dofs':>8} {'tactfab s':>10} {'peer s':>8} {'ratio':>6} "
+              f"{'tactfab MB':>10} {'peer MB':>8}")
+        for k, r in zip(ls[-3:], rs):
+            print(f"  {k:5d} {r['peer_dofs']:8d} {r['tactfab_s']:10.2f} {r['peer_s']:8.2f} "
+                  f"{r['peer_s'] / r['tactfab_s']:6.1f} {r['tactfab_peak_mb'] or float('nan'):10.0f} "
+                  f"{r['peer_peak_mb']:8.0f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("exports", nargs="+", help="JSON files written by examples/solid_export.rs")
+    ap.add_argument("exports", nargs="+", help="JSON files written by examples/solid_export.rs "
+                    "(with --summary: comparisons written by --json)")
+    ap.add_argument("--summary", action="store_true",
+                    help="only the three-mesh summary of earlier --json outputs")
     ap.add_argument("--intorder", type=int, default=5,
                     help="scikit-fem quadrature order (5: 3x3x3 Gauss points, tactfab's rule)")
+    ap.add_argument("--threads", type=int, default=2,
+                    help="scikit-fem assembly threads (PARDISO takes MKL's default, all cores)")
     ap.add_argument("--json", help="write the comparison here")
     args = ap.parse_args()
     out = []
+    if args.summary:
+        for path in args.exports:
+            with open(path) as fh:
+                out.extend(json.load(fh))
+        summary(out)
+        return 0
     for path in args.exports:
         t = time.perf_counter()
         with open(path) as fh:
             ex = json.load(fh)
         t_read = time.perf_counter() - t
         assert ex["format"] == "tactfab-solid-export 1", ex.get("format")
-        peer = PeerSolve(ex, intorder=args.intorder)
+        peer = PeerSolve(ex, intorder=args.intorder, nthreads=args.threads)
         out.append(report(ex, peer, t_read))
         del peer
+    summary(out)
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=1)
+    return 0
 
 
 if __name__ == "__main__":

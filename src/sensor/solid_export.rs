@@ -113,6 +113,10 @@ pub struct ExportResults {
     /// Median wall time of build + factorisation + solve + read-out over `runs`, s.
     pub seconds: f64,
     pub runs: usize,
+    /// The last run's parts, s: mesh (`build`), the model's setup (positions, checks, dofs,
+    /// element matrices, pattern), assembly, symbolic analysis, numeric factorisation, solve
+    /// (with one refinement step and the reactions), read-out.
+    pub phases_s: Vec<(String, f64)>,
     /// Peak resident memory of the exporting process (MB), set by the caller; NaN if unknown.
     pub peak_rss_mb: f64,
 }
@@ -182,16 +186,31 @@ pub fn export_scene(
     // The same sequence as one level of `evaluate_solid`, timed whole.
     let mut times = Vec::new();
     let mut last = None;
+    let mut phases_s = Vec::new();
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
         let solid =
             build(g, std::slice::from_ref(&loads), base, opts, mx, my).map_err(SensorError::Fe)?;
+        let t1 = Instant::now();
         let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
+        let t2 = Instant::now();
         let sol = model
             .solve(&solid.problem.load_cases)
             .map_err(SensorError::Fe)?;
+        let t3 = Instant::now();
         let readout = read(g, &solid, &sol[0], at, patch);
-        times.push(t0.elapsed().as_secs_f64());
+        let t4 = Instant::now();
+        times.push((t4 - t0).as_secs_f64());
+        let b = model.timings();
+        phases_s = vec![
+            ("mesh".to_string(), (t1 - t0).as_secs_f64()),
+            ("setup".into(), b.setup.as_secs_f64()),
+            ("assembly".into(), b.assembly.as_secs_f64()),
+            ("symbolic".into(), b.symbolic.as_secs_f64()),
+            ("numeric".into(), b.numeric.as_secs_f64()),
+            ("solve".into(), (t3 - t2).as_secs_f64()),
+            ("readout".into(), (t4 - t3).as_secs_f64()),
+        ];
         last = Some((solid, model, sol, readout));
     }
     times.sort_by(f64::total_cmp);
@@ -420,6 +439,7 @@ pub fn export_scene(
             load_vector_n,
             seconds,
             runs: runs.max(1),
+            phases_s,
             peak_rss_mb: f64::NAN,
         },
     })
