@@ -4,6 +4,7 @@ Usage:
     pip install -r benches/requirements.txt        # scikit-fem, pypardiso (MKL PARDISO)
     cargo run --release --example solid_export -- process/mis-grasper.yaml centre-1n 0 /tmp/c0.json
     python3 benches/solid_peer.py /tmp/c0.json [more exports ...] [--intorder N] [--json OUT]
+    python3 benches/solid_peer.py selftest       # the peer alone against closed forms
 
 Reads the export of `examples/solid_export.rs` (its doc comment gives the format): node positions,
 27-node connectivity in tactfab's order, materials (6 x 6 C in die axes), zero constraints,
@@ -413,6 +414,63 @@ def summary(results):
                   f"{r['peer_peak_mb']:8.0f}")
 
 
+def selftest():
+    """The peer on its own, against closed forms: (1) a patch test, u = G x imposed on the
+    boundary of a distorted 3 x 2 x 2 block of 27-node bricks with an anisotropic C (silicon in
+    <110> die axes, built here from C11, C12, C44): the interior must carry u = G x and the stress
+    C eps everywhere; (2) uniform pressure p on the top of a block on frictionless supports
+    (u_z = 0 at the bottom, u_x = 0 at x = 0, u_y = 0 at y = 0): sigma_zz = -p, the rest zero.
+    Returns the largest errors relative to the exact field."""
+    from skfem import MeshHex1
+    c = voigt_matrix(np.einsum("ip,jq,kr,ls,pqrs->ijkl", *[np.array(
+        [[np.sqrt(.5), np.sqrt(.5), 0], [-np.sqrt(.5), np.sqrt(.5), 0], [0, 0, 1]])] * 4,
+        cubic_tensor(165.7e9, 63.9e9, 79.6e9)))
+    mesh = MeshHex2.from_mesh(MeshHex1.init_tensor(np.linspace(0, 3e-3, 4),
+                                                   np.linspace(0, 2e-3, 3),
+                                                   np.linspace(0, 1e-4, 3)))
+    rng = np.random.default_rng(7)
+    x = mesh.doflocs.copy()
+    inner = ~np.any([np.isclose(x[d], x[d].min()) | np.isclose(x[d], x[d].max())
+                     for d in range(3)], axis=0)
+    x[:, inner] += rng.uniform(-0.15, 0.15, (3, inner.sum())) * np.array([[1e-3], [1e-3], [5e-5]])
+    mesh = MeshHex2(x, mesh.t)
+    vb = Basis(mesh, ElementVector(ElementHex2()), intorder=5)
+    k = asm(stiffness_form(c, 0), vb)
+    g = np.array([[1e-4, 2e-5, -3e-5], [4e-5, -2e-4, 1e-5], [-1e-5, 3e-5, 5e-5]])
+    exact = (g @ mesh.doflocs).T.reshape(-1)  # dof 3 n + c
+    bnd = vb.get_dofs().flatten()
+    u = np.zeros(vb.N)
+    u[bnd] = exact[bnd]
+    a, b, _, free = condense(k, np.zeros(vb.N), x=u, D=bnd)
+    u[free] = spla.spsolve(a.tocsc(), b)
+    patch_u = np.abs(u - exact).max() / np.abs(exact).max()
+    grad = vb.interpolate(u).grad
+    eps = voigt_of_grad(grad)
+    sig = [sum(c[i, j] * eps[j] for j in range(6)) for i in range(6)]
+    sig_exact = c @ np.array(voigt_of_grad(g))
+    patch_s = max(np.abs(sig[i] - sig_exact[i]).max() for i in range(6)) / np.abs(sig_exact).max()
+
+    p = 1e5
+    top = mesh.facets_satisfying(lambda y: np.isclose(y[2], 1e-4))
+    fb = FacetBasis(mesh, ElementVector(ElementHex2()), facets=top, intorder=5)
+    f = asm(pressure_form, fb, p=np.full((len(top), fb.X.shape[-1]), p))
+    fixed = np.concatenate([
+        vb.get_dofs(lambda y: np.isclose(y[2], 0.0)).all("u^3"),
+        vb.get_dofs(lambda y: np.isclose(y[0], 0.0)).all("u^1"),
+        vb.get_dofs(lambda y: np.isclose(y[1], 0.0)).all("u^2")])
+    u = np.zeros(vb.N)
+    a, b, _, free = condense(k, f, D=fixed)
+    u[free] = spla.spsolve(a.tocsc(), b)
+    grad = vb.interpolate(u).grad
+    eps = voigt_of_grad(grad)
+    sig = [sum(c[i, j] * eps[j] for j in range(6)) for i in range(6)]
+    want = [0, 0, -p, 0, 0, 0]
+    press = max(np.abs(sig[i] - want[i]).max() for i in range(6)) / p
+    print(f"selftest: patch test u {patch_u:.1e}, stress {patch_s:.1e}; uniform pressure "
+          f"stress {press:.1e} (relative to the exact field)")
+    return max(patch_u, patch_s, press)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("exports", nargs="+", help="JSON files written by examples/solid_export.rs "
@@ -426,6 +484,8 @@ def main():
     ap.add_argument("--json", help="write the comparison here")
     args = ap.parse_args()
     out = []
+    if args.exports == ["selftest"]:
+        return 0 if selftest() < 1e-9 else 1
     if args.summary:
         for path in args.exports:
             with open(path) as fh:
