@@ -316,9 +316,11 @@ class PeerSolve:
                           & (x_um[1] >= r[1]) & (x_um[1] <= r[3]))
             count *= layer[:, None]
             self.charge_pc.append(e["sign"] * np.sum(count * d3 * dv) / t_f)
-            mine = {(int(i), int(count[i, 0])) for i in np.nonzero(count.max(axis=1))[0]}
+            uniform = count.min(axis=1) == count.max(axis=1)
+            mine = {(int(i), int(count[i, 0])) for i in np.nonzero(uniform & (count[:, 0] > 0))[0]}
+            mine_cut = set(np.nonzero(~uniform)[0].tolist())
             theirs = {(int(i), int(k)) for i, k in e["elements"]}
-            if mine != theirs:
+            if mine != theirs or mine_cut != set(e.get("cut_elements", [])):
                 self.electrode_elements_match = False
         # Support forces: the films' compression, split at the die's centre line, then the
         # whole die from the part solved (as tactfab reports them).

@@ -38,6 +38,7 @@
 use std::path::PathBuf;
 
 use tactfab::design::Design;
+use tactfab::sensor::solid::MAX_SOLID_LEVELS;
 use tactfab::sensor::solid_export::export_scene;
 use tactfab::sensor::SensorGeometry;
 
@@ -64,6 +65,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let level: usize = pos[2].parse()?;
+    if level >= MAX_SOLID_LEVELS {
+        return Err(format!(
+            "level {level}: the solid rung has levels 0 to {}",
+            MAX_SOLID_LEVELS - 1
+        )
+        .into());
+    }
     let out = PathBuf::from(pos[3]);
     let runs: usize = pos.get(4).map_or(Ok(3), |s| s.parse())?;
     let (_, design) = Design::load(&PathBuf::from(pos[0]), &[])?;

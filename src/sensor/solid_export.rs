@@ -64,9 +64,12 @@ pub struct ExportElectrode {
     /// +1 for the middle electrodes, -1 for the support ones (read with the plate rungs'
     /// polarity, Q = d33 x compression): Q = sign (1/t) integral of D3 dV.
     pub sign: f64,
-    /// tactfab's film elements of this electrode with the number of images holding each (every
-    /// Gauss point of an element lies in the same number of images).
+    /// tactfab's film elements of this electrode with the number of images holding each, where
+    /// every Gauss point of the element lies in the same number of images.
     pub elements: Vec<[usize; 2]>,
+    /// Film elements whose Gauss points lie in different numbers of images (an electrode edge
+    /// inside the element; none on the bundled design): tactfab counts each point.
+    pub cut_elements: Vec<usize>,
 }
 
 /// The piezoelectric film.
@@ -162,7 +165,8 @@ fn face_name(axis: Axis3, outward: Outward) -> String {
 
 /// Builds, solves (median of `runs` timed repeats) and exports `scene` at `level` as `fe --model
 /// solid` does (base `base`, mirrors where the die and the load allow unless `symmetry` is off).
-/// Panics on a level over [`MAX_SOLID_LEVELS`] (misuse); every failure of the model is an error.
+/// Panics on a level of [`MAX_SOLID_LEVELS`] or more (misuse: callers check it); every failure of
+/// the model is an error.
 #[track_caller]
 pub fn export_scene(
     g: &SensorGeometry,
@@ -326,7 +330,7 @@ pub fn export_scene(
                     zc > 0.0 && zc < lay.film_top_um
                 }
             };
-            let mut els = Vec::new();
+            let (mut els, mut cut) = (Vec::new(), Vec::new());
             for (e, &exported) in element_of.iter().enumerate() {
                 if grid.material(e) != Some(PVDF) || !film(grid.element_centre_um(e)[2]) {
                     continue;
@@ -344,12 +348,10 @@ pub fn export_scene(
                             .count()
                     })
                     .collect();
-                assert!(
-                    counts.iter().all(|&c| c == counts[0]),
-                    "electrode {} cuts film element {e}: the electrode edges are grid lines",
-                    el.name
-                );
-                if counts[0] > 0 {
+                if counts.iter().any(|&c| c != counts[0]) {
+                    // An electrode edge that is not a grid line (two lines merged in the mesh).
+                    cut.push(exported);
+                } else if counts[0] > 0 {
                     els.push([exported, counts[0]]);
                 }
             }
@@ -364,6 +366,7 @@ pub fn export_scene(
                 images_um,
                 sign: if middle { 1.0 } else { -1.0 },
                 elements: els,
+                cut_elements: cut,
             }
         })
         .collect();

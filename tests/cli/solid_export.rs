@@ -105,6 +105,13 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
     assert_eq!(ex.electrodes.len(), g.electrodes.len());
     for e in &ex.electrodes {
         assert!(!e.elements.is_empty(), "{}", e.name);
+        // The electrode edges are grid lines: no film element is cut.
+        assert!(
+            e.cut_elements.is_empty(),
+            "{}: {:?}",
+            e.name,
+            e.cut_elements
+        );
         for &[el, k] in &e.elements {
             assert_eq!(ex.material[el], 1, "{} reads a non-PVDF element", e.name);
             assert!(k >= 1);
