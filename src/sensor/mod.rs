@@ -23,6 +23,8 @@ mod symmetry;
 mod touch_down;
 
 pub mod solid;
+#[doc(hidden)]
+pub mod solid_export;
 pub mod solid_mesh;
 pub mod solid_readout;
 

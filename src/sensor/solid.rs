@@ -191,7 +191,7 @@ fn mirrored(points: &[Vec<(f64, f64)>], axis: usize, m: f64) -> bool {
 
 /// The mirrors under which the teeth, the electrodes and the loads are all symmetric (loads of
 /// each force onto loads of the same force).
-fn mirrors(g: &SensorGeometry, loads: &[TopLoad]) -> (Option<f64>, Option<f64>) {
+pub(crate) fn mirrors(g: &SensorGeometry, loads: &[TopLoad]) -> (Option<f64>, Option<f64>) {
     let rect = |r: [f64; 4]| vec![(r[0], r[1]), (r[2], r[1]), (r[2], r[3]), (r[0], r[3])];
     let mut shapes: Vec<Vec<(f64, f64)>> =
         g.etched.tooth_tops_um.iter().map(|&t| rect(t)).collect();

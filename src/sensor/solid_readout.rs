@@ -105,7 +105,7 @@ fn averaged_stress(
 }
 
 /// Images of a rectangle under the model's mirrors, clipped to the part solved.
-fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
+pub(crate) fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
     let mut out = vec![r];
     if let Some(m) = s.mirror_x_um {
         let more: Vec<[f64; 4]> = out

@@ -18,3 +18,4 @@ mod readout;
 mod sensor;
 mod softsweep;
 mod solid;
+mod solid_export;
