@@ -67,6 +67,17 @@ fn main() -> anyhow::Result<()> {
         sim.floor_residue_height_um,
         sim.floor_residue_area_um2
     );
+    if let Some(e) = &sim.corner_error {
+        println!(
+            "corner on {:.2} um {:.1} um: error {:.1} um, extrapolated {:.1} um ({:?}; the \
+             timing includes this coarser run)",
+            e.coarse_grid_um,
+            e.coarse_corner_deviation_um,
+            e.error_um,
+            e.extrapolated_corner_deviation_um,
+            e.decision
+        );
+    }
     if let Some(dir) = flag(&args, "--export").first() {
         export(dir, &sim, &masks, p, grid_um)?;
     }

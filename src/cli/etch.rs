@@ -1,5 +1,6 @@
 //! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
+use tactfab::etch::sim::richardson::ToleranceDecision;
 use tactfab::etch::sim::sensitivity::Sensitivity;
 use tactfab::etch::sim::ToothSimulation;
 use tactfab::etch::EtchPlan;
@@ -204,6 +205,27 @@ fn simulation_text(s: &ToothSimulation, sweep: Option<&Sensitivity>) -> String {
                 f(t, 2)
             ))
     ));
+    out.push_str(&match (&s.corner_error, s.corner_bridged) {
+        (Some(e), _) => format!(
+            "  corner on the {} um grid {} um: discretisation error {} um (Richardson, order {}), \
+             extrapolated {} um; tolerance {}\n",
+            f(e.coarse_grid_um, 2),
+            f(e.coarse_corner_deviation_um, 1),
+            f(e.error_um, 1),
+            e.order,
+            f(e.extrapolated_corner_deviation_um, 1),
+            match e.decision {
+                ToleranceDecision::Within => "met",
+                ToleranceDecision::Beyond => "missed",
+                ToleranceDecision::WithinError =>
+                    "within the discretisation error (a finer grid decides)",
+            }
+        ),
+        (None, true) => {
+            "  the top bridges to the neighbour tooth: corner error not estimated\n".into()
+        }
+        (None, false) => "  corner error not estimated (one grid)\n".into(),
+    });
     out.push_str(&format!(
         "  floor {} um deep; residue up to {} um over {} um2 of the cell; facets {}\n",
         f(s.floor_depth_um, 1),

@@ -7,7 +7,19 @@ use serde_json::Value;
 use super::harness::{tactfab, REFERENCE};
 
 fn simulate(extra: &[&str]) -> (i32, Value) {
-    let mut args = vec!["etch", REFERENCE, "--json", "--simulate", "--grid-um", "20"];
+    simulate_on("20", extra)
+}
+
+/// `etch --json --simulate` on the bundled file with a grid step.
+pub(super) fn simulate_on(grid_um: &str, extra: &[&str]) -> (i32, Value) {
+    let mut args = vec![
+        "etch",
+        REFERENCE,
+        "--json",
+        "--simulate",
+        "--grid-um",
+        grid_um,
+    ];
     args.extend_from_slice(extra);
     let run = tactfab(&args);
     assert!(run.code == 0, "exit {}: {}", run.code, run.stderr);
@@ -123,4 +135,53 @@ fn bad_simulation_input_is_exit_2() {
     ]);
     run.expect_code(2);
     assert!(run.stderr.contains("no teeth"), "{}", run.stderr);
+}
+
+#[test]
+fn corner_error_is_richardson_from_the_grid_and_its_double() {
+    let (_, v) = simulate(&[]);
+    let s = &v["simulation"];
+    let e = &s["corner_error"];
+    let fine = s["corner_deviation_um"].as_f64().unwrap();
+    let coarse = e["coarse_corner_deviation_um"].as_f64().unwrap();
+    assert_eq!(e["coarse_grid_um"].as_f64().unwrap(), 40.0);
+    assert_eq!(e["order"].as_f64().unwrap(), 1.0);
+    // First order, ratio 2: extrapolated = 2 fine - coarse, error = fine - coarse.
+    let ext = e["extrapolated_corner_deviation_um"].as_f64().unwrap();
+    assert!((ext - (2.0 * fine - coarse)).abs() < 1e-9, "{ext}");
+    assert!((e["error_um"].as_f64().unwrap() - (fine - coarse)).abs() < 1e-9);
+    assert_eq!(e["decision"], "beyond");
+    assert_eq!(s["corner_bridged"], false);
+    // The coarse corner is what a run on that grid reports by itself.
+    let (_, w) = simulate_on("40", &[]);
+    let alone = w["simulation"]["corner_deviation_um"].as_f64().unwrap();
+    assert!((alone - coarse).abs() < 1e-9, "{alone} vs {coarse}");
+    let msg = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|w| w["code"] == "ETCHED_CORNER_DEVIATION")
+        .unwrap()["message"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(
+        msg.contains("extrapolated") && msg.contains("discretisation error"),
+        "{msg}"
+    );
+    // A tolerance inside the band extrapolated +/- error: the finding says a finer grid decides.
+    let tol = ext.abs() - 0.5 * (fine - coarse).abs();
+    let (_, u) = simulate(&[
+        "--set",
+        &format!("etchants.etched_corner_tolerance_um={tol}"),
+    ]);
+    assert_eq!(u["simulation"]["corner_error"]["decision"], "within_error");
+    let warned = u["warnings"].as_array().unwrap().iter().any(|w| {
+        w["code"] == "ETCHED_CORNER_DEVIATION"
+            && w["message"]
+                .as_str()
+                .unwrap()
+                .contains("a finer --grid-um decides")
+    });
+    assert!(warned, "{}", u["warnings"]);
 }

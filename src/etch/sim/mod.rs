@@ -8,6 +8,7 @@ pub mod cell;
 pub mod level_set;
 pub mod rate_table;
 pub mod readout;
+pub mod richardson;
 pub mod run;
 pub mod sensitivity;
 pub mod svg;

@@ -7,6 +7,7 @@ use super::cell::ToothCell;
 use super::level_set::{Stepper, Surface};
 use super::rate_table::{RateModel, RateTable};
 use super::readout::{contour, crossing_on_ray, nearest_family};
+use super::richardson::CornerError;
 use super::SimError;
 
 /// How often the corner is read during the etch (for the time the compensator is consumed).
@@ -27,6 +28,19 @@ pub enum CornerShape {
     Rounded,
     /// Leftover compensator stands beyond the drawn corner.
     OverCompensated,
+}
+
+impl CornerShape {
+    /// The shape of a corner `deviation_um` from the drawn one (> 0 outwards).
+    pub fn of(deviation_um: f64, tolerance_um: f64) -> CornerShape {
+        if deviation_um.abs() <= tolerance_um {
+            CornerShape::Square
+        } else if deviation_um < 0.0 {
+            CornerShape::Rounded
+        } else {
+            CornerShape::OverCompensated
+        }
+    }
 }
 
 /// One facet family seen on the sidewalls.
@@ -74,8 +88,16 @@ pub struct ToothSimulation {
     /// The corner against the square whose edges moved by the measured edge undercut:
     /// corner_deviation + sqrt 2 edge_undercut.
     pub corner_vs_undercut_square_um: f64,
+    /// Judged on the best estimate: the extrapolated corner when [`Self::corner_error`] is
+    /// known, else this grid's.
     pub corner_shape: CornerShape,
     pub tolerance_um: f64,
+    /// The top is unbroken to the middle of the street (bridged to the diagonal neighbour);
+    /// the corner is then the cap, not a converging number.
+    pub corner_bridged: bool,
+    /// The corner's discretisation error from this grid and its double (Richardson); none for
+    /// a single-grid run or a bridged corner.
+    pub corner_error: Option<CornerError>,
     /// Mid-edge: drawn edge to etched top edge, > 0 inwards.
     pub edge_undercut_um: f64,
     /// When the etched top edge on the diagonal first reached the drawn corner; none when the
@@ -148,13 +170,9 @@ pub fn simulate_cell(
     let edge = crossing_on_ray(&field, &g, (cx, cy), (1.0, 0.0), 0.0, reach).unwrap_or(0.0);
     let edge_undercut_um = half - edge;
     let corner_deviation_um = history.last().map_or(0.0, |c| c.corner_deviation_um);
-    let corner_shape = if corner_deviation_um.abs() <= tolerance_um {
-        CornerShape::Square
-    } else if corner_deviation_um < 0.0 {
-        CornerShape::Rounded
-    } else {
-        CornerShape::OverCompensated
-    };
+    let corner_shape = CornerShape::of(corner_deviation_um, tolerance_um);
+    let corner_bridged =
+        crossing_on_ray(&field, &g, (cx, cy), (diag, diag), 0.0, street_mid).is_none();
     let floor_depth_um = -s.h_um.iter().copied().fold(0.0, f64::min);
     let (floor_residue_height_um, floor_residue_area_um2) = residue(&s, cell, floor_depth_um);
     Ok(ToothSimulation {
@@ -170,6 +188,8 @@ pub fn simulate_cell(
         corner_vs_undercut_square_um: corner_deviation_um + 2f64.sqrt() * edge_undercut_um,
         corner_shape,
         tolerance_um,
+        corner_bridged,
+        corner_error: None,
         edge_undercut_um,
         compensator_consumed_h: consumed(&history, 0.5 * g.dx_um),
         floor_depth_um,
