@@ -185,3 +185,45 @@ fn corner_error_is_richardson_from_the_grid_and_its_double() {
     });
     assert!(warned, "{}", u["warnings"]);
 }
+
+#[test]
+fn size_compensation_reports_each_geometry_against_the_rule() {
+    let (_, v) = simulate_on("40", &["--size-compensation"]);
+    let z = &v["sizing"];
+    assert_eq!(z["grid_um"].as_f64().unwrap(), 40.0);
+    let coarse = z["coarse_grid_um"].as_f64().unwrap();
+    assert!(coarse > 75.0 && coarse < 85.0, "{coarse}");
+    assert!((z["rule_ratio"].as_f64().unwrap() - 0.544).abs() < 1e-12);
+    let gs = z["geometries"].as_array().unwrap();
+    let names: Vec<&str> = gs.iter().map(|g| g["geometry"].as_str().unwrap()).collect();
+    assert_eq!(names, ["corner_attached", "centred"]);
+    for g in gs {
+        let a = g["sized_a_um"].as_f64().unwrap();
+        assert!(a >= 0.0 && a <= g["largest_a_um"].as_f64().unwrap() + 1e-9);
+        assert!((g["rule_a_um"].as_f64().unwrap() - 200.0 / 0.544).abs() < 1e-9);
+        assert!(g["rule"].is_string() && g["probes"].as_array().unwrap().len() >= 2);
+    }
+    // The text names both geometries and the rule.
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--simulate",
+        "--grid-um",
+        "40",
+        "--size-compensation",
+    ]);
+    run.expect_code(0);
+    for s in [
+        "compensation sizing by simulation",
+        "corner_attached:",
+        "centred:",
+        "rule a = h/0.544",
+    ] {
+        assert!(run.stdout.contains(s), "{s}: {}", run.stdout);
+    }
+    // Deterministic JSON.
+    let (_, w) = simulate_on("40", &["--size-compensation"]);
+    assert_eq!(v, w);
+    // Without --simulate: a usage error.
+    tactfab(&["etch", REFERENCE, "--size-compensation"]).expect_code(2);
+}

@@ -11,11 +11,14 @@ pub mod readout;
 pub mod richardson;
 pub mod run;
 pub mod sensitivity;
+pub mod sizing;
 pub mod svg;
 pub mod tooth;
 
 #[cfg(test)]
 mod tests_closed_form;
+#[cfg(test)]
+mod tests_sizing;
 #[cfg(test)]
 mod tests_tooth;
 
