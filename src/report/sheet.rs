@@ -150,6 +150,30 @@ fn masks(t: &Traveler, fig: &Figures) -> Section {
         ]);
     }
     s.push(Block::Table(table));
+    if let Some(td) = &inv.test_die {
+        s.push(Block::Para(
+            Rich::text("Test die ")
+                .and(Span::Code(td.cell.clone()))
+                .plain(format!(
+                    " on the front mask at ({:.1}, {:.1}) mm of the wafer, {:.1} x {:.1} mm: {} \
+                     teeth with {} compensators a = {} um, rising left to right (centre from {}). \
+                     After the etch, measure each tooth's corner along its diagonal (the labels' \
+                     strokes etch away; count the teeth) and feed the rates back in `etchants`.",
+                    td.origin_um[0] / 1000.0,
+                    td.origin_um[1] / 1000.0,
+                    td.size_um[0] / 1000.0,
+                    td.size_um[1] / 1000.0,
+                    td.a_um.len(),
+                    crate::spelling::yaml(&td.geometry).replace('_', "-"),
+                    td.a_um
+                        .iter()
+                        .map(|a| format!("{a:.1}"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    td.centre_from
+                )),
+        ));
+    }
     s.push(Block::Figures {
         figures: fig
             .masks
