@@ -10,6 +10,7 @@ pub mod rate_table;
 pub mod readout;
 pub mod richardson;
 pub mod run;
+pub mod section;
 pub mod sensitivity;
 pub mod sizing;
 pub mod svg;

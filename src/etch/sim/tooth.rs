@@ -6,7 +6,7 @@ use serde::Serialize;
 use super::cell::ToothCell;
 use super::level_set::{Stepper, Surface};
 use super::rate_table::{RateModel, RateTable};
-use super::readout::{contour, crossing_on_ray, nearest_family};
+use super::readout::{contour, crossing_on_ray, nearest_family, sample};
 use super::richardson::CornerError;
 use super::SimError;
 
@@ -119,6 +119,13 @@ pub struct ToothSimulation {
     pub base: Vec<[f64; 4]>,
     #[serde(skip)]
     pub drawn: Vec<geo::Polygon>,
+    /// The final surface along the tooth's diagonal from its centre to the cell's far corner:
+    /// (distance, height) in um, every half cell (the traveler's cross-section).
+    #[serde(skip)]
+    pub diagonal_profile: Vec<[f64; 2]>,
+    /// Where the drawn mask ends along that diagonal (tooth corner plus compensator), um.
+    #[serde(skip)]
+    pub drawn_diagonal_um: f64,
 }
 
 /// Etches `cell` with `table` for `time_h` and reads the tooth off it; `frames` plan-view
@@ -174,6 +181,21 @@ pub fn simulate_cell(
     let corner_bridged =
         crossing_on_ray(&field, &g, (cx, cy), (diag, diag), 0.0, street_mid).is_none();
     let floor_depth_um = -s.h_um.iter().copied().fold(0.0, f64::min);
+    let diag_len = (g.x_um(g.nx - 1) - cx).hypot(g.y_um(g.ny - 1) - cy);
+    let n_prof = (2.0 * diag_len / g.dx_um).ceil() as usize;
+    let diagonal_profile = (0..=n_prof)
+        .map(|k| {
+            let d = diag_len * k as f64 / n_prof as f64;
+            [d, sample(&s.h_um, &g, cx + d * diag, cy + d * diag)]
+        })
+        .collect();
+    let mask_field: Vec<f64> = cell
+        .drawn
+        .iter()
+        .map(|&m| if m { 1.0 } else { -1.0 })
+        .collect();
+    let drawn_diagonal_um =
+        crossing_on_ray(&mask_field, &g, (cx, cy), (diag, diag), 0.0, diag_len).unwrap_or(diag_len);
     let (floor_residue_height_um, floor_residue_area_um2) = residue(&s, cell, floor_depth_um);
     Ok(ToothSimulation {
         time_h,
@@ -200,6 +222,8 @@ pub fn simulate_cell(
         frames: kept,
         base: contour(&s.h_um, &g, -0.95 * floor_depth_um),
         drawn: cell.polygons.clone(),
+        diagonal_profile,
+        drawn_diagonal_um,
     })
 }
 
