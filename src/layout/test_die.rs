@@ -43,9 +43,17 @@ pub struct TestDieInfo {
     pub teeth_um: Vec<[f64; 2]>,
 }
 
-/// The first front-side silicon etch's compensator a = h / ratio, when it has one.
+/// The first front-side silicon etch's compensator a = h / ratio; without a compensation
+/// section the paper's rule a = h / 0.544; none without a front etch.
 pub fn front_rule_a_um(p: &Process) -> Option<f64> {
-    front_compensation(p).map(|(h, r, _)| h / r)
+    front_compensation(p).map(|(h, r, _)| h / r).or_else(|| {
+        p.steps.iter().find_map(|s| match &s.params {
+            StepParams::SiliconEtch(e) if matches!(e.side, Side::Front | Side::Both) => {
+                Some(e.depth_um / crate::etch::sim::sizing::RULE_RATIO)
+            }
+            _ => None,
+        })
+    })
 }
 
 /// Depth, ratio and geometry of the first front-side etch's compensation.
@@ -85,7 +93,15 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
     let kind = front_compensation(p).map_or(CompensationGeometry::CornerAttached, |c| c.2);
     let (centre, centre_from) = match (t.centre_a_um, front_rule_a_um(p)) {
         (Some(c), _) => (c, "layout.test_die.centre_a_um".to_string()),
-        (None, Some(r)) => (r, "the front etch's a = h / ratio".to_string()),
+        (None, Some(r)) => (
+            r,
+            if front_compensation(p).is_some() {
+                "the front etch's a = h / ratio"
+            } else {
+                "the rule a = h / 0.544 (the front etch draws no compensation)"
+            }
+            .to_string(),
+        ),
         (None, None) => return None,
     };
     let a_um = ladder_a_um(centre, t.span_um, t.step_um);

@@ -794,7 +794,8 @@ pub struct TestDie {
     #[serde(default)]
     pub enabled: bool,
     /// The ladder's middle a (um); none: the front etch's a = h / ratio (the rule, or a ratio
-    /// sized by `tactfab etch --simulate --size-compensation`).
+    /// sized by `tactfab etch --simulate --size-compensation`), or the rule a = h / 0.544 when
+    /// the front etch draws no compensation.
     #[serde(default)]
     pub centre_a_um: Option<f64>,
     /// The ladder reaches this far below and above the centre.

@@ -1008,8 +1008,8 @@ fn test_die(v: &mut V, p: &Process) {
     match (t.centre_a_um, rule) {
         (None, None) => v.push(
             "layout.test_die.centre_a_um",
-            "the front etch draws no compensation, so there is no a to centre the ladder on",
-            "centre_a_um in um, or a compensation section in the front silicon etch",
+            "there is no front silicon etch, so there is no a to centre the ladder on",
+            "centre_a_um in um, or a front silicon etch",
         ),
         (c, r) => {
             let centre = c.or(r).unwrap_or(0.0);
