@@ -4,7 +4,10 @@
 //! (same mask and rates; its top-edge contour and time) and prints the comparison.
 //!
 //! cargo run --release --example etch_sim_bench -- [RUNS] [--grid-um 5] [--set path=value ...]
-//!     [--export DIR] [--viennaps DIR]
+//!     [--export DIR] [--viennaps DIR] [--size]
+//!
+//! `--size` also times one compensation sizing (every geometry) on the same grid, once: it is
+//! about twenty simulations.
 //!
 //! The peer: `--export DIR` writes DIR/cell.json (the cell's drawn polygons and the rates);
 //! `python3 benches/viennaps_wet.py DIR` etches it with ViennaPS's WetEtching model and writes
@@ -67,11 +70,44 @@ fn main() -> anyhow::Result<()> {
         sim.floor_residue_height_um,
         sim.floor_residue_area_um2
     );
+    if let Some(e) = &sim.corner_error {
+        println!(
+            "corner on {:.2} um {:.1} um: error {:.1} um, extrapolated {:.1} um ({:?}; the \
+             timing includes this coarser run)",
+            e.coarse_grid_um,
+            e.coarse_corner_deviation_um,
+            e.error_um,
+            e.extrapolated_corner_deviation_um,
+            e.decision
+        );
+    }
     if let Some(dir) = flag(&args, "--export").first() {
         export(dir, &sim, &masks, p, grid_um)?;
     }
     if let Some(dir) = flag(&args, "--viennaps").first() {
         compare(dir, &sim)?;
+    }
+    if args.iter().any(|a| a == "--size") {
+        let t = Instant::now();
+        let z = tactfab::etch::sim::sizing::size(p, &plan, &masks, grid_um)?;
+        println!(
+            "sizing: {} simulations on {:.2} um and {:.2} um in {:.2} s",
+            z.evaluations,
+            z.grid_um,
+            z.coarse_grid_um,
+            t.elapsed().as_secs_f64()
+        );
+        for g in &z.geometries {
+            println!(
+                "  {:?}: a {:.1} um (ratio {:?}), corner {:.1} um, within {}; rule {:?}",
+                g.geometry,
+                g.sized_a_um,
+                g.sized_ratio,
+                g.sized_corner_deviation_um,
+                g.within_tolerance,
+                g.rule
+            );
+        }
     }
     for f in &sim.facets {
         println!(

@@ -32,7 +32,7 @@ def main():
     ly.read(gds)
     check(abs(ly.dbu - 0.001) < 1e-12, f"database unit 1 nm (got {ly.dbu} um)")
     cells = {c.name: c for c in ly.each_cell()}
-    check(set(cells) == {"MIS_GRASPER_DIE", "MIS_GRASPER_TOOTH", "MIS_GRASPER_WAFER"}, f"cells {sorted(cells)}")
+    check(set(cells) == {"MIS_GRASPER_DIE", "MIS_GRASPER_TEST_DIE", "MIS_GRASPER_TOOTH", "MIS_GRASPER_WAFER"}, f"cells {sorted(cells)}")
     tops = [c.name for c in ly.top_cells()]
     check(tops == ["MIS_GRASPER_WAFER"], f"one top cell, the wafer (got {tops})")
     layers = {(i.layer, i.datatype) for i in ly.layer_infos()}

@@ -166,6 +166,11 @@ pub struct EtchArgs {
     /// Write the plan view of the simulated tooth (contours at several times) to this SVG file.
     #[arg(long, value_name = "FILE", requires = "simulate")]
     pub svg: Option<std::path::PathBuf>,
+    /// Size the compensators by simulation: for each geometry the layout draws, the a (ratio
+    /// h / a) that brings the corner within etchants.etched_corner_tolerance_um, by bisection on
+    /// the corner (about 20 simulations on --grid-um and its double; JSON `sizing`).
+    #[arg(long, requires = "simulate")]
+    pub size_compensation: bool,
 }
 
 #[derive(Debug, Args)]

@@ -1,6 +1,8 @@
 //! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
+use tactfab::etch::sim::richardson::ToleranceDecision;
 use tactfab::etch::sim::sensitivity::Sensitivity;
+use tactfab::etch::sim::sizing::Sizing;
 use tactfab::etch::sim::ToothSimulation;
 use tactfab::etch::EtchPlan;
 use tactfab::process::Process;
@@ -21,10 +23,13 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     if args.json {
         let mut v = serde_json::to_value(&plan)?;
         v["defaults_used"] = serde_json::to_value(&loaded.defaults_used)?;
-        if let Some((s, sweep)) = &sim {
+        if let Some((s, sweep, sizing)) = &sim {
             v["simulation"] = serde_json::to_value(s)?;
             if let Some(sw) = sweep {
                 v["simulation"]["sensitivity"] = serde_json::to_value(sw)?;
+            }
+            if let Some(z) = sizing {
+                v["sizing"] = serde_json::to_value(z)?;
             }
         }
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -134,8 +139,11 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             f(y1, 1),
             f(y1 - y0, 1)
         ));
-        if let Some((s, sweep)) = &sim {
+        if let Some((s, sweep, sizing)) = &sim {
             out.push_str(&simulation_text(s, sweep.as_ref()));
+            if let Some(z) = sizing {
+                out.push_str(&sizing_text(z));
+            }
         }
         out.push_str(&checks(&plan.warnings));
         print!("{out}");
@@ -152,7 +160,7 @@ fn simulate(
     args: &EtchArgs,
     p: &Process,
     plan: &mut EtchPlan,
-) -> anyhow::Result<(ToothSimulation, Option<Sensitivity>)> {
+) -> anyhow::Result<(ToothSimulation, Option<Sensitivity>, Option<Sizing>)> {
     let masks = tactfab::layout::build(p, plan)?;
     let sim = tactfab::etch::sim::simulate(p, plan, &masks, args.grid_um)?;
     let sweep = if args.sensitivity {
@@ -165,11 +173,67 @@ fn simulate(
     } else {
         None
     };
+    let sizing = if args.size_compensation {
+        Some(tactfab::etch::sim::sizing::size(
+            p,
+            plan,
+            &masks,
+            args.grid_um,
+        )?)
+    } else {
+        None
+    };
     if let Some(path) = &args.svg {
         tactfab::export::write_atomic(path, tactfab::etch::sim::svg::plan_view(&sim).as_bytes())?;
     }
     plan.warnings.extend(tactfab::etch::sim::finding(&sim));
-    Ok((sim, sweep))
+    Ok((sim, sweep, sizing))
+}
+
+/// The sizing's lines of the text report.
+fn sizing_text(z: &Sizing) -> String {
+    let mut out = format!(
+        "compensation sizing by simulation ({} h, h = {} um, tolerance {} um; grid {} um and {} \
+         um, Richardson; {} simulations, at most {} bisection steps per geometry):\n",
+        f(z.time_h, 2),
+        z.depth_um,
+        z.tolerance_um,
+        f(z.grid_um, 2),
+        f(z.coarse_grid_um, 2),
+        z.evaluations,
+        z.max_bisection_steps
+    );
+    for g in &z.geometries {
+        let ratio = g.sized_ratio.map_or("none".into(), |r| f(r, 3));
+        out.push_str(&format!(
+            "  {}: a up to {} um ({}); {} a = {} um (ratio h/a {}), corner {} um{}\n",
+            yaml(&g.geometry),
+            f(g.largest_a_um, 1),
+            g.limited_by,
+            if g.within_tolerance {
+                "sized"
+            } else {
+                "no a meets the tolerance; best"
+            },
+            f(g.sized_a_um, 1),
+            ratio,
+            f(g.sized_corner_deviation_um, 1),
+            g.bracket_a_um.map_or(String::new(), |[l, h]| format!(
+                "; the corner's zero between a = {} and {} um",
+                f(l, 1),
+                f(h, 1)
+            ))
+        ));
+        out.push_str(&format!(
+            "    rule a = h/{} = {} um: {}{}\n",
+            z.rule_ratio,
+            f(g.rule_a_um, 1),
+            yaml(&g.rule),
+            g.rule_corner_deviation_um
+                .map_or(String::new(), |c| format!(" (corner {} um)", f(c, 1)))
+        ));
+    }
+    out
 }
 
 /// The simulation's lines of the text report.
@@ -204,6 +268,27 @@ fn simulation_text(s: &ToothSimulation, sweep: Option<&Sensitivity>) -> String {
                 f(t, 2)
             ))
     ));
+    out.push_str(&match (&s.corner_error, s.corner_bridged) {
+        (Some(e), _) => format!(
+            "  corner on the {} um grid {} um: discretisation error {} um (Richardson, order {}), \
+             extrapolated {} um; tolerance {}\n",
+            f(e.coarse_grid_um, 2),
+            f(e.coarse_corner_deviation_um, 1),
+            f(e.error_um, 1),
+            e.order,
+            f(e.extrapolated_corner_deviation_um, 1),
+            match e.decision {
+                ToleranceDecision::Within => "met",
+                ToleranceDecision::Beyond => "missed",
+                ToleranceDecision::WithinError =>
+                    "within the discretisation error (a finer grid decides)",
+            }
+        ),
+        (None, true) => {
+            "  the top bridges to the neighbour tooth: corner error not estimated\n".into()
+        }
+        (None, false) => "  corner error not estimated (one grid)\n".into(),
+    });
     out.push_str(&format!(
         "  floor {} um deep; residue up to {} um over {} um2 of the cell; facets {}\n",
         f(s.floor_depth_um, 1),

@@ -124,6 +124,14 @@ pub fn check(set: &MaskSet, p: &Process, plan: &EtchPlan) -> DrcReport {
                 .cloned()
                 .unwrap_or_default(),
         );
+        // The test die's shapes, where it sits on the wafer.
+        if let Some(t) = &set.test_die {
+            polys.extend(crate::layout::boolean::translate(
+                &set.flatten(&t.cell, layer),
+                t.origin_um[0],
+                t.origin_um[1],
+            ));
+        }
         v.extend(widthspace::check(
             &polys,
             layer,

@@ -178,6 +178,46 @@ impl MaskSet {
                 );
         }
         doc = doc.add(dies);
+        if let Some(td) = &self.test_die {
+            let ([x, y], [w, h]) = (td.origin_um, td.size_um);
+            doc = doc.add(
+                Group::new()
+                    .set("id", "test-die")
+                    .set(
+                        "data-a-um",
+                        td.a_um
+                            .iter()
+                            .map(|a| format!("{a:.1}"))
+                            .collect::<Vec<_>>()
+                            .join(","),
+                    )
+                    .set("fill", "#fde0c5")
+                    .set("stroke", "#d55e00")
+                    .set("stroke-width", "100.000")
+                    .add(
+                        Rectangle::new()
+                            .set("x", t(sx(x))?)
+                            .set("y", t(sy(y + h))?)
+                            .set("width", t(w)?)
+                            .set("height", t(h)?),
+                    )
+                    .add(
+                        Text::new(format!(
+                            "TEST DIE a {:.0}-{:.0} um",
+                            td.a_um[0],
+                            td.a_um[td.a_um.len() - 1]
+                        ))
+                        .set("x", t(sx(x + w / 2.0))?)
+                        .set("y", t(sy(y + h / 2.0))?)
+                        .set("text-anchor", "middle")
+                        .set("dominant-baseline", "middle")
+                        .set("font-family", "sans-serif")
+                        .set("font-size", "1500.000")
+                        .set("fill", "#d55e00")
+                        .set("stroke", "none"),
+                    ),
+            );
+        }
         // Mark sites: the marks' polygons clustered within 2 mm.
         let marks = self.flatten(&self.wafer_cell, LayerKind::Marks);
         let mut sites: Vec<(f64, f64, usize)> = Vec::new();

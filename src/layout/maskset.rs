@@ -258,6 +258,9 @@ pub struct MaskSet {
     pub electrodes: Vec<Electrode>,
     pub masks: Vec<MaskEntry>,
     pub warnings: Vec<Finding>,
+    /// The compensation test die, when the process asks for one (its cell is in `cells` and
+    /// placed once in the wafer cell).
+    pub test_die: Option<super::test_die::TestDieInfo>,
 }
 
 impl MaskSet {
@@ -352,6 +355,25 @@ impl MaskSet {
             self.pitch_y_um,
             self.edge_exclusion_um / 1000.0
         ));
+        if let Some(t) = &self.test_die {
+            out.push_str(&format!(
+                "test die: {} at ({}, {}) um on the wafer, {:.1} x {:.1} um, front mask only: {} teeth \
+                 with {} compensators a = {} um (left to right; centre from {})\n",
+                t.cell,
+                t.origin_um[0],
+                t.origin_um[1],
+                t.size_um[0],
+                t.size_um[1],
+                t.a_um.len(),
+                crate::spelling::yaml(&t.geometry),
+                t.a_um
+                    .iter()
+                    .map(|a| format!("{a:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                t.centre_from
+            ));
+        }
         out
     }
 }
@@ -373,6 +395,7 @@ impl MaskSet {
         MaskSet {
             cells,
             tooth_cell: None,
+            test_die: None,
             die_cell: name.clone(),
             wafer_cell: name,
             ..self.clone()

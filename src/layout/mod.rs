@@ -17,6 +17,7 @@ pub mod maskset;
 mod props;
 pub mod supports;
 pub mod teeth;
+pub mod test_die;
 pub mod text;
 pub mod wafer;
 
@@ -51,6 +52,12 @@ pub enum LayoutError {
          (default 10)"
     )]
     CompensationOverlap { overlap_um: f64, side_um: f64 },
+    #[error(
+        "the {w_mm:.1} x {h_mm:.1} mm test die finds no room on the wafer clear of the dies and \
+         marks\n  hint: a smaller layout.test_die.span_um or a larger step_um (fewer teeth), or \
+         layout.test_die.enabled: false"
+    )]
+    TestDieNoRoom { w_mm: f64, h_mm: f64 },
 }
 
 /// The layer a mask of this purpose is made from.
@@ -116,8 +123,13 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
     cells.insert(die_name.clone(), die);
 
     let (px, py) = (l + g.dicing_street_um, w + g.dicing_street_um);
-    let (wafer_cell, origins) = wafer_cell(p, &masks, &die_name, &legend)?;
+    let test_die = test_die::build(p, plan, &cell_name(&p.device.name, "TEST_DIE"));
+    let (wafer_cell, origins, test_die) = wafer_cell(p, &masks, &die_name, &legend, test_die)?;
     cells.insert(wafer_name.clone(), wafer_cell);
+    let test_die = test_die.map(|(c, info)| {
+        cells.insert(info.cell.clone(), c);
+        info
+    });
 
     Ok(MaskSet {
         device: p.device.name.clone(),
@@ -139,6 +151,7 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
         electrodes,
         masks,
         warnings,
+        test_die,
     })
 }
 
@@ -372,7 +385,8 @@ fn wafer_cell(
     masks: &[MaskEntry],
     die_name: &str,
     legend: &[String],
-) -> Result<(Cell, Vec<Coord>), LayoutError> {
+    test_die: Option<(Cell, test_die::TestDieInfo)>,
+) -> Result<WaferCell, LayoutError> {
     let g = &p.geometry;
     let lay = &p.layout;
     let (l, w) = (g.die_length_um, g.die_width_um);
@@ -400,6 +414,33 @@ fn wafer_cell(
     for site in stepping.mark_sites {
         add_alignment_marks(&mut wafer_cell, masks, snap(site.x), snap(site.y));
     }
+    let test_die = match test_die {
+        None => None,
+        Some((cell, mut info)) => {
+            let [tw, th] = info.size_um;
+            let at = test_die::place(
+                tw,
+                th,
+                &origins,
+                l,
+                w,
+                g.dicing_street_um,
+                r_usable,
+                &stepping.mark_sites,
+                MARK_KEEPOUT_HALF_UM,
+            )
+            .ok_or(LayoutError::TestDieNoRoom {
+                w_mm: tw / 1000.0,
+                h_mm: th / 1000.0,
+            })?;
+            let (x, y) = (snap(at.x), snap(at.y));
+            wafer_cell
+                .placements
+                .push(Placement::single(&info.cell, x, y));
+            info.origin_um = [x, y];
+            Some((cell, info))
+        }
+    };
     let r_wafer = p.wafer.diameter_mm * 500.0;
     wafer_cell.add(LayerKind::WaferOutline, [circle(r_wafer), circle(r_usable)]);
     wafer_cell.note(
@@ -417,8 +458,11 @@ fn wafer_cell(
     for (k, line) in legend.iter().enumerate() {
         wafer_cell.note(line.clone(), -r_wafer, -r_wafer - 2000.0 * (k as f64 + 2.0));
     }
-    Ok((wafer_cell, origins))
+    Ok((wafer_cell, origins, test_die))
 }
+
+/// The wafer cell, the die origins and the placed test die.
+type WaferCell = (Cell, Vec<Coord>, Option<(Cell, test_die::TestDieInfo)>);
 
 /// Front and back alignment marks at one site: on each mask's layer by its side, and overlaid on
 /// the reference marks layer.

@@ -220,6 +220,12 @@ pub fn label_pixel_um() -> f64 {
 pub fn compensation_overlap_um() -> f64 {
     10.0
 }
+pub fn test_die_span_um() -> f64 {
+    150.0
+}
+pub fn test_die_step_um() -> f64 {
+    50.0
+}
 pub fn drc_min_width_um() -> f64 {
     10.0
 }
@@ -421,6 +427,19 @@ pub const DEFAULTS: &[DefaultSource] = &[
         path: "layout.compensation_overlap_um",
         source: "[est] 10 um overlap: one simple polygon per tooth (a vertex-only contact is \
                  invalid, reference/layout-conventions.md)",
+    },
+    DefaultSource {
+        path: "layout.test_die.enabled",
+        source: "[choice] no test die unless the file asks for one",
+    },
+    DefaultSource {
+        path: "layout.test_die.span_um",
+        source: "[choice] +/- 150 um: 0.6-1.4 a around the rule's 368 um, the 0.8-1.5 a of \
+                 process-physics.md and beyond the simulated optimum",
+    },
+    DefaultSource {
+        path: "layout.test_die.step_um",
+        source: "[choice] 50 um steps: 7 teeth over the default span",
     },
     DefaultSource {
         path: "drc.min_width_um",

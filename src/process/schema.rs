@@ -780,6 +780,41 @@ pub struct Layout {
     /// form one simple polygon instead of touching at a single vertex.
     #[serde(default = "d::compensation_overlap_um")]
     pub compensation_overlap_um: f64,
+    /// A test die on the wafer with a ladder of compensated teeth (issue 19, item 4).
+    #[serde(default)]
+    pub test_die: TestDie,
+}
+
+/// The compensation test die: one row of teeth like the device's, on the front mask, whose
+/// compensators step through a = centre - span .. centre + span, each labelled with its a, so
+/// the fab can measure the etched corners and feed the rates back (`etchants`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TestDie {
+    #[serde(default)]
+    pub enabled: bool,
+    /// The ladder's middle a (um); none: the front etch's a = h / ratio (the rule, or a ratio
+    /// sized by `tactfab etch --simulate --size-compensation`), or the rule a = h / 0.544 when
+    /// the front etch draws no compensation.
+    #[serde(default)]
+    pub centre_a_um: Option<f64>,
+    /// The ladder reaches this far below and above the centre.
+    #[serde(default = "d::test_die_span_um")]
+    pub span_um: f64,
+    /// Step of a between neighbouring teeth.
+    #[serde(default = "d::test_die_step_um")]
+    pub step_um: f64,
+}
+
+impl Default for TestDie {
+    fn default() -> Self {
+        TestDie {
+            enabled: false,
+            centre_a_um: None,
+            span_um: d::test_die_span_um(),
+            step_um: d::test_die_step_um(),
+        }
+    }
 }
 
 impl Default for Layout {
@@ -789,6 +824,7 @@ impl Default for Layout {
             edge_exclusion_mm: d::edge_exclusion_mm(),
             label_pixel_um: d::label_pixel_um(),
             compensation_overlap_um: d::compensation_overlap_um(),
+            test_die: TestDie::default(),
         }
     }
 }

@@ -972,6 +972,68 @@ fn optional_temp_time(
 }
 
 /// `layout`: edge exclusion, label pixel, compensator overlap and a valid, distinct layer map.
+/// The test die's ladder: a bounded count of teeth, every a larger than the compensator's
+/// overlap into its tooth, and a centre to step around.
+fn test_die(v: &mut V, p: &Process) {
+    let t = &p.layout.test_die;
+    v.range(
+        "layout.test_die.span_um",
+        t.span_um,
+        0.0,
+        2000.0,
+        false,
+        "um",
+    );
+    v.positive("layout.test_die.step_um", t.step_um, 2000.0, "um");
+    if let Some(c) = t.centre_a_um {
+        v.positive("layout.test_die.centre_a_um", c, 5000.0, "um");
+    }
+    if !(t.enabled && t.span_um.is_finite() && t.step_um.is_finite() && t.step_um > 0.0) {
+        return;
+    }
+    let count = 2.0 * (t.span_um / t.step_um + 1e-9).floor() + 1.0;
+    if count > crate::layout::test_die::MAX_TEETH as f64 {
+        v.push(
+            "layout.test_die.step_um",
+            format!(
+                "{} um steps over +/- {} um make {count} teeth (at most {})",
+                t.step_um,
+                t.span_um,
+                crate::layout::test_die::MAX_TEETH
+            ),
+            "a larger step or a smaller span",
+        );
+    }
+    let rule = crate::layout::test_die::front_rule_a_um(p);
+    match (t.centre_a_um, rule) {
+        (None, None) => v.push(
+            "layout.test_die.centre_a_um",
+            "there is no front silicon etch, so there is no a to centre the ladder on",
+            "centre_a_um in um, or a front silicon etch",
+        ),
+        (c, r) => {
+            let centre = c.or(r).unwrap_or(0.0);
+            let lowest = centre - t.span_um;
+            let floor = p.layout.compensation_overlap_um;
+            if centre.is_finite() && lowest <= floor {
+                v.push(
+                    if c.is_some() {
+                        "layout.test_die.centre_a_um"
+                    } else {
+                        "layout.test_die.span_um"
+                    },
+                    format!(
+                        "the ladder's smallest a = {centre:.1} - {} = {lowest:.1} um is not \
+                         larger than layout.compensation_overlap_um = {floor} um",
+                        t.span_um
+                    ),
+                    "a ladder whose smallest compensator is larger than the overlap",
+                );
+            }
+        }
+    }
+}
+
 fn layout(v: &mut V, p: &Process) {
     let lay = &p.layout;
     v.range(
@@ -991,6 +1053,7 @@ fn layout(v: &mut V, p: &Process) {
         false,
         "um",
     );
+    test_die(v, p);
     let l = &lay.layers;
     let mut seen = BTreeSet::new();
     for (name, g) in [

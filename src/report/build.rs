@@ -262,12 +262,19 @@ pub fn build(
     }
 
     progress(Stage::Traveler);
+    // The tooth's etch, coarse: the traveler is also made by debug-built tests.
+    let sim = crate::etch::sim::simulate(p, &plan, &set, super::traveler::ETCH_SIM_GRID_UM);
     let figures = Figures {
         masks: set.masks.iter().map(|m| m.name.clone()).zip(svgs).collect(),
         tooth: tooth_svg(&set)?,
         wafer: Some(wafer_map),
+        etch_plan_view: sim.as_ref().ok().map(crate::etch::sim::svg::plan_view),
+        etch_section: sim
+            .as_ref()
+            .ok()
+            .map(crate::etch::sim::section::diagonal_section),
     };
-    let t = traveler(TravelerInput {
+    let mut t = traveler(TravelerInput {
         process: p,
         origin: &opts.origin,
         fe_accuracy: opts.fe,
@@ -278,6 +285,12 @@ pub fn build(
         drc: &drc,
         inventory: inv.clone(),
         fe: fe.clone(),
+    });
+    t.etch_sim = Some(match &sim {
+        Ok(s) => super::traveler::EtchSimRow::of(s),
+        Err(e) => super::traveler::EtchSimRow::missing(
+            e.to_string().lines().next().unwrap_or_default().to_string(),
+        ),
     });
     let md = markdown(&t);
     let page = html(&t, &figures);

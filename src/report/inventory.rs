@@ -30,6 +30,8 @@ pub struct Inventory {
     pub gds_sha256: String,
     pub lyp_file: String,
     pub masks: Vec<MaskRow>,
+    /// The compensation test die on the front mask, when the process asks for one.
+    pub test_die: Option<crate::layout::test_die::TestDieInfo>,
 }
 
 /// The inventory from the set and the bytes actually written (GDS, and each mask's SVG in mask
@@ -59,6 +61,7 @@ pub fn inventory(set: &MaskSet, gds: &[u8], svgs: &[String]) -> Inventory {
         gds_sha256: sha256_hex(gds),
         lyp_file: format!("{}.lyp", set.device),
         masks,
+        test_die: set.test_die.clone(),
     }
 }
 

@@ -15,6 +15,9 @@ pub struct Figures {
     pub tooth: Option<String>,
     /// The wafer map (dies and alignment marks).
     pub wafer: Option<String>,
+    /// The simulated tooth: plan view and diagonal cross-section.
+    pub etch_plan_view: Option<String>,
+    pub etch_section: Option<String>,
 }
 
 /// What makes the build fail, one line each: etch-plan errors, unwaived DRC violations, declared
@@ -150,6 +153,30 @@ fn masks(t: &Traveler, fig: &Figures) -> Section {
         ]);
     }
     s.push(Block::Table(table));
+    if let Some(td) = &inv.test_die {
+        s.push(Block::Para(
+            Rich::text("Test die ")
+                .and(Span::Code(td.cell.clone()))
+                .plain(format!(
+                    " on the front mask at ({:.1}, {:.1}) mm of the wafer, {:.1} x {:.1} mm: {} \
+                     teeth with {} compensators a = {} um, rising left to right (centre from {}). \
+                     After the etch, measure each tooth's corner along its diagonal (the labels' \
+                     strokes etch away; count the teeth) and feed the rates back in `etchants`.",
+                    td.origin_um[0] / 1000.0,
+                    td.origin_um[1] / 1000.0,
+                    td.size_um[0] / 1000.0,
+                    td.size_um[1] / 1000.0,
+                    td.a_um.len(),
+                    crate::spelling::yaml(&td.geometry).replace('_', "-"),
+                    td.a_um
+                        .iter()
+                        .map(|a| format!("{a:.1}"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    td.centre_from
+                )),
+        ));
+    }
     s.push(Block::Figures {
         figures: fig
             .masks
@@ -547,13 +574,13 @@ fn compensation(t: &Traveler, fig: &Figures) -> Section {
         s.push(Block::Para(
             "No silicon etch carries a compensation design.".into(),
         ));
-        return s;
+    } else {
+        let mut table = Table::new(&CompensationRow::HEADINGS);
+        for c in &t.compensation {
+            table.row(c.cells().into_iter().map(Rich::from).collect());
+        }
+        s.push(Block::Table(table));
     }
-    let mut table = Table::new(&CompensationRow::HEADINGS);
-    for c in &t.compensation {
-        table.row(c.cells().into_iter().map(Rich::from).collect());
-    }
-    s.push(Block::Table(table));
     s.push(Block::Figures {
         figures: fig
             .tooth
@@ -566,7 +593,65 @@ fn compensation(t: &Traveler, fig: &Figures) -> Section {
         grid: false,
         max_width_mm: Some(60),
     });
+    if let Some(e) = &t.etch_sim {
+        s.push(Block::Para(etch_sim_text(e).into()));
+        s.push(Block::Figures {
+            figures: fig
+                .etch_plan_view
+                .iter()
+                .map(|svg| Figure {
+                    svg: svg.clone(),
+                    caption: "the simulated tooth in plan view: top edge at four times, base, \
+                              drawn mask"
+                        .into(),
+                })
+                .chain(fig.etch_section.iter().map(|svg| Figure {
+                    svg: svg.clone(),
+                    caption: "the simulated tooth along its diagonal (heights exaggerated)".into(),
+                }))
+                .collect(),
+            grid: true,
+            max_width_mm: None,
+        });
+    }
     s
+}
+
+/// The simulated corner in one paragraph.
+fn etch_sim_text(e: &super::traveler::EtchSimRow) -> String {
+    if let Some(why) = &e.not_simulated {
+        return format!("Etch simulation of the tooth: not run ({why}).");
+    }
+    let mut out = format!(
+        "Etch simulation of one tooth (`tactfab etch --simulate`, 2.5-D level set of the drawn \
+         front mask, {:.2} h, coarse {} um grid to stay quick): the tooth-top corner lies {:+.1} \
+         um along the diagonal from the drawn corner (> 0 outwards)",
+        e.time_h, e.grid_um, e.corner_deviation_um
+    );
+    if let Some(c) = &e.corner_error {
+        out.push_str(&format!(
+            "; against {:+.1} um on {:.1} um the discretisation error is {:+.1} um and the \
+             extrapolated corner {:+.1} um",
+            c.coarse_corner_deviation_um,
+            c.coarse_grid_um,
+            c.error_um,
+            c.extrapolated_corner_deviation_um
+        ));
+    }
+    out.push_str(&format!(
+        ": {} against the {} um tolerance. Edge undercut {:.1} um; compensator consumed {}; \
+         floor residue up to {:.1} um high. Run `tactfab etch FILE --simulate` (5 um) for the \
+         design numbers and `--size-compensation` to size the compensators.",
+        crate::spelling::yaml(&e.corner_shape).replace('_', "-"),
+        e.tolerance_um,
+        e.edge_undercut_um,
+        e.compensator_consumed_h
+            .map_or("never (or none drawn)".to_string(), |t| format!(
+                "at {t:.2} h"
+            )),
+        e.floor_residue_height_um
+    ));
+    out
 }
 
 /// Every `--set` override and every default the file relied on, with its source.

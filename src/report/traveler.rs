@@ -264,6 +264,63 @@ pub struct Traveler {
     pub defaults_used: Vec<Provenance>,
     pub overrides: Vec<(String, String)>,
     pub fe: Option<FeSummary>,
+    /// The etch simulation of one tooth on a coarse grid (`etch_sim::TRAVELER_GRID_UM`), or
+    /// why it did not run; none when the traveler was made without it.
+    pub etch_sim: Option<EtchSimRow>,
+}
+
+/// Grid of the traveler's etch simulation \[choice: 20 um and its double cost a fraction of a
+/// second, where 5 um costs seconds; the corner's error estimate says what that grid misses\].
+pub const ETCH_SIM_GRID_UM: f64 = 20.0;
+
+/// The simulated tooth as the traveler prints it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EtchSimRow {
+    /// Why it was not simulated (no teeth, no interior tooth, ...); the numbers are then absent.
+    pub not_simulated: Option<String>,
+    pub grid_um: f64,
+    pub time_h: f64,
+    pub corner_deviation_um: f64,
+    pub corner_error: Option<crate::etch::sim::richardson::CornerError>,
+    pub corner_shape: crate::etch::sim::CornerShape,
+    pub tolerance_um: f64,
+    pub edge_undercut_um: f64,
+    pub compensator_consumed_h: Option<f64>,
+    pub floor_residue_height_um: f64,
+}
+
+impl EtchSimRow {
+    /// The row of a simulation.
+    pub fn of(s: &crate::etch::sim::ToothSimulation) -> EtchSimRow {
+        EtchSimRow {
+            not_simulated: None,
+            grid_um: s.grid_um,
+            time_h: s.time_h,
+            corner_deviation_um: s.corner_deviation_um,
+            corner_error: s.corner_error,
+            corner_shape: s.corner_shape,
+            tolerance_um: s.tolerance_um,
+            edge_undercut_um: s.edge_undercut_um,
+            compensator_consumed_h: s.compensator_consumed_h,
+            floor_residue_height_um: s.floor_residue_height_um,
+        }
+    }
+
+    /// The row saying why there is no simulation.
+    pub fn missing(why: String) -> EtchSimRow {
+        EtchSimRow {
+            not_simulated: Some(why),
+            grid_um: 0.0,
+            time_h: 0.0,
+            corner_deviation_um: 0.0,
+            corner_error: None,
+            corner_shape: crate::etch::sim::CornerShape::Square,
+            tolerance_um: 0.0,
+            edge_undercut_um: 0.0,
+            compensator_consumed_h: None,
+            floor_residue_height_um: 0.0,
+        }
+    }
 }
 
 /// What the traveler is made from.
@@ -320,6 +377,7 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         defaults_used: input.defaults_used.to_vec(),
         overrides: input.overrides.to_vec(),
         fe: input.fe,
+        etch_sim: None,
     }
 }
 

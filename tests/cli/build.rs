@@ -786,3 +786,50 @@ fn rendered_svg_check_catches_text_off_the_canvas() {
         "{found:?}"
     );
 }
+
+/// The traveler carries the simulated tooth: its corner numbers (Markdown and HTML) and the plan
+/// view and diagonal cross-section (HTML).
+#[test]
+fn traveler_shows_the_simulated_tooth() {
+    let t = tempfile::tempdir().unwrap();
+    let base = t.path().join("trav");
+    let (code, stdout, stderr) = run(&[
+        "traveler",
+        REFERENCE,
+        "-o",
+        base.to_str().unwrap(),
+        "--no-fe",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let md = std::fs::read_to_string(base.join("mis-grasper-traveler.md")).unwrap();
+    let html = std::fs::read_to_string(base.join("mis-grasper-traveler.html")).unwrap();
+    for doc in [&md, &html] {
+        assert!(
+            doc.contains("Etch simulation of one tooth"),
+            "no simulation paragraph"
+        );
+        assert!(doc.contains("extrapolated corner"));
+    }
+    assert!(
+        html.contains("etched tooth along its diagonal"),
+        "no cross-section"
+    );
+    assert!(html.contains("top edge at"), "no plan view");
+    // Without teeth the traveler says why there is no simulation.
+    let base2 = t.path().join("none");
+    let (code, o, e) = run(&[
+        "traveler",
+        REFERENCE,
+        "-o",
+        base2.to_str().unwrap(),
+        "--no-fe",
+        "--set",
+        "geometry.teeth.pattern=none",
+    ]);
+    assert!(code == 0 || code == 1, "{o}\n{e}");
+    let md = std::fs::read_to_string(base2.join("mis-grasper-traveler.md")).unwrap();
+    assert!(
+        md.contains("Etch simulation of the tooth: not run (the process draws no teeth"),
+        "{md}"
+    );
+}

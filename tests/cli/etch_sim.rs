@@ -7,7 +7,19 @@ use serde_json::Value;
 use super::harness::{tactfab, REFERENCE};
 
 fn simulate(extra: &[&str]) -> (i32, Value) {
-    let mut args = vec!["etch", REFERENCE, "--json", "--simulate", "--grid-um", "20"];
+    simulate_on("20", extra)
+}
+
+/// `etch --json --simulate` on the bundled file with a grid step.
+pub(super) fn simulate_on(grid_um: &str, extra: &[&str]) -> (i32, Value) {
+    let mut args = vec![
+        "etch",
+        REFERENCE,
+        "--json",
+        "--simulate",
+        "--grid-um",
+        grid_um,
+    ];
     args.extend_from_slice(extra);
     let run = tactfab(&args);
     assert!(run.code == 0, "exit {}: {}", run.code, run.stderr);
@@ -123,4 +135,95 @@ fn bad_simulation_input_is_exit_2() {
     ]);
     run.expect_code(2);
     assert!(run.stderr.contains("no teeth"), "{}", run.stderr);
+}
+
+#[test]
+fn corner_error_is_richardson_from_the_grid_and_its_double() {
+    let (_, v) = simulate(&[]);
+    let s = &v["simulation"];
+    let e = &s["corner_error"];
+    let fine = s["corner_deviation_um"].as_f64().unwrap();
+    let coarse = e["coarse_corner_deviation_um"].as_f64().unwrap();
+    assert_eq!(e["coarse_grid_um"].as_f64().unwrap(), 40.0);
+    assert_eq!(e["order"].as_f64().unwrap(), 1.0);
+    // First order, ratio 2: extrapolated = 2 fine - coarse, error = fine - coarse.
+    let ext = e["extrapolated_corner_deviation_um"].as_f64().unwrap();
+    assert!((ext - (2.0 * fine - coarse)).abs() < 1e-9, "{ext}");
+    assert!((e["error_um"].as_f64().unwrap() - (fine - coarse)).abs() < 1e-9);
+    assert_eq!(e["decision"], "beyond");
+    assert_eq!(s["corner_bridged"], false);
+    // The coarse corner is what a run on that grid reports by itself.
+    let (_, w) = simulate_on("40", &[]);
+    let alone = w["simulation"]["corner_deviation_um"].as_f64().unwrap();
+    assert!((alone - coarse).abs() < 1e-9, "{alone} vs {coarse}");
+    let msg = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|w| w["code"] == "ETCHED_CORNER_DEVIATION")
+        .unwrap()["message"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(
+        msg.contains("extrapolated") && msg.contains("discretisation error"),
+        "{msg}"
+    );
+    // A tolerance inside the band extrapolated +/- error: the finding says a finer grid decides.
+    let tol = ext.abs() - 0.5 * (fine - coarse).abs();
+    let (_, u) = simulate(&[
+        "--set",
+        &format!("etchants.etched_corner_tolerance_um={tol}"),
+    ]);
+    assert_eq!(u["simulation"]["corner_error"]["decision"], "within_error");
+    let warned = u["warnings"].as_array().unwrap().iter().any(|w| {
+        w["code"] == "ETCHED_CORNER_DEVIATION"
+            && w["message"]
+                .as_str()
+                .unwrap()
+                .contains("a finer --grid-um decides")
+    });
+    assert!(warned, "{}", u["warnings"]);
+}
+
+#[test]
+fn size_compensation_reports_each_geometry_against_the_rule() {
+    let (_, v) = simulate_on("40", &["--size-compensation"]);
+    let z = &v["sizing"];
+    assert_eq!(z["grid_um"].as_f64().unwrap(), 40.0);
+    let coarse = z["coarse_grid_um"].as_f64().unwrap();
+    assert!(coarse > 75.0 && coarse < 85.0, "{coarse}");
+    assert!((z["rule_ratio"].as_f64().unwrap() - 0.544).abs() < 1e-12);
+    let gs = z["geometries"].as_array().unwrap();
+    let names: Vec<&str> = gs.iter().map(|g| g["geometry"].as_str().unwrap()).collect();
+    assert_eq!(names, ["corner_attached", "centred"]);
+    for g in gs {
+        let a = g["sized_a_um"].as_f64().unwrap();
+        assert!(a >= 0.0 && a <= g["largest_a_um"].as_f64().unwrap() + 1e-9);
+        assert!((g["rule_a_um"].as_f64().unwrap() - 200.0 / 0.544).abs() < 1e-9);
+        assert!(g["rule"].is_string() && g["probes"].as_array().unwrap().len() >= 2);
+    }
+    // The text names both geometries and the rule.
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--simulate",
+        "--grid-um",
+        "40",
+        "--size-compensation",
+    ]);
+    run.expect_code(0);
+    for s in [
+        "compensation sizing by simulation",
+        "corner_attached:",
+        "centred:",
+        "rule a = h/0.544",
+    ] {
+        assert!(run.stdout.contains(s), "{s}: {}", run.stdout);
+    }
+    // Deterministic JSON.
+    let (_, w) = simulate_on("40", &["--size-compensation"]);
+    assert_eq!(v, w);
+    // Without --simulate: a usage error.
+    tactfab(&["etch", REFERENCE, "--size-compensation"]).expect_code(2);
 }

@@ -183,7 +183,12 @@ fn gds_reads_back_with_gds21() {
     assert_eq!(names, sorted, "cells not sorted by name");
     assert_eq!(
         names,
-        ["MIS_GRASPER_DIE", "MIS_GRASPER_TOOTH", "MIS_GRASPER_WAFER"]
+        [
+            "MIS_GRASPER_DIE",
+            "MIS_GRASPER_TEST_DIE",
+            "MIS_GRASPER_TOOTH",
+            "MIS_GRASPER_WAFER"
+        ]
     );
     let mut arefs = 0;
     let mut boundaries = 0;
@@ -607,4 +612,115 @@ fn electrodes_sit_on_the_etched_back_and_the_rule_fires_when_they_do_not() {
     relaxed.extend(["--set", "drc.min_wall_margin_um=50"]);
     let (code, stdout, _) = generate(&t.path().join("b"), &relaxed, &[]);
     assert_eq!(code, 0, "{stdout}");
+}
+
+/// The test die read back through KLayout: one placement in the wafer, seven teeth on the front
+/// layer whose island areas give a = h / 0.544 -/+ 150 um in 50 um steps (computed here from the
+/// file's numbers, not from the layout code), their labels, and DRC clean.
+#[test]
+fn klayout_finds_the_test_die_ladder() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("m");
+    let (code, stdout, stderr) = generate(&out, &[], &[]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("test die: MIS_GRASPER_TEST_DIE"),
+        "{stdout}"
+    );
+    let loaded = tactfab::process::load(&root().join(PROCESS), &[]).unwrap();
+    let p = &loaded.process;
+    let centre = 200.0 / 0.544;
+    let expected: Vec<f64> = (-3..=3).map(|k| centre + 50.0 * f64::from(k)).collect();
+    let expected_text = format!("{expected:?}");
+    let script = format!(
+        r#"
+import sys, math, klayout.db as db
+ly = db.Layout(); ly.read(sys.argv[1])
+top = ly.top_cell()
+td = ly.cell("MIS_GRASPER_TEST_DIE")
+assert td is not None, "no test die cell"
+refs = [i for i in top.each_inst() if i.cell_index == td.cell_index()]
+assert len(refs) == 1, "placed %d times" % len(refs)
+li = ly.find_layer(1, 0)
+top_um, ov = {top}, {ov}
+region = db.Region(td.begin_shapes_rec(li))
+a = []
+for poly in region.merged().each():
+    area = poly.area() * ly.dbu ** 2
+    if area > top_um ** 2:
+        a.append((poly.bbox().left, math.sqrt((area - top_um ** 2) / 4 + ov ** 2)))
+a = [v for _, v in sorted(a)]
+exp = {exp}
+assert len(a) == len(exp), (a, exp)
+for got, want in zip(a, exp):
+    assert abs(got - want) < 0.01, (got, want)
+texts = [s.text.string for s in td.each_shape(ly.find_layer(63, 0)) if s.is_text()]
+for want in exp:
+    assert ("A=%.1f UM" % want) in texts, (want, texts)
+print("TEST DIE OK", ["%.1f" % v for v in a])
+"#,
+        top = p.geometry.teeth.top_um,
+        ov = p.layout.compensation_overlap_um,
+        exp = expected_text,
+    );
+    let py = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(&script)
+        .arg(out.join("mis-grasper.gds"))
+        .output()
+        .expect("python3 runs");
+    let (so, se) = (
+        String::from_utf8_lossy(&py.stdout),
+        String::from_utf8_lossy(&py.stderr),
+    );
+    assert!(py.status.success(), "{so}\n{se}");
+    assert!(so.contains("TEST DIE OK"), "{so}");
+    assert!(stdout.contains("DRC passed"), "{stdout}");
+}
+
+/// Switched off, the masks are those of a file without the section, byte for byte; bad ladders
+/// are exit 2 naming the field.
+#[test]
+fn test_die_switch_and_bad_values() {
+    let t = tempfile::tempdir().unwrap();
+    let (off, plain) = (t.path().join("off"), t.path().join("plain"));
+    let (code, o, e) = generate(&off, &["--set", "layout.test_die.enabled=false"], &[]);
+    assert_eq!(code, 0, "{o}\n{e}");
+    let text = std::fs::read_to_string(root().join(PROCESS)).unwrap();
+    let start = text.find("\nlayout:\n").expect("layout section");
+    let end = start + 1 + text[start + 1..].find("\nchecks:").unwrap();
+    let without = format!("{}{}", &text[..start], &text[end..]);
+    assert!(!without.contains("test_die"));
+    let file = t.path().join("mis-grasper.yaml");
+    std::fs::write(&file, without).unwrap();
+    let (code, o, e) = run(&[
+        "masks",
+        file.to_str().unwrap(),
+        "-o",
+        plain.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{o}\n{e}");
+    let (a, b) = (read_all(&off), read_all(&plain));
+    for (name, bytes) in &a {
+        // The manifest names the process file's hash, which differs.
+        if name != "tactfab.sha256" {
+            assert!(b[name] == *bytes, "{name} differs with the test die off");
+        }
+    }
+    for (set, field) in [
+        ("layout.test_die.step_um=0", "layout.test_die.step_um"),
+        ("layout.test_die.step_um=10", "layout.test_die.step_um"),
+        ("layout.test_die.span_um=400", "layout.test_die.span_um"),
+        (
+            "layout.test_die.centre_a_um=-5",
+            "layout.test_die.centre_a_um",
+        ),
+        ("layout.test_die.colour=red", "layout.test_die"),
+    ] {
+        let d = t.path().join("bad");
+        let (code, o, e) = generate(&d, &["--set", set], &[]);
+        assert_eq!(code, 2, "{set}: {o}\n{e}");
+        assert!(e.contains(field), "{set}: {e}");
+        assert!(!d.exists(), "{set}: exit 2 writes nothing");
+    }
 }

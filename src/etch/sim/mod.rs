@@ -8,13 +8,18 @@ pub mod cell;
 pub mod level_set;
 pub mod rate_table;
 pub mod readout;
+pub mod richardson;
 pub mod run;
+pub mod section;
 pub mod sensitivity;
+pub mod sizing;
 pub mod svg;
 pub mod tooth;
 
 #[cfg(test)]
 mod tests_closed_form;
+#[cfg(test)]
+mod tests_sizing;
 #[cfg(test)]
 mod tests_tooth;
 

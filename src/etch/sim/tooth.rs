@@ -6,7 +6,8 @@ use serde::Serialize;
 use super::cell::ToothCell;
 use super::level_set::{Stepper, Surface};
 use super::rate_table::{RateModel, RateTable};
-use super::readout::{contour, crossing_on_ray, nearest_family};
+use super::readout::{contour, crossing_on_ray, nearest_family, sample};
+use super::richardson::CornerError;
 use super::SimError;
 
 /// How often the corner is read during the etch (for the time the compensator is consumed).
@@ -27,6 +28,19 @@ pub enum CornerShape {
     Rounded,
     /// Leftover compensator stands beyond the drawn corner.
     OverCompensated,
+}
+
+impl CornerShape {
+    /// The shape of a corner `deviation_um` from the drawn one (> 0 outwards).
+    pub fn of(deviation_um: f64, tolerance_um: f64) -> CornerShape {
+        if deviation_um.abs() <= tolerance_um {
+            CornerShape::Square
+        } else if deviation_um < 0.0 {
+            CornerShape::Rounded
+        } else {
+            CornerShape::OverCompensated
+        }
+    }
 }
 
 /// One facet family seen on the sidewalls.
@@ -74,8 +88,16 @@ pub struct ToothSimulation {
     /// The corner against the square whose edges moved by the measured edge undercut:
     /// corner_deviation + sqrt 2 edge_undercut.
     pub corner_vs_undercut_square_um: f64,
+    /// Judged on the best estimate: the extrapolated corner when [`Self::corner_error`] is
+    /// known, else this grid's.
     pub corner_shape: CornerShape,
     pub tolerance_um: f64,
+    /// The top is unbroken to the middle of the street (bridged to the diagonal neighbour);
+    /// the corner is then the cap, not a converging number.
+    pub corner_bridged: bool,
+    /// The corner's discretisation error from this grid and its double (Richardson); none for
+    /// a single-grid run or a bridged corner.
+    pub corner_error: Option<CornerError>,
     /// Mid-edge: drawn edge to etched top edge, > 0 inwards.
     pub edge_undercut_um: f64,
     /// When the etched top edge on the diagonal first reached the drawn corner; none when the
@@ -97,6 +119,13 @@ pub struct ToothSimulation {
     pub base: Vec<[f64; 4]>,
     #[serde(skip)]
     pub drawn: Vec<geo::Polygon>,
+    /// The final surface along the tooth's diagonal from its centre to the cell's far corner:
+    /// (distance, height) in um, every half cell (the traveler's cross-section).
+    #[serde(skip)]
+    pub diagonal_profile: Vec<[f64; 2]>,
+    /// Where the drawn mask ends along that diagonal (tooth corner plus compensator), um.
+    #[serde(skip)]
+    pub drawn_diagonal_um: f64,
 }
 
 /// Etches `cell` with `table` for `time_h` and reads the tooth off it; `frames` plan-view
@@ -148,14 +177,25 @@ pub fn simulate_cell(
     let edge = crossing_on_ray(&field, &g, (cx, cy), (1.0, 0.0), 0.0, reach).unwrap_or(0.0);
     let edge_undercut_um = half - edge;
     let corner_deviation_um = history.last().map_or(0.0, |c| c.corner_deviation_um);
-    let corner_shape = if corner_deviation_um.abs() <= tolerance_um {
-        CornerShape::Square
-    } else if corner_deviation_um < 0.0 {
-        CornerShape::Rounded
-    } else {
-        CornerShape::OverCompensated
-    };
+    let corner_shape = CornerShape::of(corner_deviation_um, tolerance_um);
+    let corner_bridged =
+        crossing_on_ray(&field, &g, (cx, cy), (diag, diag), 0.0, street_mid).is_none();
     let floor_depth_um = -s.h_um.iter().copied().fold(0.0, f64::min);
+    let diag_len = (g.x_um(g.nx - 1) - cx).hypot(g.y_um(g.ny - 1) - cy);
+    let n_prof = (2.0 * diag_len / g.dx_um).ceil() as usize;
+    let diagonal_profile = (0..=n_prof)
+        .map(|k| {
+            let d = diag_len * k as f64 / n_prof as f64;
+            [d, sample(&s.h_um, &g, cx + d * diag, cy + d * diag)]
+        })
+        .collect();
+    let mask_field: Vec<f64> = cell
+        .drawn
+        .iter()
+        .map(|&m| if m { 1.0 } else { -1.0 })
+        .collect();
+    let drawn_diagonal_um =
+        crossing_on_ray(&mask_field, &g, (cx, cy), (diag, diag), 0.0, diag_len).unwrap_or(diag_len);
     let (floor_residue_height_um, floor_residue_area_um2) = residue(&s, cell, floor_depth_um);
     Ok(ToothSimulation {
         time_h,
@@ -170,6 +210,8 @@ pub fn simulate_cell(
         corner_vs_undercut_square_um: corner_deviation_um + 2f64.sqrt() * edge_undercut_um,
         corner_shape,
         tolerance_um,
+        corner_bridged,
+        corner_error: None,
         edge_undercut_um,
         compensator_consumed_h: consumed(&history, 0.5 * g.dx_um),
         floor_depth_um,
@@ -180,6 +222,8 @@ pub fn simulate_cell(
         frames: kept,
         base: contour(&s.h_um, &g, -0.95 * floor_depth_um),
         drawn: cell.polygons.clone(),
+        diagonal_profile,
+        drawn_diagonal_um,
     })
 }
 
