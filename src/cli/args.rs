@@ -700,9 +700,11 @@ pub struct TissueArgs {
     /// Most plate mesh levels, 1-10 (the studies' 3).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "3")]
     pub max_levels: u8,
-    /// Plate rung: only plate (the linear plate: the field is a superposition of cell
-    /// responses); its membrane error at the grasp's force is printed.
-    #[arg(long, value_enum, default_value = "plate")]
+    /// Plate rung of the two full grasp scenes (without and with the feature): auto (the
+    /// cheapest meeting --tol, the large-deflection plate at the default grasp), plate or
+    /// large-deflection. The cell superposition, the inverse, the map and the vessel use the
+    /// linear plate whatever this says.
+    #[arg(long, value_enum, default_value = "auto")]
     pub model: ModelArg,
     #[command(flatten)]
     pub replace: OverwriteArgs,

@@ -21,10 +21,10 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             "--vessel: a vessel is a void whose wall carries the pressure: add --feature void"
         );
     }
-    if sensor && a.model != ModelArg::Plate {
+    if sensor && matches!(a.model, ModelArg::Beam | ModelArg::Solid) {
         anyhow::bail!(
-            "--model: the tissue field is a sum of cell responses, so only the linear plate \
-             (--model plate) answers it; its membrane error at the grasp's force is printed"
+            "--model: the tissue's pressure field loads the plate rungs only: use auto, plate or \
+             large-deflection"
         );
     }
     let slab = Slab {
@@ -87,7 +87,8 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 a.y_mm.map_or(0.5 * g.width_um, |y| y * 1e3),
             ),
             cell_um: a.cell_mm * 1e3,
-            accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)),
+            accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)).with_model(a.model.into()),
+            full_scenes: true,
             noise_mv: a.noise_mv,
             threshold_snr: a.snr,
             locate: a.locate.then_some(a.seed),
@@ -108,12 +109,15 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         };
         let s = through_sensor(&g, &spec)?;
         files.push(("through-sensor.csv".into(), s.csv().into_bytes()));
+        if let Some(c) = s.full_csv() {
+            files.push(("through-sensor-full.csv".into(), c.into_bytes()));
+        }
         files.push(("face-pressure.csv".into(), s.face_csv().into_bytes()));
         files.push(("through-sensor.svg".into(), s.svg().into_bytes()));
         let u = &s.unit;
         after.push(format!(
-            "through the sensor: {} x {} cells of {} x {} mm on the linear plate ({} levels, {} \
-             dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
+            "through the sensor, superposed: {} x {} cells of {} x {} mm on the linear plate ({} \
+             levels, {} dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
             u.grid.nx,
             u.grid.ny,
             f(u.grid.size_um().0 * 1e-3, 3),
@@ -146,9 +150,51 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 f(w - b, 3)
             ));
         }
+        if let Some(fs) = &s.scenes {
+            let rung = |x: &tactfab::hidden::scenes::SceneAnswer| {
+                format!(
+                    "{} ({} levels, {} dofs; error: discretisation {}, model {})",
+                    x.rung,
+                    x.levels,
+                    x.dofs,
+                    x.error
+                        .discretisation
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
+                    match (x.error.model, x.rung) {
+                        (Some(e), _) => format!("{e:.1e}"),
+                        (None, tactfab::sensor::ModelKind::LargeDeflectionPlate) => {
+                            "none above it on the ladder".into()
+                        }
+                        _ => "not estimated".into(),
+                    }
+                )
+            };
+            after.push(format!(
+                "  full scenes (--model {}): the background on the {}, with the feature on the {}",
+                fs.model,
+                rung(&fs.background),
+                rung(&fs.feature)
+            ));
+            after.push(
+                "  electrode   background_mv   feature_mv   difference_mv   minus superposition \
+                 (background, feature)"
+                    .into(),
+            );
+            let d = fs.difference_mv();
+            for (i, e) in s.electrodes.iter().enumerate() {
+                after.push(format!(
+                    "  {e:<9} {:>15} {:>12} {:>15}   {}, {}",
+                    f(fs.background.voltages_mv[i], 3),
+                    f(fs.feature.voltages_mv[i], 3),
+                    f(d[i], 3),
+                    f(fs.background.minus_superposition_mv[i], 3),
+                    f(fs.feature.minus_superposition_mv[i], 3)
+                ));
+            }
+        }
         if let Some(l) = &s.located {
             after.push(format!(
-                "  inverse (dV + {} mV noise, seed {}): {} at x {} mm{}, SNR {} (threshold {}), \
+                "  inverse on the linear plate's superposition (dV + {} mV noise, seed {}): {} at x {} mm{}, SNR {} (threshold {}), \
                  amplitude {} of the reference, residual {} mV rms",
                 f(a.noise_mv, 3),
                 a.seed,
@@ -178,7 +224,7 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             };
             let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
             after.push(format!(
-                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                "  vessel (linear plate, superposed): {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
                  pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
                  the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
                 f(v.pulse.freq_hz, 3),
@@ -214,7 +260,7 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             files.push(("detectability.csv".into(), m.csv().into_bytes()));
             files.push(("detectability.svg".into(), m.svg().into_bytes()));
             after.push(format!(
-                "  detectability at {} mV per channel, SNR {} ({} lumps, {} that do not fit \
+                "  detectability (linear plate, superposed) at {} mV per channel, SNR {} ({} lumps, {} that do not fit \
                  skipped): smallest detectable radius (mm) by height of the centre (mm)",
                 f(a.noise_mv, 3),
                 f(a.snr, 2),

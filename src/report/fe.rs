@@ -162,6 +162,11 @@ pub fn describe_load(load: &SceneLoad) -> String {
         SceneLoad::Line { y_um, force_n } => {
             format!("{force_n} N line load along x at y = {} mm", y_um / 1000.0)
         }
+        SceneLoad::Patches { patches } => format!(
+            "{} N of pressure over {} patches",
+            patches.iter().map(|p| p.force_n).sum::<f64>(),
+            patches.len()
+        ),
     }
 }
 
