@@ -652,8 +652,10 @@ pub struct TissueArgs {
     /// The feature's centre across the jaw on the die (mm; default the die's middle).
     #[arg(long, value_parser = parse::length_mm)]
     pub y_mm: Option<f64>,
-    /// How the 2-D section becomes a feature in plan: a sphere (its disturbance rotated about
-    /// the centre [choice]) or a cylinder lying across the jaw.
+    /// The feature in plan: a sphere (its disturbance from the axisymmetric scene: the sphere on
+    /// the axis of a tissue cylinder of radius half --width-mm), a cylinder lying across the jaw
+    /// (the plane section's disc), or rotated-section (the plane section's disturbance rotated
+    /// about the centre: the older approximation of a sphere).
     #[arg(long, value_enum, default_value = "sphere")]
     pub shape: ShapeArg,
     /// Side of the pressure cells on the die face (mm, 0.25-30) [choice: 1 mm].
@@ -715,4 +717,5 @@ pub struct TissueArgs {
 pub enum ShapeArg {
     Sphere,
     Cylinder,
+    RotatedSection,
 }

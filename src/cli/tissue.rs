@@ -21,6 +21,12 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             "--vessel: a vessel is a void whose wall carries the pressure: add --feature void"
         );
     }
+    if a.vessel && a.shape == ShapeArg::Sphere {
+        anyhow::bail!(
+            "--vessel: a vessel is a tube, not a sphere: add --shape cylinder (across the jaw) or \
+             --shape rotated-section"
+        );
+    }
     if sensor && matches!(a.model, ModelArg::Beam | ModelArg::Solid) {
         anyhow::bail!(
             "--model: the tissue's pressure field loads the plate rungs only: use auto, plate or \
@@ -81,6 +87,7 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             shape: match a.shape {
                 ShapeArg::Sphere => Shape::Sphere,
                 ShapeArg::Cylinder => Shape::Cylinder,
+                ShapeArg::RotatedSection => Shape::RotatedSection,
             },
             centre_um: (
                 a.x_mm.map_or(0.5 * g.length_um, |x| x * 1e3),
@@ -129,8 +136,10 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             f(spec.centre_um.0 * 1e-3, 2),
             f(spec.centre_um.1 * 1e-3, 2),
             match spec.shape {
-                Shape::Sphere => "sphere (the section's disturbance rotated about its centre)",
+                Shape::Sphere => "sphere (axisymmetric: on the axis of a tissue cylinder)",
                 Shape::Cylinder => "cylinder across the jaw",
+                Shape::RotatedSection =>
+                    "sphere (the section's disturbance rotated about its centre)",
             }
         ));
         after.push(format!(

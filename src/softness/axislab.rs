@@ -246,6 +246,20 @@ fn face_pressure(
     Ok(banded_solve(mass, force, 2))
 }
 
+/// The face nodes' radii (m) and pressures (Pa) of the cylinder with the slab's own feature
+/// only (the building block of studies that share one background), on `nr` x `nz` elements.
+pub fn face_pressure_pa(
+    s: &Slab,
+    nr: usize,
+    nz: usize,
+) -> Result<(Vec<f64>, Vec<f64>), SoftnessError> {
+    let rc = check(s, nr, nz)?;
+    let r_m = (0..=2 * nr)
+        .map(|i| rc * i as f64 / (2 * nr) as f64)
+        .collect();
+    Ok((r_m, face_pressure(s, rc, nr, nz, s.feature)?))
+}
+
 /// P(r) with the sphere and P0(r) without, on `nr` x `nz` elements over the cylinder's meridian.
 pub fn sphere_profile(s: &Slab, nr: usize, nz: usize) -> Result<AxiProfile, SoftnessError> {
     let rc = check(s, nr, nz)?;

@@ -293,6 +293,8 @@ fn tissue_through_the_sensor_bad_flags_name_themselves() {
         // The strip cannot carry a pressure field.
         (&["--through-sensor", "--model", "beam"][..], "--model"),
         (&["--through-sensor", "--cell-mm", "0.1"][..], "--cell-mm"),
+        // A vessel is a tube: the default sphere is refused.
+        (&["--vessel", "--feature", "void"][..], "--shape cylinder"),
         (&["--locate", "--noise-mv", "0"][..], "--noise-mv"),
         // A feature off the die would read nothing and pass as "no signal".
         (&["--through-sensor", "--y-mm", "100"][..], "--y-mm"),
