@@ -17,6 +17,7 @@
 //! - [`scenes`]: the grasp without and with the feature as two full scenes on any rung of the
 //!   ladder (the large-deflection plate at the default grasp's force), against the
 //!   superposition.
+//! - [`summary`]: the traveler's section: the default lump and void through the sensor, cheaply.
 
 pub mod cells;
 pub mod detect;
@@ -24,6 +25,7 @@ pub mod field;
 pub mod locate;
 pub mod scenes;
 pub mod study;
+pub mod summary;
 pub mod vessel;
 
 use thiserror::Error;

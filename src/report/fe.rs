@@ -78,6 +78,10 @@ pub struct FeSummary {
     /// quasi-static right?); None when the scenes were not solved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modes: Option<crate::sensor::PlateModes>,
+    /// Paper 002's default lump and void through the sensor (hidden features in grasped
+    /// tissue); None when the scenes were not solved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tissue: Option<crate::hidden::summary::TissueSummary>,
 }
 
 impl FeSummary {
@@ -229,6 +233,7 @@ pub fn summarise(
         scenes,
         skipped: None,
         modes: None,
+        tissue: None,
     }
 }
 
@@ -241,6 +246,7 @@ pub fn skipped(tol_rel: f64, max_levels: usize, why: String) -> FeSummary {
         scenes: Vec::new(),
         skipped: Some(why),
         modes: None,
+        tissue: None,
     }
 }
 
