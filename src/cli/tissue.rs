@@ -220,6 +220,17 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 f(l.amplitude, 3),
                 f(l.residual_mv, 3)
             ));
+            if let (Some((x, y)), Some(d)) = (l.alternative, l.delta_chi2) {
+                after.push(format!(
+                    "  ambiguous: {}; the best fit in the other half along the jaw is at x {} \
+                     mm{}, Delta chi^2 {} (threshold {})",
+                    l.ambiguous,
+                    f(x * 1e-3, 2),
+                    y.map_or_else(String::new, |y| format!(", y {} mm", f(y * 1e-3, 2))),
+                    f(d, 2),
+                    f(tactfab::hidden::locate::AMBIGUITY_CHI2, 1)
+                ));
+            }
         }
         if let Some(v) = &s.vessel {
             files.push(("vessel.csv".into(), v.csv().into_bytes()));

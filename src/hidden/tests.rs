@@ -9,7 +9,7 @@ use crate::softness::inclusion::{Feature, Slab};
 
 use super::cells::{unit_responses, CellGrid, UnitResponses};
 use super::field::{Background, Disturbance, Shape};
-use super::locate::{locate, Search, Verdict, SNR_THRESHOLD};
+use super::locate::{locate, Search, Verdict, AMBIGUITY_CHI2, SNR_THRESHOLD};
 
 /// The studies' accuracy (as `calibrate`): 5 %, three levels.
 const ACC: Accuracy = Accuracy::new(0.05, 3);
@@ -382,4 +382,62 @@ fn full_scenes_agree_with_the_superposition_at_a_light_grasp_and_depart_at_the_d
         db.abs() > 0.05 && db.abs() > 2.0 * err,
         "{db} against {err}"
     );
+}
+
+#[test]
+fn the_mirror_image_is_reported_when_the_noise_cannot_tell_it_apart() {
+    let f = fixture();
+    let reference = Disturbance::new(&f.bg, LUMP, 2e-3, 4e-3, Shape::Sphere).unwrap();
+    let void = Disturbance::new(&f.bg, Feature::Void, 2e-3, 4e-3, Shape::Sphere).unwrap();
+    let refs = [&reference, &void];
+    let search = |noise_mv| Search {
+        step_um: 500.0,
+        noise_mv,
+        threshold_snr: SNR_THRESHOLD,
+    };
+    // Noise-free data 3 mm off the middle along the jaw: Delta chi^2 scales as 1 / sigma^2,
+    // so at a small sigma the other half is excluded, and at the sigma where Delta chi^2 is 2
+    // (under the threshold 4) both positions are reported.
+    let c = (0.5 * f.g.length_um + 3000.0, 7000.0);
+    let dv = f.ur.voltages_mv(&reference.cells(&f.bg, &f.ur.grid, c));
+    let sharp = locate(&f.ur, &f.bg, &refs, &dv, search(0.05)).unwrap();
+    let d = sharp.delta_chi2.unwrap();
+    assert!(!sharp.ambiguous && d > AMBIGUITY_CHI2, "{sharp:?}");
+    let (ax, _) = sharp.alternative.unwrap();
+    assert!(ax < 0.5 * f.g.length_um, "{sharp:?}");
+    let sigma = 0.05 * (d / 2.0).sqrt();
+    let blurred = locate(&f.ur, &f.bg, &refs, &dv, search(sigma)).unwrap();
+    eprintln!(
+        "mirror: Delta chi^2 {d:.1} at 0.05 mV; at {sigma:.3} mV {:?} (SNR {:.1}), the other half \
+         at {:?}",
+        blurred.delta_chi2, blurred.snr, blurred.alternative
+    );
+    assert!(blurred.ambiguous, "{blurred:?}");
+    assert!((blurred.delta_chi2.unwrap() - 2.0).abs() < 1e-6);
+    // Noisy records at 1 mV: every record placed in the wrong half is flagged ambiguous, with
+    // the true half's position among the two.
+    let mut gauss = Gaussian::new(5);
+    let (mut wrong, mut flagged) = (0, 0);
+    for c in [(12_300.0, 6_100.0), (18_700.0, 8_400.0)] {
+        let dv = f.ur.voltages_mv(&reference.cells(&f.bg, &f.ur.grid, c));
+        for _ in 0..10 {
+            let r = locate(
+                &f.ur,
+                &f.bg,
+                &refs,
+                &noisy(&dv, 1.0, &mut gauss),
+                search(1.0),
+            )
+            .unwrap();
+            flagged += usize::from(r.ambiguous);
+            let off = |x: f64| (x < 0.5 * f.g.length_um) != (c.0 < 0.5 * f.g.length_um);
+            if off(r.x_um) {
+                wrong += 1;
+                assert!(r.ambiguous, "{c:?}: {r:?}");
+                let (ax, ay) = r.alternative.unwrap();
+                assert!((ax - c.0).hypot(ay.unwrap() - c.1) < 2500.0, "{c:?}: {r:?}");
+            }
+        }
+    }
+    eprintln!("1 mV: {wrong} of 20 records in the wrong half, {flagged} flagged ambiguous");
 }
