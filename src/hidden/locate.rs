@@ -15,7 +15,8 @@
 //!
 //! The mirror ambiguity: the nine electrodes are nearly symmetric along the jaw, so a feature
 //! and its mirror image about the die's middle read nearly alike. The best fit in the other
-//! half along the jaw (grid, then a compass search kept in that half) is the second candidate;
+//! half along the jaw, at least [`MIRROR_SEPARATION_UM`] from the best (grid, then a compass
+//! search kept there), is the second candidate;
 //! its residual exceeds the best's by Delta chi^2 = (score_best - score_second) / sigma^2 (the
 //! residual is |dV|^2 - score). Below [`AMBIGUITY_CHI2`] the noise cannot tell them apart: both
 //! positions are reported and `ambiguous` is set, rather than one confident answer that may be
@@ -33,6 +34,10 @@ pub const SNR_THRESHOLD: f64 = 5.0;
 /// Delta chi^2 under which the best fit and the best in the other half are indistinguishable
 /// \[choice\]: 4, a likelihood ratio of e^2 (about 7:1) between them.
 pub const AMBIGUITY_CHI2: f64 = 4.0;
+
+/// The second candidate lies at least this far along the jaw from the best (um) \[choice\]:
+/// 2 mm, the lump's radius; closer candidates are the same answer.
+pub const MIRROR_SEPARATION_UM: f64 = 2000.0;
 
 /// What the voltages say.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -204,12 +209,14 @@ fn locate_with(
         }
     }
     let best = compass(&mut fit, best, (0.0, l), search.step_um, cyl, w);
-    // The other half along the jaw: its best grid candidate, refined inside that half.
+    // The other half along the jaw, at least MIRROR_SEPARATION_UM from the best: its best grid
+    // candidate, refined inside it (a feature near the middle is not ambiguous with itself).
     let mid = 0.5 * l;
-    let other = if best.0 .0 < mid {
-        (mid, l)
+    let x0 = best.0 .0;
+    let other = if x0 < mid {
+        (mid.max(x0 + MIRROR_SEPARATION_UM), l)
     } else {
-        (0.0, mid)
+        (0.0, mid.min(x0 - MIRROR_SEPARATION_UM))
     };
     let second = grid
         .iter()
