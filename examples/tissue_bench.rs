@@ -10,15 +10,25 @@
 //!     quasi-static check) and 5 cycles at 1 ms through the charge amplifiers.
 //! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
 //!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
+//! (f) The sphere's P / P0 from the axisymmetric scene (60 x 40 elements, two solves).
+//! (g) The background and the lump's grasp as two full scenes on `--model auto` (the
+//!     large-deflection plate at 3.2 N).
+//! (h) The traveler's tissue section (`hidden::summary`): three slab solves and three scenes.
+//!
+//! `tissue_bench RUNS summary` times (h) alone (run it in the dev profile for the traveler's
+//! share of the debug-mode tests).
 
 use tactfab::design::Design;
 use tactfab::hidden::cells::{unit_responses, CellGrid};
 use tactfab::hidden::detect::{detectability, MapSpec};
 use tactfab::hidden::field::{Background, Disturbance, Shape};
 use tactfab::hidden::locate::{locate, Search, SNR_THRESHOLD};
+use tactfab::hidden::scenes::full_scenes;
+use tactfab::hidden::summary::tissue_summary;
 use tactfab::hidden::vessel::{vessel, Pulse};
 use tactfab::process::load_str;
 use tactfab::sensor::{Accuracy, SensorGeometry};
+use tactfab::softness::axislab::sphere_profile;
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
 mod support;
@@ -50,9 +60,21 @@ fn main() {
         centre_height_m: 4e-3,
         radius_m: 2e-3,
     };
+    if std::env::args().nth(2).as_deref() == Some("summary") {
+        let (ms, t) = time(runs, || {
+            tissue_summary(&g, Accuracy::new(0.05, 3)).expect("summary")
+        });
+        println!("(h) the traveler's tissue section: {ms:.0} ms, median of {runs}: {t:?}");
+        return;
+    }
     let (ms, p) = time(runs, || pressure_profile(&slab, 120, 40).expect("profile"));
     println!(
         "(a) P/P0 profile, 120 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
+        p.peak_ratio
+    );
+    let (ms, p) = time(runs, || sphere_profile(&slab, 60, 40).expect("sphere"));
+    println!(
+        "(f) sphere P/P0 (axisymmetric), 60 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
         p.peak_ratio
     );
     let grid = CellGrid::new(&g, 1000.0).expect("grid");
@@ -68,6 +90,7 @@ fn main() {
         runs.min(3)
     );
     let bg = Background::new(&slab, 120, 40, g.length_um).expect("background");
+    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
     let reference = Disturbance::new(&bg, lump, 2e-3, 4e-3, Shape::Sphere).expect("lump");
     let void = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Sphere).expect("void");
     let dv = ur.voltages_mv(&reference.cells(&bg, &grid, (12_300.0, 6_100.0)));
@@ -83,9 +106,27 @@ fn main() {
         "(c) inverse, one record: {ms:.0} ms ({} template evaluations)",
         r.evaluations
     );
+    let p0 = bg.cells(&grid);
+    let dp = reference.cells(&bg, &grid, centre);
+    let (b, w) = (ur.voltages_mv(&p0), {
+        let d = ur.voltages_mv(&dp);
+        ur.voltages_mv(&p0)
+            .iter()
+            .zip(&d)
+            .map(|(a, b)| a + b)
+            .collect::<Vec<_>>()
+    });
+    let (ms, f) = time(runs, || {
+        full_scenes(&g, &grid, &p0, &dp, (&b, &w), acc).expect("full scenes")
+    });
+    println!(
+        "(g) two full scenes on auto: {ms:.0} ms ({}, {} dofs)",
+        f.background.rung, f.background.dofs
+    );
+    let (ms, _) = time(runs, || tissue_summary(&g, acc).expect("summary"));
+    println!("(h) the traveler's tissue section: {ms:.0} ms");
     let cyl = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
     let electronics = tactfab::process::ReadoutElectronics::default();
-    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
     let (ms, v) = time(runs, || {
         vessel(
             &g,

@@ -659,8 +659,10 @@ pub struct TissueArgs {
     /// The feature's centre across the jaw on the die (mm; default the die's middle).
     #[arg(long, value_parser = parse::length_mm)]
     pub y_mm: Option<f64>,
-    /// How the 2-D section becomes a feature in plan: a sphere (its disturbance rotated about
-    /// the centre [choice]) or a cylinder lying across the jaw.
+    /// The feature in plan: a sphere (its disturbance from the axisymmetric scene: the sphere on
+    /// the axis of a tissue cylinder of radius half --width-mm), a cylinder lying across the jaw
+    /// (the plane section's disc), or rotated-section (the plane section's disturbance rotated
+    /// about the centre: the older approximation of a sphere).
     #[arg(long, value_enum, default_value = "sphere")]
     pub shape: ShapeArg,
     /// Side of the pressure cells on the die face (mm, 0.25-30) [choice: 1 mm].
@@ -707,9 +709,11 @@ pub struct TissueArgs {
     /// Most plate mesh levels, 1-10 (the studies' 3).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=10), default_value = "3")]
     pub max_levels: u8,
-    /// Plate rung: only plate (the linear plate: the field is a superposition of cell
-    /// responses); its membrane error at the grasp's force is printed.
-    #[arg(long, value_enum, default_value = "plate")]
+    /// Plate rung of the two full grasp scenes (without and with the feature): auto (the
+    /// cheapest meeting --tol, the large-deflection plate at the default grasp), plate or
+    /// large-deflection. The cell superposition, the inverse, the map and the vessel use the
+    /// linear plate whatever this says.
+    #[arg(long, value_enum, default_value = "auto")]
     pub model: ModelArg,
     #[command(flatten)]
     pub replace: OverwriteArgs,
@@ -720,4 +724,5 @@ pub struct TissueArgs {
 pub enum ShapeArg {
     Sphere,
     Cylinder,
+    RotatedSection,
 }

@@ -21,10 +21,16 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             "--vessel: a vessel is a void whose wall carries the pressure: add --feature void"
         );
     }
-    if sensor && a.model != ModelArg::Plate {
+    if a.vessel && a.shape == ShapeArg::Sphere {
         anyhow::bail!(
-            "--model: the tissue field is a sum of cell responses, so only the linear plate \
-             (--model plate) answers it; its membrane error at the grasp's force is printed"
+            "--vessel: a vessel is a tube, not a sphere: add --shape cylinder (across the jaw) or \
+             --shape rotated-section"
+        );
+    }
+    if sensor && matches!(a.model, ModelArg::Beam | ModelArg::Solid) {
+        anyhow::bail!(
+            "--model: the tissue's pressure field loads the plate rungs only: use auto, plate or \
+             large-deflection"
         );
     }
     let slab = Slab {
@@ -81,13 +87,15 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             shape: match a.shape {
                 ShapeArg::Sphere => Shape::Sphere,
                 ShapeArg::Cylinder => Shape::Cylinder,
+                ShapeArg::RotatedSection => Shape::RotatedSection,
             },
             centre_um: (
                 a.x_mm.map_or(0.5 * g.length_um, |x| x * 1e3),
                 a.y_mm.map_or(0.5 * g.width_um, |y| y * 1e3),
             ),
             cell_um: a.cell_mm * 1e3,
-            accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)),
+            accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)).with_model(a.model.into()),
+            full_scenes: true,
             noise_mv: a.noise_mv,
             threshold_snr: a.snr,
             locate: a.locate.then_some(a.seed),
@@ -108,12 +116,15 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         };
         let s = through_sensor(&g, &spec)?;
         files.push(("through-sensor.csv".into(), s.csv().into_bytes()));
+        if let Some(c) = s.full_csv() {
+            files.push(("through-sensor-full.csv".into(), c.into_bytes()));
+        }
         files.push(("face-pressure.csv".into(), s.face_csv().into_bytes()));
         files.push(("through-sensor.svg".into(), s.svg().into_bytes()));
         let u = &s.unit;
         after.push(format!(
-            "through the sensor: {} x {} cells of {} x {} mm on the linear plate ({} levels, {} \
-             dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
+            "through the sensor, superposed: {} x {} cells of {} x {} mm on the linear plate ({} \
+             levels, {} dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
             u.grid.nx,
             u.grid.ny,
             f(u.grid.size_um().0 * 1e-3, 3),
@@ -125,8 +136,10 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             f(spec.centre_um.0 * 1e-3, 2),
             f(spec.centre_um.1 * 1e-3, 2),
             match spec.shape {
-                Shape::Sphere => "sphere (the section's disturbance rotated about its centre)",
+                Shape::Sphere => "sphere (axisymmetric: on the axis of a tissue cylinder)",
                 Shape::Cylinder => "cylinder across the jaw",
+                Shape::RotatedSection =>
+                    "sphere (the section's disturbance rotated about its centre)",
             }
         ));
         after.push(format!(
@@ -146,9 +159,51 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 f(w - b, 3)
             ));
         }
+        if let Some(fs) = &s.scenes {
+            let rung = |x: &tactfab::hidden::scenes::SceneAnswer| {
+                format!(
+                    "{} ({} levels, {} dofs; error: discretisation {}, model {})",
+                    x.rung,
+                    x.levels,
+                    x.dofs,
+                    x.error
+                        .discretisation
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
+                    match (x.error.model, x.rung) {
+                        (Some(e), _) => format!("{e:.1e}"),
+                        (None, tactfab::sensor::ModelKind::LargeDeflectionPlate) => {
+                            "none above it on the ladder".into()
+                        }
+                        _ => "not estimated".into(),
+                    }
+                )
+            };
+            after.push(format!(
+                "  full scenes (--model {}): the background on the {}, with the feature on the {}",
+                fs.model,
+                rung(&fs.background),
+                rung(&fs.feature)
+            ));
+            after.push(
+                "  electrode   background_mv   feature_mv   difference_mv   minus superposition \
+                 (background, feature)"
+                    .into(),
+            );
+            let d = fs.difference_mv();
+            for (i, e) in s.electrodes.iter().enumerate() {
+                after.push(format!(
+                    "  {e:<9} {:>15} {:>12} {:>15}   {}, {}",
+                    f(fs.background.voltages_mv[i], 3),
+                    f(fs.feature.voltages_mv[i], 3),
+                    f(d[i], 3),
+                    f(fs.background.minus_superposition_mv[i], 3),
+                    f(fs.feature.minus_superposition_mv[i], 3)
+                ));
+            }
+        }
         if let Some(l) = &s.located {
             after.push(format!(
-                "  inverse (dV + {} mV noise, seed {}): {} at x {} mm{}, SNR {} (threshold {}), \
+                "  inverse on the linear plate's superposition (dV + {} mV noise, seed {}): {} at x {} mm{}, SNR {} (threshold {}), \
                  amplitude {} of the reference, residual {} mV rms",
                 f(a.noise_mv, 3),
                 a.seed,
@@ -165,6 +220,17 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 f(l.amplitude, 3),
                 f(l.residual_mv, 3)
             ));
+            if let (Some((x, y)), Some(d)) = (l.alternative, l.delta_chi2) {
+                after.push(format!(
+                    "  ambiguous: {}; the best fit in the other half along the jaw is at x {} \
+                     mm{}, Delta chi^2 {} (threshold {})",
+                    l.ambiguous,
+                    f(x * 1e-3, 2),
+                    y.map_or_else(String::new, |y| format!(", y {} mm", f(y * 1e-3, 2))),
+                    f(d, 2),
+                    f(tactfab::hidden::locate::AMBIGUITY_CHI2, 1)
+                ));
+            }
         }
         if let Some(v) = &s.vessel {
             files.push(("vessel.csv".into(), v.csv().into_bytes()));
@@ -178,7 +244,7 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             };
             let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
             after.push(format!(
-                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                "  vessel (linear plate, superposed): {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
                  pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
                  the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
                 f(v.pulse.freq_hz, 3),
@@ -214,7 +280,7 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             files.push(("detectability.csv".into(), m.csv().into_bytes()));
             files.push(("detectability.svg".into(), m.svg().into_bytes()));
             after.push(format!(
-                "  detectability at {} mV per channel, SNR {} ({} lumps, {} that do not fit \
+                "  detectability (linear plate, superposed) at {} mV per channel, SNR {} ({} lumps, {} that do not fit \
                  skipped): smallest detectable radius (mm) by height of the centre (mm)",
                 f(a.noise_mv, 3),
                 f(a.snr, 2),

@@ -46,6 +46,8 @@ pub mod vonkarman;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_leissa;
+#[cfg(test)]
 mod tests_modal;
 #[cfg(test)]
 mod tests_vonkarman;

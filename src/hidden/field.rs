@@ -4,19 +4,27 @@
 //! - background: the featureless slab's P0(x) along the jaw, the slab centred on the die, the
 //!   same at every y across it (the tissue covers the face; its own free edges across the jaw
 //!   are not modelled);
-//! - feature: its disturbance d(s) = P / P0 - 1, from the slab with the disc in its middle at
-//!   distance s along the face, times the local background: dP(x, y) = P0(x) d(r). A
-//!   spherical lump rotates d about the feature's centre (r the distance in plan); a cylinder
-//!   lying across the jaw (the plane-strain disc itself) has r = |x - x_c| at every y. The
-//!   rotation is an approximation: a sphere disturbs less than the cylinder whose profile it
-//!   borrows (3-D slabs are not built), so its voltages are upper estimates.
+//! - feature: its disturbance d(s) = P / P0 - 1 at distance s from it along the face, times the
+//!   local background: dP(x, y) = P0(x) d(r). A sphere ([`Shape::Sphere`], the default) takes d
+//!   from the 3-D scene by axisymmetry: the sphere on the axis of a tissue cylinder between the
+//!   jaws ([`crate::softness::axislab`], its radius half the slab's width, the same element size
+//!   as the section), r the distance in plan. A cylinder lying across the jaw (the plane-strain
+//!   disc itself) has r = |x - x_c| at every y. [`Shape::RotatedSection`] is the older
+//!   approximation of a sphere: the plane section's d rotated about the centre (a void disturbs
+//!   far more as a cylinder than as a sphere: 0.31 against 0.55 at the minimum).
 //!
 //! A cell's pressure is the mean over a 4 x 4 grid of points in it: the cells are the field's
 //! discretisation, the plate's unit responses ([`super::cells`]) are exact for it.
 
 use serde::Serialize;
 
+use crate::softness::axislab::face_pressure_pa as axi_face_pressure_pa;
 use crate::softness::inclusion::{face_pressure_pa, Feature, Slab};
+
+/// Elements across the tissue cylinder's radius for `nx` along the slab: the same size.
+fn axi_elements(nx: usize) -> usize {
+    (nx / 2).max(1)
+}
 
 use super::cells::CellGrid;
 use super::HiddenError;
@@ -28,8 +36,11 @@ const SUB: usize = 4;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Shape {
-    /// A spherical lump: the section's disturbance rotated about its centre \[choice\].
+    /// A sphere: d(r) from the axisymmetric cylinder of tissue with the sphere on its axis.
     Sphere,
+    /// The plane section's disturbance rotated about the centre (the approximation of a sphere
+    /// before the axisymmetric scene; kept to compare).
+    RotatedSection,
     /// A cylinder lying across the jaw (along y): the section's disturbance at every y.
     Cylinder,
 }
@@ -55,6 +66,9 @@ pub struct Background {
     /// Face nodes in die coordinates (the slab centred on the die) and P0 there.
     pub x_um: Vec<f64>,
     pub p0_pa: Vec<f64>,
+    /// The featureless tissue cylinder of the sphere's scene: face radii (um) and P0 there.
+    pub axi_r_um: Vec<f64>,
+    pub axi_p0_pa: Vec<f64>,
 }
 
 impl Background {
@@ -70,11 +84,14 @@ impl Background {
         let x_um = (0..=2 * nx)
             .map(|i| shift + slab.width_m * 1e6 * i as f64 / (2 * nx) as f64)
             .collect();
+        let (axi_r_m, axi_p0_pa) = axi_face_pressure_pa(&plain, axi_elements(nx), ny)?;
         Ok(Background {
             slab: plain,
             elements: (nx, ny),
             x_um,
             p0_pa,
+            axi_r_um: axi_r_m.iter().map(|r| r * 1e6).collect(),
+            axi_p0_pa,
         })
     }
 
@@ -130,14 +147,25 @@ impl Disturbance {
             ..bg.slab
         };
         let (nx, ny) = bg.elements;
-        let p = face_pressure_pa(&slab, nx, ny)?;
-        // The right half from the centre node (the section is mirror-symmetric about it).
-        let d: Vec<f64> = p[nx..]
-            .iter()
-            .zip(&bg.p0_pa[nx..])
-            .map(|(a, b)| if *b > 0.0 { a / b - 1.0 } else { 0.0 })
-            .collect();
-        let s_um = bg.x_um[nx..].iter().map(|x| x - bg.x_um[nx]).collect();
+        let ratio = |a: &f64, b: &f64| if *b > 0.0 { a / b - 1.0 } else { 0.0 };
+        let (s_um, d): (Vec<f64>, Vec<f64>) = if shape == Shape::Sphere {
+            let (_, p) = axi_face_pressure_pa(&slab, axi_elements(nx), ny)?;
+            let d = p
+                .iter()
+                .zip(&bg.axi_p0_pa)
+                .map(|(a, b)| ratio(a, b))
+                .collect();
+            (bg.axi_r_um.clone(), d)
+        } else {
+            let p = face_pressure_pa(&slab, nx, ny)?;
+            // The right half from the centre node (the section is mirror-symmetric about it).
+            let d = p[nx..]
+                .iter()
+                .zip(&bg.p0_pa[nx..])
+                .map(|(a, b)| ratio(a, b))
+                .collect();
+            (bg.x_um[nx..].iter().map(|x| x - bg.x_um[nx]).collect(), d)
+        };
         let (peak, low) = d
             .iter()
             .fold((f64::NEG_INFINITY, f64::INFINITY), |(a, b), &v| {
@@ -171,7 +199,7 @@ impl Disturbance {
                 let dx = (x0 - centre_um.0).max(centre_um.0 - x1).max(0.0);
                 let dy = (y0 - centre_um.1).max(centre_um.1 - y1).max(0.0);
                 let far = match self.shape {
-                    Shape::Sphere => dx.hypot(dy),
+                    Shape::Sphere | Shape::RotatedSection => dx.hypot(dy),
                     Shape::Cylinder => dx,
                 };
                 if far > reach {
@@ -184,7 +212,9 @@ impl Disturbance {
                     for b in 0..SUB {
                         let y = y0 + (y1 - y0) * (b as f64 + 0.5) / SUB as f64;
                         let r = match self.shape {
-                            Shape::Sphere => (x - centre_um.0).hypot(y - centre_um.1),
+                            Shape::Sphere | Shape::RotatedSection => {
+                                (x - centre_um.0).hypot(y - centre_um.1)
+                            }
                             Shape::Cylinder => x - centre_um.0,
                         };
                         sum += p0 * self.at(r);

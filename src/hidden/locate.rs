@@ -12,6 +12,15 @@
 //! feature; the feature is reported only when the best SNR reaches a threshold (default 5
 //! \[choice\]: the maximum over candidate positions of a noise-only record has at most 9
 //! independent looks, so 5 sigma keeps false alarms under ~1e-5).
+//!
+//! The mirror ambiguity: the nine electrodes are nearly symmetric along the jaw, so a feature
+//! and its mirror image about the die's middle read nearly alike. The best fit in the other
+//! half along the jaw, at least [`MIRROR_SEPARATION_UM`] from the best (grid, then a compass
+//! search kept there), is the second candidate;
+//! its residual exceeds the best's by Delta chi^2 = (score_best - score_second) / sigma^2 (the
+//! residual is |dV|^2 - score). Below [`AMBIGUITY_CHI2`] the noise cannot tell them apart: both
+//! positions are reported and `ambiguous` is set, rather than one confident answer that may be
+//! the wrong half.
 
 use serde::Serialize;
 
@@ -21,6 +30,14 @@ use super::HiddenError;
 
 /// Default detection threshold on the matched-filter SNR \[choice\].
 pub const SNR_THRESHOLD: f64 = 5.0;
+
+/// Delta chi^2 under which the best fit and the best in the other half are indistinguishable
+/// \[choice\]: 4, a likelihood ratio of e^2 (about 7:1) between them.
+pub const AMBIGUITY_CHI2: f64 = 4.0;
+
+/// The second candidate lies at least this far along the jaw from the best (um) \[choice\]:
+/// 2 mm, the lump's radius; closer candidates are the same answer.
+pub const MIRROR_SEPARATION_UM: f64 = 2000.0;
 
 /// What the voltages say.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -46,6 +63,12 @@ pub struct Located {
     pub residual_mv: f64,
     /// Template evaluations spent (grid + refinement).
     pub evaluations: usize,
+    /// The best fit in the other half along the jaw (x, y um; y None for a cylinder), and how
+    /// much worse it fits: Delta chi^2 = (residual^2 sum there - here) / sigma^2.
+    pub alternative: Option<(f64, Option<f64>)>,
+    pub delta_chi2: Option<f64>,
+    /// The alternative is within [`AMBIGUITY_CHI2`]: the noise cannot tell the two apart.
+    pub ambiguous: bool,
 }
 
 /// How to search.
@@ -167,6 +190,7 @@ fn locate_with(
         (w / search.step_um).round().max(1.0) as usize
     };
     let mut best = ((0.5 * l, 0.5 * w), f64::NEG_INFINITY);
+    let mut grid = Vec::with_capacity((nx + 1) * (ny + 1));
     for j in 0..=ny {
         for i in 0..=nx {
             let c = (
@@ -178,36 +202,30 @@ fn locate_with(
                 },
             );
             let s = fit.score(c);
+            grid.push((c, s));
             if s > best.1 {
                 best = (c, s);
             }
         }
     }
-    // Compass search from the best candidate: halve the step when no direction improves.
-    let mut h = 0.5 * search.step_um;
-    let dirs: &[(f64, f64)] = if cyl {
-        &[(1.0, 0.0), (-1.0, 0.0)]
+    let best = compass(&mut fit, best, (0.0, l), search.step_um, cyl, w);
+    // The other half along the jaw, at least MIRROR_SEPARATION_UM from the best: its best grid
+    // candidate, refined inside it (a feature near the middle is not ambiguous with itself).
+    let mid = 0.5 * l;
+    let x0 = best.0 .0;
+    let other = if x0 < mid {
+        (mid.max(x0 + MIRROR_SEPARATION_UM), l)
     } else {
-        &[(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+        (0.0, mid.min(x0 - MIRROR_SEPARATION_UM))
     };
-    while h > 1.0 && fit.evaluations < 100_000 {
-        let mut moved = false;
-        for d in dirs {
-            let c = (
-                (best.0 .0 + h * d.0).clamp(0.0, l),
-                (best.0 .1 + h * d.1).clamp(0.0, w),
-            );
-            let s = fit.score(c);
-            if s > best.1 {
-                best = (c, s);
-                moved = true;
-                break;
-            }
-        }
-        if !moved {
-            h *= 0.5;
-        }
-    }
+    let second = grid
+        .iter()
+        .filter(|(c, _)| c.0 >= other.0 && c.0 <= other.1)
+        .fold(None, |a: Option<((f64, f64), f64)>, &(c, s)| match a {
+            Some(b) if b.1 >= s => Some(b),
+            _ => Some((c, s)),
+        })
+        .map(|start| compass(&mut fit, start, other, search.step_um, cyl, w));
     let (td, tt, t) = fit.at(best.0);
     let a = if tt > 0.0 { td / tt } else { 0.0 };
     let snr = if tt > 0.0 {
@@ -230,6 +248,7 @@ fn locate_with(
     } else {
         Verdict::Void
     };
+    let delta_chi2 = second.map(|s2| (best.1 - s2.1).max(0.0) / search.noise_mv.powi(2));
     Ok((
         best.1,
         Located {
@@ -240,6 +259,48 @@ fn locate_with(
             snr,
             residual_mv: residual,
             evaluations: fit.evaluations,
+            alternative: second.map(|s2| (s2.0 .0, (!cyl).then_some(s2.0 .1))),
+            delta_chi2,
+            ambiguous: delta_chi2.is_some_and(|d| d < AMBIGUITY_CHI2),
         },
     ))
+}
+
+/// Compass search (Kolda, Lewis & Torczon 2003) from `start` = (centre, score), x kept in
+/// `xs`, y in [0, w]: halve the step when no direction improves; stops under 1 um.
+fn compass(
+    fit: &mut Fit<'_>,
+    start: ((f64, f64), f64),
+    xs: (f64, f64),
+    step_um: f64,
+    cyl: bool,
+    w: f64,
+) -> ((f64, f64), f64) {
+    let mut best = start;
+    let mut h = 0.5 * step_um;
+    let dirs: &[(f64, f64)] = if cyl {
+        &[(1.0, 0.0), (-1.0, 0.0)]
+    } else {
+        &[(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+    };
+    let cap = fit.evaluations + 100_000;
+    while h > 1.0 && fit.evaluations < cap {
+        let mut moved = false;
+        for d in dirs {
+            let c = (
+                (best.0 .0 + h * d.0).clamp(xs.0, xs.1),
+                (best.0 .1 + h * d.1).clamp(0.0, w),
+            );
+            let s = fit.score(c);
+            if s > best.1 {
+                best = (c, s);
+                moved = true;
+                break;
+            }
+        }
+        if !moved {
+            h *= 0.5;
+        }
+    }
+    best
 }

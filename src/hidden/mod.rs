@@ -14,12 +14,18 @@
 //!   position by least squares over candidate centres, refined continuously, its kind by the
 //!   sign of the fitted amplitude, and "none" below a matched-filter threshold.
 //! - [`detect`]: the smallest detectable lump over size x depth at a stated noise level.
+//! - [`scenes`]: the grasp without and with the feature as two full scenes on any rung of the
+//!   ladder (the large-deflection plate at the default grasp's force), against the
+//!   superposition.
+//! - [`summary`]: the traveler's section: the default lump and void through the sensor, cheaply.
 
 pub mod cells;
 pub mod detect;
 pub mod field;
 pub mod locate;
+pub mod scenes;
 pub mod study;
+pub mod summary;
 pub mod vessel;
 
 use thiserror::Error;

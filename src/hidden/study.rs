@@ -14,6 +14,7 @@ use super::cells::{unit_responses, CellGrid, UnitResponses};
 use super::detect::{detectability, DetectMap, MapSpec};
 use super::field::{Background, Disturbance, Shape};
 use super::locate::{locate, Located, Search};
+use super::scenes::{full_scenes, FullScenes};
 use super::vessel::{vessel, Pulse, Vessel};
 use super::HiddenError;
 
@@ -38,6 +39,10 @@ pub struct Spec {
     pub map: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
     /// A pulsating vessel (the slab's feature must be a void) and the front end to read it.
     pub vessel: Option<(Pulse, ReadoutElectronics)>,
+    /// Also solve the background and the with-feature grasp as full scenes on `accuracy`'s rung
+    /// ([`super::scenes`]); the unit responses, the inverse, the map and the vessel stay on the
+    /// linear plate (they superpose).
+    pub full_scenes: bool,
 }
 
 /// Everything the study reports.
@@ -56,6 +61,8 @@ pub struct Study {
     pub located: Option<Located>,
     pub map: Option<DetectMap>,
     pub vessel: Option<Vessel>,
+    /// The two grasps solved as full scenes on the rung asked for.
+    pub scenes: Option<FullScenes>,
     #[serde(skip)]
     cells: (Vec<f64>, Vec<f64>),
 }
@@ -86,12 +93,33 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
         spec.slab.centre_height_m,
         spec.shape,
     )?;
+    if matches!(spec.accuracy.model, ModelChoice::Beam | ModelChoice::Solid) {
+        return Err(HiddenError::Input {
+            problem: format!(
+                "the {} rung cannot carry the tissue's pressure field",
+                spec.accuracy.model.as_str()
+            ),
+            hint: "use --model auto, plate or large-deflection",
+        });
+    }
     let ur = unit_responses(g, grid, spec.accuracy)?;
     let p0 = bg.cells(&grid);
     let dp = dist.cells(&bg, &grid, spec.centre_um);
     let background_mv = ur.voltages_mv(&p0);
     let dv = ur.voltages_mv(&dp);
     let feature_mv: Vec<f64> = background_mv.iter().zip(&dv).map(|(a, b)| a + b).collect();
+    let scenes = if spec.full_scenes {
+        Some(full_scenes(
+            g,
+            &grid,
+            &p0,
+            &dp,
+            (&background_mv, &feature_mv),
+            spec.accuracy,
+        )?)
+    } else {
+        None
+    };
     let background_force_n: f64 = p0.iter().sum::<f64>() * grid.area_m2();
     let model_error_at_load = if background_force_n > 0.0 {
         let scene = Scene {
@@ -178,6 +206,7 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
     };
     Ok(Study {
         vessel,
+        scenes,
         electrodes: ur.electrodes.clone(),
         background_mv,
         feature_mv,
@@ -201,6 +230,29 @@ impl Study {
             let _ = writeln!(s, "{e},{a:.6e},{b:.6e},{:.6e}", b - a);
         }
         s
+    }
+
+    /// `through-sensor-full.csv` (with full scenes): each electrode's voltage without and with
+    /// the feature on the rung that answered, and each minus the linear superposition.
+    pub fn full_csv(&self) -> Option<String> {
+        let f = self.scenes.as_ref()?;
+        let mut s = String::from(
+            "electrode,V_background_mv,V_feature_mv,dV_mv,background_minus_superposition_mv,\
+             feature_minus_superposition_mv\n",
+        );
+        let (b, w) = (&f.background, &f.feature);
+        for (i, e) in self.electrodes.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                b.voltages_mv[i],
+                w.voltages_mv[i],
+                w.voltages_mv[i] - b.voltages_mv[i],
+                b.minus_superposition_mv[i],
+                w.minus_superposition_mv[i]
+            );
+        }
+        Some(s)
     }
 
     /// `face-pressure.csv`: each cell's centre, background and extra pressure.

@@ -9,7 +9,7 @@ use crate::softness::inclusion::{Feature, Slab};
 
 use super::cells::{unit_responses, CellGrid, UnitResponses};
 use super::field::{Background, Disturbance, Shape};
-use super::locate::{locate, Search, Verdict, SNR_THRESHOLD};
+use super::locate::{locate, Search, Verdict, AMBIGUITY_CHI2, SNR_THRESHOLD};
 
 /// The studies' accuracy (as `calibrate`): 5 %, three levels.
 const ACC: Accuracy = Accuracy::new(0.05, 3);
@@ -302,4 +302,142 @@ fn a_pulsing_vessel_rides_on_the_grasp_and_the_amplifier_passes_the_pulse() {
         v.grasp_mv[m2], v.per_pa_mv[m2], swing, v.f1_hz
     );
     assert!((swing / want - 1.0).abs() < 0.02, "{swing} vs {want}");
+}
+
+/// The worst |a - b| over the electrodes, relative to the largest |b|.
+fn worst_rel(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / scale)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn full_scenes_agree_with_the_superposition_at_a_light_grasp_and_depart_at_the_default() {
+    use super::scenes::full_scenes;
+    let f = fixture();
+    let grid = f.ur.grid;
+    let d = Disturbance::new(&f.bg, LUMP, 2e-3, 4e-3, Shape::Sphere).unwrap();
+    let c = (0.5 * f.g.length_um, 0.5 * f.g.width_um);
+    let (p0, dp) = (f.bg.cells(&grid), d.cells(&f.bg, &grid, c));
+    let run = |scale: f64, model: ModelChoice| {
+        let (p0s, dps): (Vec<f64>, Vec<f64>) = (
+            p0.iter().map(|p| p * scale).collect(),
+            dp.iter().map(|p| p * scale).collect(),
+        );
+        let bg = f.ur.voltages_mv(&p0s);
+        let dv = f.ur.voltages_mv(&dps);
+        let with: Vec<f64> = bg.iter().zip(&dv).map(|(a, b)| a + b).collect();
+        let s = full_scenes(&f.g, &grid, &p0s, &dps, (&bg, &with), ACC.with_model(model)).unwrap();
+        (s, bg, with, dv)
+    };
+    // A light grasp (1 % of the default squeeze; the slab is linear, so its pressure scales):
+    // the large-deflection plate is the linear one, the full scenes equal the sum of cells to
+    // the cells' own discretisation (as a uniform pressure does above).
+    for model in [ModelChoice::Plate, ModelChoice::LargeDeflection] {
+        let (s, bg, with, dv) = run(0.01, model);
+        let eb = worst_rel(&s.background.voltages_mv, &bg);
+        let ef = worst_rel(&s.feature.voltages_mv, &with);
+        let ed = worst_rel(&s.difference_mv(), &dv);
+        eprintln!(
+            "light grasp, {}: full minus superposed {eb:.2e} (background), {ef:.2e} (feature), \
+             {ed:.2e} (the feature's difference); rung {}",
+            model.as_str(),
+            s.background.rung
+        );
+        assert!(eb < 0.02 && ef < 0.02 && ed < 0.05, "{eb} {ef} {ed}");
+    }
+    // The default grasp (3.2 N on the die): auto climbs to the large-deflection plate, whose
+    // membrane strain (immovable supports) the middle electrodes read on top of the bending:
+    // M2 departs from the superposition by more than its error.
+    let (s, bg, with, _) = run(1.0, ModelChoice::Auto);
+    let m2 = f.ur.electrodes.iter().position(|e| e == "M2").unwrap();
+    let rel = |a: f64, b: f64| (a - b) / b;
+    let (db, df) = (
+        rel(s.background.voltages_mv[m2], bg[m2]),
+        rel(s.feature.voltages_mv[m2], with[m2]),
+    );
+    eprintln!(
+        "default grasp, auto: {} ({:?}); M2 {:.2} mV vs superposed {:.2} mV ({db:+.3}), with the \
+         lump {:.2} vs {:.2} ({df:+.3}); dV {:.2} vs {:.2} mV",
+        s.background.rung,
+        s.background.error,
+        s.background.voltages_mv[m2],
+        bg[m2],
+        s.feature.voltages_mv[m2],
+        with[m2],
+        s.difference_mv()[m2],
+        with[m2] - bg[m2]
+    );
+    for a in [&s.background, &s.feature] {
+        assert_eq!(a.rung, crate::sensor::ModelKind::LargeDeflectionPlate);
+        // The top plate rung has no model error of its own; why it answered names the linear
+        // plate's.
+        assert!(a.error.discretisation.is_some(), "{a:?}");
+        assert!(a.reason.contains("model error"), "{a:?}");
+    }
+    let err = s.background.error.total.unwrap();
+    assert!(
+        db.abs() > 0.05 && db.abs() > 2.0 * err,
+        "{db} against {err}"
+    );
+}
+
+#[test]
+fn the_mirror_image_is_reported_when_the_noise_cannot_tell_it_apart() {
+    let f = fixture();
+    let reference = Disturbance::new(&f.bg, LUMP, 2e-3, 4e-3, Shape::Sphere).unwrap();
+    let void = Disturbance::new(&f.bg, Feature::Void, 2e-3, 4e-3, Shape::Sphere).unwrap();
+    let refs = [&reference, &void];
+    let search = |noise_mv| Search {
+        step_um: 500.0,
+        noise_mv,
+        threshold_snr: SNR_THRESHOLD,
+    };
+    // Noise-free data 3 mm off the middle along the jaw: Delta chi^2 scales as 1 / sigma^2,
+    // so at a small sigma the other half is excluded, and at the sigma where Delta chi^2 is 2
+    // (under the threshold 4) both positions are reported.
+    let c = (0.5 * f.g.length_um + 3000.0, 7000.0);
+    let dv = f.ur.voltages_mv(&reference.cells(&f.bg, &f.ur.grid, c));
+    let sharp = locate(&f.ur, &f.bg, &refs, &dv, search(0.05)).unwrap();
+    let d = sharp.delta_chi2.unwrap();
+    assert!(!sharp.ambiguous && d > AMBIGUITY_CHI2, "{sharp:?}");
+    let (ax, _) = sharp.alternative.unwrap();
+    assert!(ax < 0.5 * f.g.length_um, "{sharp:?}");
+    let sigma = 0.05 * (d / 2.0).sqrt();
+    let blurred = locate(&f.ur, &f.bg, &refs, &dv, search(sigma)).unwrap();
+    eprintln!(
+        "mirror: Delta chi^2 {d:.1} at 0.05 mV; at {sigma:.3} mV {:?} (SNR {:.1}), the other half \
+         at {:?}",
+        blurred.delta_chi2, blurred.snr, blurred.alternative
+    );
+    assert!(blurred.ambiguous, "{blurred:?}");
+    assert!((blurred.delta_chi2.unwrap() - 2.0).abs() < 1e-6);
+    // Noisy records at 1 mV: every record placed in the wrong half is flagged ambiguous, with
+    // the true half's position among the two.
+    let mut gauss = Gaussian::new(5);
+    let (mut wrong, mut flagged) = (0, 0);
+    for c in [(12_300.0, 6_100.0), (18_700.0, 8_400.0)] {
+        let dv = f.ur.voltages_mv(&reference.cells(&f.bg, &f.ur.grid, c));
+        for _ in 0..10 {
+            let r = locate(
+                &f.ur,
+                &f.bg,
+                &refs,
+                &noisy(&dv, 1.0, &mut gauss),
+                search(1.0),
+            )
+            .unwrap();
+            flagged += usize::from(r.ambiguous);
+            let off = |x: f64| (x < 0.5 * f.g.length_um) != (c.0 < 0.5 * f.g.length_um);
+            if off(r.x_um) {
+                wrong += 1;
+                assert!(r.ambiguous, "{c:?}: {r:?}");
+                let (ax, ay) = r.alternative.unwrap();
+                assert!((ax - c.0).hypot(ay.unwrap() - c.1) < 2500.0, "{c:?}: {r:?}");
+            }
+        }
+    }
+    eprintln!("1 mV: {wrong} of 20 records in the wrong half, {flagged} flagged ambiguous");
 }

@@ -98,6 +98,12 @@ pub fn vessel(
     electronics: &ReadoutElectronics,
 ) -> Result<Vessel, HiddenError> {
     let ok = |v: f64| v.is_finite();
+    if dist.shape == super::field::Shape::Sphere {
+        return Err(HiddenError::Input {
+            problem: "a spherical vessel".into(),
+            hint: "a vessel is a tube: --shape cylinder (across the jaw) or rotated-section",
+        });
+    }
     let fine = dist.feature == Feature::Void
         && pulse.freq_hz > 0.0
         && ok(pulse.freq_hz)

@@ -696,6 +696,18 @@ pub enum SceneLoad {
     /// A line force across the full plate length at `y_um` (the fixed-fixed beam case of paper
     /// 001).
     Line { y_um: f64, force_n: f64 },
+    /// A piecewise-uniform pressure: rectangles, each with its own total force (a contact
+    /// pressure sampled on cells, e.g. the grasped tissue of `tactfab tissue`). Read at the
+    /// bounding box's centre.
+    Patches { patches: Vec<PressurePatch> },
+}
+
+/// One rectangle of a [`SceneLoad::Patches`] load, uniformly pressed by `force_n`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressurePatch {
+    pub region: RegionUm,
+    pub force_n: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]

@@ -780,6 +780,40 @@ fn scene_load(v: &mut V, b: &str, load: &SceneLoad, g: &Geometry) {
             on_die(v, "line", "y_um", *y_um, w);
             force(v, "line", *force_n);
         }
+        SceneLoad::Patches { patches } => {
+            if patches.is_empty() || patches.len() > crate::sensor::MAX_PATCHES {
+                v.push(
+                    format!("{b}.load.patches"),
+                    format!("{} patches", patches.len()),
+                    "1 to 5000 patches".to_string(),
+                );
+            }
+            for (k, p) in patches.iter().enumerate().take(crate::sensor::MAX_PATCHES) {
+                // A patch may carry nothing (tissue ends short of the die): [0, 1000] N.
+                v.range(
+                    &format!("{b}.load.patches[{k}].force_n"),
+                    p.force_n.abs(),
+                    0.0,
+                    1000.0,
+                    false,
+                    "N (magnitude)",
+                );
+                let r = p.region;
+                if !(r.x0_um >= 0.0
+                    && r.x1_um <= l
+                    && r.y0_um >= 0.0
+                    && r.y1_um <= w
+                    && r.x0_um < r.x1_um
+                    && r.y0_um < r.y1_um)
+                {
+                    v.push(
+                        format!("{b}.load.patches[{k}].region"),
+                        "the region is empty or leaves the die",
+                        format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
+                    );
+                }
+            }
+        }
     }
 }
 

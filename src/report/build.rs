@@ -38,6 +38,8 @@ pub enum ReportError {
     Sensor(#[from] crate::sensor::SensorError),
     #[error("JSON: {0}")]
     Json(#[from] serde_json::Error),
+    #[error("the traveler's tissue section: {0}")]
+    Tissue(#[from] crate::hidden::HiddenError),
 }
 
 /// What to build.
@@ -231,6 +233,7 @@ pub fn build(
                 !opts.allow_unconverged,
             );
             summary.modes = Some(plate_modes(&g, MODES_REPORTED, MODAL_LEVELS)?);
+            summary.tissue = Some(crate::hidden::summary::tissue_summary(&g, o)?);
             (reports, Some(summary))
         }
         _ => (Vec::new(), None),

@@ -78,6 +78,10 @@ pub struct FeSummary {
     /// quasi-static right?); None when the scenes were not solved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modes: Option<crate::sensor::PlateModes>,
+    /// Paper 002's default lump and void through the sensor (hidden features in grasped
+    /// tissue); None when the scenes were not solved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tissue: Option<crate::hidden::summary::TissueSummary>,
 }
 
 impl FeSummary {
@@ -162,6 +166,11 @@ pub fn describe_load(load: &SceneLoad) -> String {
         SceneLoad::Line { y_um, force_n } => {
             format!("{force_n} N line load along x at y = {} mm", y_um / 1000.0)
         }
+        SceneLoad::Patches { patches } => format!(
+            "{} N of pressure over {} patches",
+            patches.iter().map(|p| p.force_n).sum::<f64>(),
+            patches.len()
+        ),
     }
 }
 
@@ -224,6 +233,7 @@ pub fn summarise(
         scenes,
         skipped: None,
         modes: None,
+        tissue: None,
     }
 }
 
@@ -236,6 +246,7 @@ pub fn skipped(tol_rel: f64, max_levels: usize, why: String) -> FeSummary {
         scenes: Vec::new(),
         skipped: Some(why),
         modes: None,
+        tissue: None,
     }
 }
 

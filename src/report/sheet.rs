@@ -456,7 +456,45 @@ fn fe(fe: Option<&FeSummary>) -> Section {
         ))));
         s.push(Block::Table(modes_table(m)));
     }
+    if let Some(t) = &fe.tissue {
+        s.push(Block::Para(Rich::text(format!(
+            "Hidden features in grasped tissue (paper 002 sec. V.B): a 2 mm sphere 4 mm above the \
+             die centre in 20 kPa tissue (30 x 10 mm, squeezed 10 %, {:.3} N on the die); its \
+             disturbance from the axisymmetric slab, the background and each feature solved as \
+             full plate scenes (1 mm pressure cells). `tactfab tissue --through-sensor` gives the \
+             nine voltages, the inverse and the detectability map.",
+            t.background_force_n
+        ))));
+        s.push(Block::Table(tissue_table(t)));
+    }
     s
+}
+
+/// One row per feature: P / P0, M2 without and with it, the largest change, rung and error.
+fn tissue_table(t: &crate::hidden::summary::TissueSummary) -> Table {
+    let mut table = Table::new(&[
+        "feature",
+        "P / P0 (extreme)",
+        "M2 background (mV)",
+        "M2 with feature (mV)",
+        "largest |dV| (mV)",
+        "model",
+        "est. error",
+    ]);
+    for f in &t.features {
+        table.row(vec![
+            f.feature.to_string().into(),
+            format!("{:.3}", f.extreme_ratio).into(),
+            format!("{:.1}", f.m2_background_mv).into(),
+            format!("{:.1}", f.m2_feature_mv).into(),
+            format!("{:.1} ({})", f.largest_dv_mv, f.largest_electrode).into(),
+            f.rung.to_string().into(),
+            f.error
+                .map_or_else(|| "n/a".to_string(), |e| format!("{e:.1e}"))
+                .into(),
+        ]);
+    }
+    table
 }
 
 /// One row per natural mode: frequency, its estimated error, and how far above the loading.

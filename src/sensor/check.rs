@@ -73,6 +73,16 @@ pub(super) fn footprint(load: &SceneLoad, g: &SensorGeometry) -> Vec<(f64, f64)>
             ..
         } => probe_polygon(x_um, y_um, width_um, height_um, angle_deg).to_vec(),
         SceneLoad::Line { y_um, .. } => vec![(0.0, y_um), (g.length_um, y_um)],
+        // Every corner: each patch must lie on the die.
+        SceneLoad::Patches { ref patches } => patches
+            .iter()
+            .flat_map(|p| {
+                [
+                    (p.region.x0_um, p.region.y0_um),
+                    (p.region.x1_um, p.region.y1_um),
+                ]
+            })
+            .collect(),
     }
 }
 
@@ -128,8 +138,30 @@ fn numbers(load: &SceneLoad) -> (Named, Named) {
             vec![("width_um", width_um), ("height_um", height_um)],
         ),
         SceneLoad::Line { y_um, force_n } => (vec![("y_um", y_um), ("force_n", force_n)], vec![]),
+        SceneLoad::Patches { ref patches } => {
+            let mut v = Vec::with_capacity(5 * patches.len());
+            let mut sizes = Vec::with_capacity(2 * patches.len());
+            for p in patches {
+                let r = p.region;
+                v.extend([
+                    ("patches[].force_n", p.force_n),
+                    ("patches[].region.x0_um", r.x0_um),
+                    ("patches[].region.y0_um", r.y0_um),
+                    ("patches[].region.x1_um", r.x1_um),
+                    ("patches[].region.y1_um", r.y1_um),
+                ]);
+                sizes.extend([
+                    ("patches[] region width (x1_um - x0_um)", r.x1_um - r.x0_um),
+                    ("patches[] region height (y1_um - y0_um)", r.y1_um - r.y0_um),
+                ]);
+            }
+            (v, sizes)
+        }
     }
 }
+
+/// Most rectangles of a [`SceneLoad::Patches`] load \[choice\]: the tissue study's 5,000 cells.
+pub const MAX_PATCHES: usize = 5_000;
 
 /// PROBE_OVERHANG when a probe reaches beyond the die (its force then spreads over the rest).
 pub fn overhang(scene: &Scene, g: &SensorGeometry) -> Option<Finding> {
@@ -167,6 +199,14 @@ pub fn check_scene(scene: &Scene, g: &SensorGeometry) -> Result<(), SensorError>
             ),
             "fix the etch depths or times (`tactfab check` lists DEPTH_EXCEEDS_WAFER)",
         ));
+    }
+    if let SceneLoad::Patches { ref patches } = scene.load {
+        if patches.is_empty() || patches.len() > MAX_PATCHES {
+            return Err(err(
+                format!("{} pressure patches", patches.len()),
+                "between 1 and 5,000 patches",
+            ));
+        }
     }
     let (finite, sizes) = numbers(&scene.load);
     for (name, v) in finite.iter().chain(&sizes) {

@@ -29,7 +29,7 @@ pub mod solid_mesh;
 pub mod solid_readout;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
-pub use check::{check_scene, SensorError, MAX_SOLUTION_VALUES};
+pub use check::{check_scene, SensorError, MAX_PATCHES, MAX_SOLUTION_VALUES};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{
     evaluate, evaluate_many, evaluate_many_with, Accuracy, LevelRecord, ModelInfo, ModelKind,

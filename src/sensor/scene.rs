@@ -8,7 +8,7 @@ use serde::Serialize;
 use crate::fe::clip::{clip_polygon, polygon_area};
 use crate::fe::loads::probe_polygon;
 use crate::fe::{Load, RectUm};
-use crate::process::SceneLoad;
+use crate::process::{PressurePatch, SceneLoad};
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
 
@@ -74,7 +74,60 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
             force_n,
         } => split_probe(g, (x_um, y_um), (width_um, height_um), angle_deg, force_n),
         SceneLoad::Line { y_um, force_n } => split_line(g, y_um, force_n),
+        SceneLoad::Patches { ref patches } => split_patches(g, patches),
     }
+}
+
+/// Piecewise-uniform pressure: each rectangle split as a uniform pressure of its own force
+/// (patches without force are left out); read at the bounding box's centre.
+fn split_patches(g: &SensorGeometry, patches: &[PressurePatch]) -> SceneLoads {
+    let (py0, py1) = (g.plate_y0_um, g.plate_y1_um);
+    let mut s = SceneLoads {
+        plate: Vec::with_capacity(patches.len()),
+        direct: Vec::new(),
+        total_force_n: 0.0,
+        at_um: (0.0, 0.0),
+        patch: RectUm {
+            x0_um: 0.0,
+            y0_um: 0.0,
+            x1_um: 0.0,
+            y1_um: 0.0,
+        },
+    };
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in patches {
+        let r = p.region;
+        (x0, y0, x1, y1) = (
+            x0.min(r.x0_um),
+            y0.min(r.y0_um),
+            x1.max(r.x1_um),
+            y1.max(r.y1_um),
+        );
+        if p.force_n == 0.0 {
+            continue;
+        }
+        let poly = [
+            (r.x0_um, r.y0_um),
+            (r.x1_um, r.y0_um),
+            (r.x1_um, r.y1_um),
+            (r.x0_um, r.y1_um),
+        ];
+        let one = polygon_split(&poly, p.force_n, g);
+        s.plate.extend(one.plate);
+        s.direct.extend(one.direct);
+        s.total_force_n += p.force_n;
+    }
+    if x0 > x1 {
+        (x0, y0, x1, y1) = (0.0, py0, g.length_um, py1);
+    }
+    s.at_um = ((x0 + x1) / 2.0, ((y0 + y1) / 2.0).clamp(py0, py1));
+    s.patch = RectUm {
+        x0_um: x0,
+        y0_um: y0.max(py0),
+        x1_um: x1,
+        y1_um: y1.min(py1),
+    };
+    s
 }
 
 /// A point load with a contact radius: the square patch of equal area (side sqrt(pi) r, as the FE

@@ -158,6 +158,26 @@ pub fn top_loads(g: &SensorGeometry, load: &SceneLoad) -> (Vec<TopLoad>, (f64, f
                 (0.5 * g.length_um, y_um),
             )
         }
+        SceneLoad::Patches { ref patches } => {
+            let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+            let mut loads = Vec::with_capacity(patches.len());
+            for p in patches {
+                let r = p.region;
+                (x0, y0, x1, y1) = (
+                    x0.min(r.x0_um),
+                    y0.min(r.y0_um),
+                    x1.max(r.x1_um),
+                    y1.max(r.y1_um),
+                );
+                if p.force_n != 0.0 {
+                    loads.push(TopLoad::Patch {
+                        polygon_um: rect(r.x0_um, r.y0_um, r.x1_um, r.y1_um),
+                        force_n: p.force_n,
+                    });
+                }
+            }
+            (loads, (0.5 * (x0 + x1), 0.5 * (y0 + y1)))
+        }
     }
 }
 

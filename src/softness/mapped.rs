@@ -45,7 +45,7 @@ fn gradients(xy: &[(f64, f64); 9], xi: f64, eta: f64) -> ([(f64, f64); 9], f64) 
 }
 
 /// Inverse of a symmetric positive definite 3 x 3 matrix (the pressure mass G).
-fn inverse3(m: &[f64; 9]) -> [f64; 9] {
+pub(crate) fn inverse3(m: &[f64; 9]) -> [f64; 9] {
     let c = |r: usize, s: usize| m[3 * r + s];
     let cof = [
         c(1, 1) * c(2, 2) - c(1, 2) * c(2, 1),

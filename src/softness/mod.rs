@@ -15,13 +15,19 @@
 //! [`inverse`] recovers E_t from a voltage and a force with either model. [`inclusion`] squeezes a
 //! tissue slab with a hidden lump, void or pressurised vessel between the jaws (paper 002 Figs.
 //! 8-10); [`mapped`] is the same Q2/P1 element on curved meshes, and [`kirsch`] checks it against
-//! the stress concentration 3 at a circular hole.
+//! the stress concentration 3 at a circular hole. [`axisym`] is the axisymmetric Q2/P1 element,
+//! [`axislab`] the spherical lump or void on the axis of a tissue cylinder between the jaws (the
+//! 3-D scene by axisymmetry), and [`far_field`] checks both elements against Goodier's spherical
+//! cavity and Eshelby's spherical and cylindrical inclusions.
 //!
 //! Both models assume perfect bonding between tissue and plate, linear elasticity, and neglect the
 //! PVDF film's own stiffness (25 um, 3 GPa against 100 um Si: < 0.5 % of the bending stiffness).
 
+pub mod axislab;
+pub mod axisym;
 pub mod composite_beam;
 pub mod continuum;
+pub mod far_field;
 pub mod inclusion;
 pub mod inverse;
 pub mod kirsch;

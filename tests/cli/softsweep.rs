@@ -234,13 +234,29 @@ fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
         Some("electrode,V_background_mv,V_feature_mv,dV_mv")
     );
     assert_eq!(lines.count(), 9);
+    // The full scenes on the default rung (auto), each with its error, beside the
+    // superposition; the linear-only paths say so.
+    let full = std::fs::read_to_string(out.join("through-sensor-full.csv")).unwrap();
+    assert!(full.starts_with("electrode,V_background_mv,V_feature_mv,dV_mv,"));
+    assert_eq!(full.lines().count(), 10);
+    assert!(run
+        .stdout
+        .contains("full scenes (--model auto): the background on the "));
+    assert!(
+        run.stdout.contains("error: discretisation "),
+        "{}",
+        run.stdout
+    );
+    assert!(run
+        .stdout
+        .contains("detectability (linear plate, superposed)"));
     let face = std::fs::read_to_string(out.join("face-pressure.csv")).unwrap();
     assert!(face.starts_with("x_mm,y_mm,P0_pa,dP_pa\n"));
     // A lump, found within 2 mm of (13, 8) mm.
     let line = run
         .stdout
         .lines()
-        .find(|l| l.contains("inverse ("))
+        .find(|l| l.contains("inverse on the linear plate"))
         .unwrap_or_else(|| panic!("{}", run.stdout));
     assert!(line.contains(": lump at x "), "{line}");
     let num = |key: &str| -> f64 {
@@ -274,11 +290,11 @@ fn tissue_through_the_sensor_locates_the_lump_and_maps_detectability() {
 fn tissue_through_the_sensor_bad_flags_name_themselves() {
     let t = tempfile::tempdir().unwrap();
     for (flags, named) in [
-        (
-            &["--through-sensor", "--model", "large-deflection"][..],
-            "--model",
-        ),
+        // The strip cannot carry a pressure field.
+        (&["--through-sensor", "--model", "beam"][..], "--model"),
         (&["--through-sensor", "--cell-mm", "0.1"][..], "--cell-mm"),
+        // A vessel is a tube: the default sphere is refused.
+        (&["--vessel", "--feature", "void"][..], "--shape cylinder"),
         (&["--locate", "--noise-mv", "0"][..], "--noise-mv"),
         // A feature off the die would read nothing and pass as "no signal".
         (&["--through-sensor", "--y-mm", "100"][..], "--y-mm"),
