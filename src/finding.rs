@@ -117,6 +117,8 @@ codes! {
         LabelOnDeepEtch = "LABEL_ON_DEEP_ETCH":
             "a label on an etched layer is undercut away: it identifies the plate, not the die",
         LabelNoRoom = "LABEL_NO_ROOM": "no free spot for a mask label; none drawn",
+        TestDieNoRoom = "TEST_DIE_NO_ROOM":
+            "the compensation test die finds no room on the wafer (or no a above the overlap); none drawn",
     }
 }
 

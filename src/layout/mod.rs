@@ -52,12 +52,6 @@ pub enum LayoutError {
          (default 10)"
     )]
     CompensationOverlap { overlap_um: f64, side_um: f64 },
-    #[error(
-        "the {w_mm:.1} x {h_mm:.1} mm test die finds no room on the wafer clear of the dies and \
-         marks\n  hint: a smaller layout.test_die.span_um or a larger step_um (fewer teeth), or \
-         layout.test_die.enabled: false"
-    )]
-    TestDieNoRoom { w_mm: f64, h_mm: f64 },
 }
 
 /// The layer a mask of this purpose is made from.
@@ -124,7 +118,28 @@ pub fn build(p: &Process, plan: &EtchPlan) -> Result<MaskSet, LayoutError> {
 
     let (px, py) = (l + g.dicing_street_um, w + g.dicing_street_um);
     let test_die = test_die::build(p, plan, &cell_name(&p.device.name, "TEST_DIE"));
-    let (wafer_cell, origins, test_die) = wafer_cell(p, &masks, &die_name, &legend, test_die)?;
+    let wants_test_die = p.layout.test_die.enabled;
+    let built_test_die = test_die.is_some();
+    let (wafer_cell, origins, test_die, no_room) =
+        wafer_cell(p, &masks, &die_name, &legend, test_die)?;
+    let mut warnings = warnings;
+    if let Some((tw, th)) = no_room {
+        warnings.push(Finding::warning(
+            LayoutCode::TestDieNoRoom,
+            format!(
+                "the {:.1} x {:.1} mm test die finds no room on the wafer clear of the dies and \
+                 marks; none drawn (a smaller layout.test_die.span_um or a larger step_um)",
+                tw / 1000.0,
+                th / 1000.0
+            ),
+        ));
+    } else if wants_test_die && !built_test_die {
+        warnings.push(Finding::warning(
+            LayoutCode::TestDieNoRoom,
+            "no ladder a is larger than layout.compensation_overlap_um (the front etch is too \
+             shallow for layout.test_die.span_um); no test die drawn",
+        ));
+    }
     cells.insert(wafer_name.clone(), wafer_cell);
     let test_die = test_die.map(|(c, info)| {
         cells.insert(info.cell.clone(), c);
@@ -414,6 +429,7 @@ fn wafer_cell(
     for site in stepping.mark_sites {
         add_alignment_marks(&mut wafer_cell, masks, snap(site.x), snap(site.y));
     }
+    let mut no_room = None;
     let test_die = match test_die {
         None => None,
         Some((cell, mut info)) => {
@@ -429,16 +445,18 @@ fn wafer_cell(
                 &stepping.mark_sites,
                 MARK_KEEPOUT_HALF_UM,
             )
-            .ok_or(LayoutError::TestDieNoRoom {
-                w_mm: tw / 1000.0,
-                h_mm: th / 1000.0,
-            })?;
-            let (x, y) = (snap(at.x), snap(at.y));
-            wafer_cell
-                .placements
-                .push(Placement::single(&info.cell, x, y));
-            info.origin_um = [x, y];
-            Some((cell, info))
+            .map(|at| {
+                let (x, y) = (snap(at.x), snap(at.y));
+                wafer_cell
+                    .placements
+                    .push(Placement::single(&info.cell, x, y));
+                info.origin_um = [x, y];
+                (cell, info)
+            });
+            if at.is_none() {
+                no_room = Some((tw, th));
+            }
+            at
         }
     };
     let r_wafer = p.wafer.diameter_mm * 500.0;
@@ -458,11 +476,17 @@ fn wafer_cell(
     for (k, line) in legend.iter().enumerate() {
         wafer_cell.note(line.clone(), -r_wafer, -r_wafer - 2000.0 * (k as f64 + 2.0));
     }
-    Ok((wafer_cell, origins, test_die))
+    Ok((wafer_cell, origins, test_die, no_room))
 }
 
 /// The wafer cell, the die origins and the placed test die.
-type WaferCell = (Cell, Vec<Coord>, Option<(Cell, test_die::TestDieInfo)>);
+/// (the wafer cell, die origins, the placed test die, the size of a test die that found no room).
+type WaferCell = (
+    Cell,
+    Vec<Coord>,
+    Option<(Cell, test_die::TestDieInfo)>,
+    Option<(f64, f64)>,
+);
 
 /// Front and back alignment marks at one site: on each mask's layer by its side, and overlaid on
 /// the reference marks layer.

@@ -104,7 +104,16 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
         ),
         (None, None) => return None,
     };
-    let a_um = ladder_a_um(centre, t.span_um, t.step_um);
+    // A derived centre on a shallow what-if etch may put the low end at or below the overlap:
+    // those rungs are dropped (validation refuses them only for a stated centre).
+    let overlap = p.layout.compensation_overlap_um;
+    let a_um: Vec<f64> = ladder_a_um(centre, t.span_um, t.step_um)
+        .into_iter()
+        .filter(|&a| a > overlap)
+        .collect();
+    if a_um.is_empty() {
+        return None;
+    }
     let top = p.geometry.teeth.top_um;
     let reach = a_um.iter().copied().fold(0.0, f64::max) * reach_per_a(kind);
     let street = front.min_street_um + p.drc.min_space_um;
@@ -116,7 +125,6 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
     let w = 2.0 * MARGIN_UM + n * pitch - street;
     let hgt = 2.0 * MARGIN_UM + label_h + LABEL_GAP_UM + 2.0 * reach + top;
     let y_tooth = MARGIN_UM + label_h + LABEL_GAP_UM + reach;
-    let overlap = p.layout.compensation_overlap_um;
     let mut c = Cell::default();
     let mut front_polys: Vec<Polygon> = Vec::new();
     let mut teeth_um = Vec::new();

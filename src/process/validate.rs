@@ -1049,7 +1049,7 @@ fn test_die(v: &mut V, p: &Process) {
             let centre = c.or(r).unwrap_or(0.0);
             let lowest = centre - t.span_um;
             let floor = p.layout.compensation_overlap_um;
-            if centre.is_finite() && lowest <= floor {
+            if c.is_some() && centre.is_finite() && lowest <= floor {
                 v.push(
                     if c.is_some() {
                         "layout.test_die.centre_a_um"

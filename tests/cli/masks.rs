@@ -710,7 +710,11 @@ fn test_die_switch_and_bad_values() {
     for (set, field) in [
         ("layout.test_die.step_um=0", "layout.test_die.step_um"),
         ("layout.test_die.step_um=10", "layout.test_die.step_um"),
-        ("layout.test_die.span_um=400", "layout.test_die.span_um"),
+        ("layout.test_die.span_um=-1", "layout.test_die.span_um"),
+        (
+            "layout.test_die.centre_a_um=100",
+            "layout.test_die.centre_a_um",
+        ),
         (
             "layout.test_die.centre_a_um=-5",
             "layout.test_die.centre_a_um",
