@@ -53,7 +53,8 @@
 //!    ([`sensor::QuantityError`]), and each scene its touch-down on the channel floor
 //!    ([`sensor::TouchDown`]). [`sensor::solid`] is the top rung: the etched shape as a 3-D solid
 //!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
-//!    their own film's stresses, compared quantity by quantity with the linear plate.
+//!    their own film's stresses, solved linear or geometrically nonlinear as the ladder's plate
+//!    rung for the scene is, and compared quantity by quantity with that rung.
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown
