@@ -177,6 +177,22 @@ fn build_writes_everything_and_the_html_renders() {
     let s = json(&files["build.json"]);
     assert_eq!(s["passed"], true);
     assert_eq!(s["failures"].as_array().unwrap().len(), 0);
+    // The FE summary's tissue section: paper 002's lump raises the face pressure and M2, the
+    // void lowers both, and the traveler says so.
+    let tissue = &s["fe"]["tissue"]["features"];
+    let f = |i: usize, k: &str| tissue[i][k].as_f64().unwrap();
+    assert_eq!(
+        (tissue[0]["feature"].as_str(), tissue[1]["feature"].as_str()),
+        (Some("lump"), Some("void"))
+    );
+    assert!(
+        f(0, "extreme_ratio") > 1.0 && f(1, "extreme_ratio") < 1.0,
+        "{tissue}"
+    );
+    assert!(f(0, "m2_feature_mv") > f(0, "m2_background_mv"), "{tissue}");
+    assert!(f(1, "m2_feature_mv") < f(1, "m2_background_mv"), "{tissue}");
+    let md = String::from_utf8_lossy(&files["mis-grasper-traveler.md"]);
+    assert!(md.contains("Hidden features in grasped tissue"));
     // Every listed file's hash is the file's (an independent SHA-256: the sha256sum tool when
     // present).
     let listed = s["files"].as_array().unwrap();
