@@ -694,7 +694,7 @@ impl TlSolution {
         ))
     }
 
-    /// First Piola-Kirchhoff (nominal) stress P = F S (Pa, P[i][J] force along i per undeformed
+    /// First Piola-Kirchhoff (nominal) stress P = F S (Pa, `P[i][J]` force along i per undeformed
     /// area of normal J) at local point `xi` of element (i, j, k); None if void.
     #[track_caller]
     pub fn first_piola_kirchhoff_at(

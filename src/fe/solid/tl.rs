@@ -197,7 +197,7 @@ pub fn second_piola_kirchhoff_pa(
     material.stress_pa(&strain_at(nodes_m, u_m, xi))
 }
 
-/// First Piola-Kirchhoff (nominal) stress P = F S (Pa; P[i][J]: force along i per undeformed
+/// First Piola-Kirchhoff (nominal) stress P = F S (Pa; `P[i][J]`: force along i per undeformed
 /// area of normal J) at local point `xi` (Bathe sec. 6.2): what a cut through the undeformed body
 /// transmits, so its integral over a reference face is the force through it.
 pub fn first_piola_kirchhoff_pa(
