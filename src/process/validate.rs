@@ -717,6 +717,22 @@ fn scene_load(v: &mut V, b: &str, load: &SceneLoad, g: &Geometry) {
             "N (magnitude)",
         )
     };
+    // A rectangle must be non-empty and lie on the die.
+    let region_on_die = |v: &mut V, path: String, r: &RegionUm| {
+        if !(r.x0_um >= 0.0
+            && r.x1_um <= l
+            && r.y0_um >= 0.0
+            && r.y1_um <= w
+            && r.x0_um < r.x1_um
+            && r.y0_um < r.y1_um)
+        {
+            v.push(
+                path,
+                "the region is empty or leaves the die",
+                format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
+            );
+        }
+    };
     let on_die = |v: &mut V, kind: &str, axis: &str, x: f64, hi: f64| {
         v.range(
             &format!("{b}.load.{kind}.{axis}"),
@@ -747,19 +763,7 @@ fn scene_load(v: &mut V, b: &str, load: &SceneLoad, g: &Geometry) {
         SceneLoad::Pressure { force_n, region } => {
             force(v, "pressure", *force_n);
             if let Some(r) = region {
-                if !(r.x0_um >= 0.0
-                    && r.x1_um <= l
-                    && r.y0_um >= 0.0
-                    && r.y1_um <= w
-                    && r.x0_um < r.x1_um
-                    && r.y0_um < r.y1_um)
-                {
-                    v.push(
-                        format!("{b}.load.pressure.region"),
-                        "the region is empty or leaves the die",
-                        format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
-                    );
-                }
+                region_on_die(v, format!("{b}.load.pressure.region"), r);
             }
         }
         SceneLoad::Probe {
@@ -798,20 +802,7 @@ fn scene_load(v: &mut V, b: &str, load: &SceneLoad, g: &Geometry) {
                     false,
                     "N (magnitude)",
                 );
-                let r = p.region;
-                if !(r.x0_um >= 0.0
-                    && r.x1_um <= l
-                    && r.y0_um >= 0.0
-                    && r.y1_um <= w
-                    && r.x0_um < r.x1_um
-                    && r.y0_um < r.y1_um)
-                {
-                    v.push(
-                        format!("{b}.load.patches[{k}].region"),
-                        "the region is empty or leaves the die",
-                        format!("0 <= x0_um < x1_um <= {l}, 0 <= y0_um < y1_um <= {w}"),
-                    );
-                }
+                region_on_die(v, format!("{b}.load.patches[{k}].region"), &p.region);
             }
         }
     }

@@ -208,6 +208,8 @@ pub fn build(
     let drc = crate::drc::check(&set, p, &plan);
 
     let scenes = &p.checks.scenes;
+    let mut solid_check = Vec::new();
+    let mut solid_limits = Vec::new();
     let (fe_reports, fe) = match opts.fe {
         Some(o) if !scenes.is_empty() && plan.has_errors() => (
             Vec::new(),
@@ -224,7 +226,28 @@ pub fn build(
         Some(o) if !scenes.is_empty() => {
             progress(Stage::Fe(scenes.len()));
             let g = SensorGeometry::new(design);
-            let reports = evaluate_many(&g, scenes, o)?;
+            let mut reports = evaluate_many(&g, scenes, o)?;
+            if let Some(levels) = opts.verify_solid_levels {
+                progress(Stage::Solid(scenes.len()));
+                for (s, r) in scenes.iter().zip(reports.iter_mut()) {
+                    let run = crate::sensor::solid::SolidRun {
+                        base: g.base,
+                        levels,
+                        tol: o.tol_rel,
+                        symmetry: true,
+                        nonlinear: false,
+                    };
+                    let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o)?;
+                    // The plate answer's model error is the solid's measurement of it.
+                    r.take_model_error_from(&solid, o.tol_rel);
+                    solid_limits.push(super::limits::check_solid_limits(
+                        &solid,
+                        &s.limits,
+                        g.fracture_strength_mpa,
+                    ));
+                    solid_check.push(solid);
+                }
+            }
             let mut summary = summarise(
                 scenes,
                 &reports,
@@ -238,31 +261,6 @@ pub fn build(
         }
         _ => (Vec::new(), None),
     };
-
-    let mut solid_check = Vec::new();
-    let mut solid_limits = Vec::new();
-    if let (Some(levels), Some(o)) = (opts.verify_solid_levels, opts.fe) {
-        if !scenes.is_empty() && !plan.has_errors() {
-            progress(Stage::Solid(scenes.len()));
-            let g = SensorGeometry::new(design);
-            for s in scenes {
-                let run = crate::sensor::solid::SolidRun {
-                    base: g.base,
-                    levels,
-                    tol: o.tol_rel,
-                    symmetry: true,
-                    nonlinear: false,
-                };
-                let report = crate::sensor::solid::solid_against_plate(&g, s, run, o)?;
-                solid_limits.push(super::limits::check_solid_limits(
-                    &report,
-                    &s.limits,
-                    g.fracture_strength_mpa,
-                ));
-                solid_check.push(report);
-            }
-        }
-    }
 
     progress(Stage::Traveler);
     // The tooth's etch, coarse: the traveler is also made by debug-built tests.

@@ -78,6 +78,20 @@ pub fn split(load: &SceneLoad, g: &SensorGeometry) -> SceneLoads {
     }
 }
 
+/// The bounding box (x0, y0, x1, y1) of the patches, forceless ones included; `None` when there
+/// are none.
+pub(crate) fn patches_extent_um(patches: &[PressurePatch]) -> Option<(f64, f64, f64, f64)> {
+    patches.iter().map(|p| p.region).fold(None, |acc, r| {
+        let (x0, y0, x1, y1) = acc.unwrap_or((f64::MAX, f64::MAX, f64::MIN, f64::MIN));
+        Some((
+            x0.min(r.x0_um),
+            y0.min(r.y0_um),
+            x1.max(r.x1_um),
+            y1.max(r.y1_um),
+        ))
+    })
+}
+
 /// Piecewise-uniform pressure: each rectangle split as a uniform pressure of its own force
 /// (patches without force are left out); read at the bounding box's centre.
 fn split_patches(g: &SensorGeometry, patches: &[PressurePatch]) -> SceneLoads {
@@ -94,15 +108,8 @@ fn split_patches(g: &SensorGeometry, patches: &[PressurePatch]) -> SceneLoads {
             y1_um: 0.0,
         },
     };
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for p in patches {
         let r = p.region;
-        (x0, y0, x1, y1) = (
-            x0.min(r.x0_um),
-            y0.min(r.y0_um),
-            x1.max(r.x1_um),
-            y1.max(r.y1_um),
-        );
         if p.force_n == 0.0 {
             continue;
         }
@@ -117,9 +124,7 @@ fn split_patches(g: &SensorGeometry, patches: &[PressurePatch]) -> SceneLoads {
         s.direct.extend(one.direct);
         s.total_force_n += p.force_n;
     }
-    if x0 > x1 {
-        (x0, y0, x1, y1) = (0.0, py0, g.length_um, py1);
-    }
+    let (x0, y0, x1, y1) = patches_extent_um(patches).unwrap_or((0.0, py0, g.length_um, py1));
     s.at_um = ((x0 + x1) / 2.0, ((y0 + y1) / 2.0).clamp(py0, py1));
     s.patch = RectUm {
         x0_um: x0,

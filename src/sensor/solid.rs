@@ -159,16 +159,15 @@ pub fn top_loads(g: &SensorGeometry, load: &SceneLoad) -> (Vec<TopLoad>, (f64, f
             )
         }
         SceneLoad::Patches { ref patches } => {
-            let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+            let (x0, y0, x1, y1) = super::scene::patches_extent_um(patches).unwrap_or((
+                0.0,
+                0.0,
+                g.length_um,
+                g.width_um,
+            ));
             let mut loads = Vec::with_capacity(patches.len());
             for p in patches {
                 let r = p.region;
-                (x0, y0, x1, y1) = (
-                    x0.min(r.x0_um),
-                    y0.min(r.y0_um),
-                    x1.max(r.x1_um),
-                    y1.max(r.y1_um),
-                );
                 if p.force_n != 0.0 {
                     loads.push(TopLoad::Patch {
                         polygon_um: rect(r.x0_um, r.y0_um, r.x1_um, r.y1_um),
@@ -459,7 +458,11 @@ pub fn solid_against_plate(
     use super::evaluate::ModelKind;
     let auto = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Auto))?;
     let nonlinear = auto.model.kind == ModelKind::LargeDeflectionPlate;
-    let plate = if nonlinear {
+    // The solid is compared with a plate rung: auto's answer when it is one, else the linear plate.
+    let plate = if matches!(
+        auto.model.kind,
+        ModelKind::LargeDeflectionPlate | ModelKind::Plate
+    ) {
         auto
     } else {
         super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?
@@ -492,5 +495,50 @@ impl SolidReport {
             .collect();
         v.sort_by(|a, b| b.1.total_cmp(&a.1));
         v
+    }
+}
+
+impl super::SceneReport {
+    /// Takes the plate rung's model error from the solid (issue 16, item 4): each quantity the
+    /// solid also read gets as its `model` part the difference from the solid's value plus the
+    /// solid's own estimate (what [`SolidReport::disagreements`] weighs), or the part it had when
+    /// that is larger; the totals, the scene's worst error and `converged` follow. Only where the
+    /// solid was compared with this report's rung; the singular peak stress is left as it is.
+    /// Returns how many quantities took a model part from the solid.
+    pub fn take_model_error_from(&mut self, solid: &SolidReport, tol: f64) -> usize {
+        if solid.plate_rung != self.model.kind.to_string() {
+            return 0;
+        }
+        let mut taken = 0;
+        for q in self
+            .quantities
+            .iter_mut()
+            .filter(|q| q.name != super::rung::STRESS_PEAK)
+        {
+            let Some(s) = solid.quantities.iter().find(|s| s.name == q.name) else {
+                continue;
+            };
+            let Some(d) = s.plate_difference else {
+                continue;
+            };
+            // A NaN difference (no scale) is unknown: an infinite model error, never a pass.
+            let m = if d.is_finite() {
+                d + s.discretisation.unwrap_or(0.0)
+            } else {
+                f64::INFINITY
+            };
+            let model = q.error.model.map_or(m, |old| old.max(m));
+            q.error = super::ErrorParts::new(q.error.discretisation, Some(model));
+            q.converged = q.error.met(tol);
+            taken += 1;
+        }
+        self.error = super::rung::worst(&self.quantities);
+        self.error_estimate = self.error.total;
+        self.converged = self
+            .quantities
+            .iter()
+            .filter(|q| q.name != super::rung::STRESS_PEAK)
+            .all(|q| q.converged);
+        taken
     }
 }

@@ -330,4 +330,21 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("build.json")).unwrap()).unwrap();
     assert_eq!(summary["passed"], false);
+    // The plate answers carry the solid's measurement as their model error (item 4): at least
+    // the largest plate - solid difference of the scene, and the scene is then not converged.
+    for (k, solid) in v["scenes"].as_array().unwrap().iter().enumerate() {
+        let fe = &summary["fe"]["scenes"][k];
+        assert_eq!(fe["name"], solid["scene"]);
+        assert_eq!(fe["model"], solid["plate_rung"]);
+        let worst = solid["quantities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|q| q["name"] != "max_stress_peak")
+            .filter_map(|q| q["plate_difference"].as_f64())
+            .fold(0.0f64, f64::max);
+        let model = fe["error"]["model"].as_f64().unwrap();
+        assert!(worst > 0.0 && model >= worst, "{k}: {model} < {worst}");
+        assert_eq!(fe["converged"], false, "{k}");
+    }
 }
