@@ -86,7 +86,8 @@ pub struct AccuracyArgs {
     pub max_levels: u8,
     /// Model rung: auto (the cheapest meeting --tol: strip, linear plate, large-deflection
     /// plate), or force beam, plate or large-deflection; `fe` also takes solid (the 3D rung, at
-    /// most 3 levels, each quantity compared with the linear plate).
+    /// most 3 levels, nonlinear where auto picks the large-deflection plate, each quantity
+    /// compared with the plate rung auto picks).
     #[arg(long, value_enum, default_value = "auto")]
     pub model: ModelArg,
     /// In-plane support condition of the large-deflection plate: immovable (the supports hold
