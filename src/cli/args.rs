@@ -211,6 +211,11 @@ pub struct FeArgs {
     /// and write the plot of error against dofs and time (see --plot).
     #[arg(long)]
     pub convergence: bool,
+    /// Also solve each scene on the 3D solid rung (2 levels, minutes) and take the plate
+    /// answer's model error from it: each quantity's `model` part becomes its difference from
+    /// the solid plus the solid's own estimate (or stays, if larger). Not with --model solid.
+    #[arg(long)]
+    pub verify_solid: bool,
     /// Where --convergence writes its SVG plot.
     #[arg(
         long,

@@ -18,9 +18,15 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     let scenes = scenes(args, &design.process.checks.scenes)?;
     let g = SensorGeometry::new(&design);
     if args.accuracy.model == super::args::ModelArg::Solid {
+        if args.verify_solid {
+            bail!(
+                "--verify-solid checks a plate answer against the solid rung; with --model solid \
+                 the answer is the solid itself (drop one of them)"
+            );
+        }
         return solid(args, &g, &scenes);
     }
-    let reports = evaluate_many_with(
+    let mut reports = evaluate_many_with(
         &g,
         &scenes,
         args.accuracy.into(),
@@ -30,6 +36,11 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         },
     )
     .context("finite-element solve failed")?;
+    let solid = if args.verify_solid {
+        verify_solid(args, &g, &scenes, &mut reports)?
+    } else {
+        Vec::new()
+    };
     let modes = plate_modes(&g, MODES_REPORTED, MODAL_LEVELS)
         .context("natural frequencies of the plate")?;
     let failed = reports.iter().zip(&scenes).any(|(r, s)| {
@@ -43,13 +54,17 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         if !args.timings {
             strip_timings(&mut scenes);
         }
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&serde_json::json!({ "scenes": scenes, "modes": modes }))?
-        );
+        let mut v = serde_json::json!({ "scenes": scenes, "modes": modes });
+        if args.verify_solid {
+            v["solid"] = serde_json::to_value(&solid)?;
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        for (r, s) in reports.iter().zip(&scenes) {
+        for (k, (r, s)) in reports.iter().zip(&scenes).enumerate() {
             print!("{}", text(r, &limit_failures(r, &s.limits)));
+            if let Some(solid) = solid.get(k) {
+                print!("{}", solid_line(r, solid));
+            }
             if args.convergence {
                 print!("{}", convergence_table(r));
             }
@@ -69,6 +84,58 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     } else {
         Outcome::Ok
     })
+}
+
+/// `--verify-solid`: each scene on the solid rung (2 levels, as `build --verify-solid`), whose
+/// differences become the plate answers' model error where the solid was compared with the rung
+/// that answered.
+fn verify_solid(
+    args: &FeArgs,
+    g: &SensorGeometry,
+    scenes: &[Scene],
+    reports: &mut [SceneReport],
+) -> anyhow::Result<Vec<tactfab::sensor::solid::SolidReport>> {
+    use tactfab::sensor::solid::{solid_against_plate, SolidRun};
+    let acc: tactfab::sensor::Accuracy = args.accuracy.into();
+    let mut out = Vec::new();
+    for (s, r) in scenes.iter().zip(reports.iter_mut()) {
+        let run = SolidRun {
+            base: g.base,
+            levels: 2,
+            tol: acc.tol_rel,
+            symmetry: !args.no_symmetry,
+            nonlinear: false,
+        };
+        let solid = solid_against_plate(g, s, run, acc).context("solid solve failed")?;
+        r.take_model_error_from(&solid, acc.tol_rel);
+        out.push(solid);
+    }
+    Ok(out)
+}
+
+/// What `--verify-solid` did to one scene's errors.
+fn solid_line(r: &SceneReport, solid: &tactfab::sensor::solid::SolidReport) -> String {
+    if solid.plate_rung != r.model.kind.to_string() {
+        return format!(
+            "  solid check: the solid was compared with the {} rung auto picks, not with this \
+             {} answer: its model error is left as it was\n",
+            solid.plate_rung, r.model.kind
+        );
+    }
+    let worst = solid
+        .disagreements(0.0)
+        .into_iter()
+        .next()
+        .map_or_else(String::new, |(n, d)| format!("; the largest, {n}: {d:.1e}"));
+    format!(
+        "  solid check ({} levels, {}): model error taken from the solid{worst}\n",
+        solid.levels.len(),
+        if solid.nonlinear {
+            "nonlinear"
+        } else {
+            "linear"
+        },
+    )
 }
 
 /// Removes the wall-clock fields (`solve_ms`, each level's `time_ms`) from the scenes' JSON.

@@ -534,11 +534,28 @@ impl super::SceneReport {
         }
         self.error = super::rung::worst(&self.quantities);
         self.error_estimate = self.error.total;
+        let was = self.converged;
         self.converged = self
             .quantities
             .iter()
             .filter(|q| q.name != super::rung::STRESS_PEAK)
             .all(|q| q.converged);
+        if was && !self.converged {
+            use crate::finding::{Finding, SceneCode};
+            self.warnings.push(Finding::warning(
+                SceneCode::NotConverged,
+                format!(
+                    "with the model error the solid rung measured ({}), the estimated error \
+                     {} is above the tolerance {tol:.0e}",
+                    self.error
+                        .model
+                        .map_or_else(|| "unknown".into(), |m| format!("{m:.2e}")),
+                    self.error
+                        .total
+                        .map_or_else(|| "unknown".into(), |t| format!("{t:.2e}")),
+                ),
+            ));
+        }
         taken
     }
 }

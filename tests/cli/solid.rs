@@ -348,3 +348,69 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         assert_eq!(fe["converged"], false, "{k}");
     }
 }
+
+#[test]
+fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
+    // The line load on the short die: linear where auto answers, so the solid is linear and
+    // cheap; its differences become the plate answer's `model` part.
+    let mut args = vec![
+        "fe",
+        "process/mis-grasper.yaml",
+        "--scene",
+        "line-y5mm",
+        "--verify-solid",
+        "--max-levels",
+        "3",
+        "--json",
+    ];
+    for s in SHORT {
+        args.extend(["--set", s]);
+    }
+    let run = tactfab(&args);
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
+        panic!("{e}\n{}\n{}", run.stdout, run.stderr);
+    });
+    let solid = &v["solid"][0];
+    let plate = &v["scenes"][0];
+    assert_eq!(solid["plate_rung"], plate["model"]["kind"]);
+    assert_eq!(solid["levels"].as_array().unwrap().len(), 2);
+    let by_name = |name: &str| {
+        solid["quantities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|q| q["name"] == name)
+            .unwrap_or_else(|| panic!("{name}"))["plate_difference"]
+            .as_f64()
+            .unwrap()
+    };
+    let mut worst = 0.0f64;
+    for q in plate["quantities"].as_array().unwrap() {
+        let name = q["name"].as_str().unwrap();
+        if name == "max_stress_peak" {
+            continue;
+        }
+        // Two solid levels give no estimate: the model part is at least the difference itself.
+        let d = by_name(name);
+        let m = q["error"]["model"].as_f64().unwrap();
+        assert!(m >= d, "{name}: model {m} < solid difference {d}");
+        worst = worst.max(d);
+        let total = q["error"]["total"].as_f64();
+        let converged = q["converged"].as_bool().unwrap();
+        assert!(!converged || total.is_some_and(|t| t < 0.01), "{name}");
+    }
+    // The support electrodes read the opposite sign in the solid: far beyond the tolerance.
+    assert!(worst > 0.5, "{worst}");
+    assert_eq!(plate["converged"], false);
+    assert!(plate["error"]["model"].as_f64().unwrap() >= worst);
+    // The solid checks a plate answer: with --model solid there is nothing to check.
+    let run = tactfab(&[
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--verify-solid",
+    ]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("--verify-solid"), "{}", run.stderr);
+}
