@@ -217,8 +217,8 @@ fn back_svg_path(front: &std::path::Path) -> std::path::PathBuf {
 /// The back corner's lines of the text report.
 fn back_text(b: &BackSimulation) -> String {
     let mut out = format!(
-        "simulated back (U-channel) at support 1's corner, {} h ({}) on a {} um grid ({} nodes,          {} steps):
-",
+        "simulated back (U-channel) at support 1's corner, {} h ({}) on a {} um grid ({} nodes, \
+         {} steps):\n",
         f(b.time_h, 2),
         b.steps
             .iter()
@@ -230,8 +230,8 @@ fn back_text(b: &BackSimulation) -> String {
         b.time_steps
     );
     out.push_str(&format!(
-        "  channel floor {} um deep, its edge at y {} um (plan {} um{}); floor {} um wide          (plan {} um)
-",
+        "  channel floor {} um deep, its edge at y {} um (plan {} um{}); floor {} um wide \
+         (plan {} um)\n",
         f(b.floor_depth_um, 1),
         f(b.floor_edge_y_um, 1),
         f(b.plan_floor_edge_y_um, 1),
@@ -246,8 +246,8 @@ fn back_text(b: &BackSimulation) -> String {
         f(b.plan_floor_width_um, 1)
     ));
     out.push_str(&format!(
-        "  wall run-out {} um (closed form h / tan 54.74 deg {} um), edge undercut {} um (closed          form {} um)
-",
+        "  wall run-out {} um (closed form h / tan 54.74 deg {} um), edge undercut {} um (closed \
+         form {} um)\n",
         f(b.run_out_um, 1),
         f(b.closed_form_run_out_um, 1),
         f(b.edge_undercut_um, 1),
@@ -255,8 +255,8 @@ fn back_text(b: &BackSimulation) -> String {
     ));
     for c in &b.corners {
         out.push_str(&format!(
-            "  {} corner at ({}, {}) um: {} along its bisector (< 0 receded into the mask;              closed form {} um){}
-",
+            "  {} corner at ({}, {}) um: {} along its bisector (< 0 receded into the mask; \
+             closed form {} um){}\n",
             c.kind,
             f(c.at_um[0], 1),
             f(c.at_um[1], 1),
