@@ -66,7 +66,8 @@ fn simulation_reports_the_corner_and_writes_the_plan_view() {
 
 /// The back mask's support corner beside the tooth: the floor edge and width against the
 /// etch plan's, the wall against h / tan 54.74 deg, both convex corners receded, and its plan
-/// view written beside the tooth's; JSON and both SVGs byte-identical run to run.
+/// view written beside the tooth's, both rendering with their text on the canvas; JSON and
+/// both SVGs byte-identical run to run.
 #[test]
 fn back_mask_is_simulated_and_drawn_beside_the_tooth() {
     let dir = tempfile::tempdir().unwrap();
@@ -101,6 +102,8 @@ fn back_mask_is_simulated_and_drawn_beside_the_tooth() {
     assert!(
         text.starts_with("<svg") && text.contains("Back mask") && text.matches("<path").count() > 5
     );
+    // Both plan views keep their text on the canvas (estimated, and laid out in Chromium).
+    super::harness::assert_svgs_fit(dir.path());
     let front = std::fs::read(&svg).unwrap();
     let (_, again) = simulate(&args);
     assert_eq!(v, again);

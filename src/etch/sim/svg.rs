@@ -26,13 +26,13 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
         out,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"{:.0}\" \
          viewBox=\"0 0 800 {:.0}\" font-family=\"sans-serif\" font-size=\"12\">",
-        hpx + 60.0,
-        hpx + 60.0
+        hpx + 74.0,
+        hpx + 74.0
     );
     let _ = writeln!(
         out,
         "<rect width=\"800\" height=\"{:.0}\" fill=\"white\"/>",
-        hpx + 60.0
+        hpx + 74.0
     );
     let seg_path = |segs: &[[f64; 4]], out: &mut String, colour: &str, width: f64| {
         let mut d = String::new();
@@ -54,7 +54,13 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
             "<path d=\"{d}\" stroke=\"{colour}\" stroke-width=\"{width}\" fill=\"none\"/>"
         );
     };
-    // The drawn mask, clipped to the mirrored cell by the viewBox.
+    // Everything drawn is clipped to the mirrored cell (the drawn mask reaches beyond it and
+    // would run into the legend below).
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"tooth-cell\"><rect width=\"800\" height=\"{hpx:.1}\"/></clipPath>\n\
+         <g clip-path=\"url(#tooth-cell)\">"
+    );
     for q in 0..4 {
         for p in &sim.drawn {
             let mut d = String::new();
@@ -78,36 +84,35 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
     for (k, f) in sim.frames.iter().enumerate() {
         seg_path(&f.segments, &mut out, FRAME_COLOURS[k % 4], 1.5);
     }
-    let mut legend = format!(
-        "top edge at {} h (light to dark); orange: base at 95 % depth; dashed: drawn mask",
+    out.push_str("</g>\n");
+    let legend = format!(
+        "Top edge at {} h (light to dark); orange: base at 95 % depth; dashed: drawn mask.",
         sim.frames
             .iter()
             .map(|f| format!("{:.2}", f.time_h))
             .collect::<Vec<_>>()
             .join(", ")
     );
-    let _ = write!(
-        legend,
-        ". Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
+    let corner = format!(
+        "Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
         sim.corner_deviation_um, sim.corner_shape, sim.edge_undercut_um
     );
-    let _ = writeln!(
-        out,
-        "<text x=\"8\" y=\"{:.0}\">{}</text>",
-        hpx + 22.0,
-        legend.replace('<', "&lt;").replace('&', "&amp;")
-    );
-    let _ = writeln!(
-        out,
-        "<text x=\"8\" y=\"{:.0}\">tooth ({}, {}) of the die, {:.0} x {:.0} um around its centre, \
-         grid {:.2} um</text>",
-        hpx + 42.0,
+    let place = format!(
+        "Tooth ({}, {}) of the die, {:.0} x {:.0} um around its centre, grid {:.2} um.",
         sim.tooth[0],
         sim.tooth[1],
         2.0 * w,
         2.0 * h,
         sim.grid_um
     );
+    for (k, line) in [legend, corner, place].iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "<text x=\"8\" y=\"{:.0}\" font-size=\"12\">{}</text>",
+            hpx + 20.0 + 18.0 * k as f64,
+            line.replace('&', "&amp;").replace('<', "&lt;")
+        );
+    }
     out.push_str("</svg>\n");
     out
 }
@@ -138,7 +143,7 @@ pub fn back_plan_view(sim: &super::back::BackSimulation) -> String {
     );
     let _ = writeln!(
         out,
-        "<clipPath id=\"cell\"><rect x=\"{:.1}\" y=\"{top:.1}\" width=\"{wpx:.1}\" \
+        "<clipPath id=\"back-cell\"><rect x=\"{:.1}\" y=\"{top:.1}\" width=\"{wpx:.1}\" \
          height=\"{hpx:.1}\"/></clipPath>",
         left
     );
@@ -147,7 +152,7 @@ pub fn back_plan_view(sim: &super::back::BackSimulation) -> String {
         "<rect x=\"{left:.1}\" y=\"{top:.1}\" width=\"{wpx:.1}\" height=\"{hpx:.1}\" \
          fill=\"none\" stroke=\"#cccccc\"/>"
     );
-    out.push_str("<g clip-path=\"url(#cell)\">\n");
+    out.push_str("<g clip-path=\"url(#back-cell)\">\n");
     for p in &sim.drawn {
         let mut d = String::new();
         for (k, c) in p.exterior().coords().enumerate() {
@@ -217,7 +222,7 @@ pub fn back_plan_view(sim: &super::back::BackSimulation) -> String {
     for (k, l) in lines.iter().enumerate() {
         let _ = writeln!(
             out,
-            "<text x=\"8\" y=\"{:.0}\">{}</text>",
+            "<text x=\"8\" y=\"{:.0}\" font-size=\"12\">{}</text>",
             top + hpx + 22.0 + 18.0 * k as f64,
             l.replace('&', "&amp;").replace('<', "&lt;")
         );
