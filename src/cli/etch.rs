@@ -1,10 +1,11 @@
 //! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
 use tactfab::etch::sim::richardson::ToleranceDecision;
-use tactfab::etch::sim::sensitivity::Sensitivity;
-use tactfab::etch::sim::sizing::Sizing;
-use tactfab::etch::sim::{BackSimulation, ToothSimulation};
+use tactfab::etch::sim::sensitivity::{self, Sensitivity};
+use tactfab::etch::sim::sizing::{self, Sizing};
+use tactfab::etch::sim::{BackSimulation, SimError, ToothSimulation};
 use tactfab::etch::EtchPlan;
+use tactfab::layout::MaskSet;
 use tactfab::process::Process;
 use tactfab::spelling::yaml;
 
@@ -173,26 +174,22 @@ fn simulate(args: &EtchArgs, p: &Process, plan: &mut EtchPlan) -> anyhow::Result
     let masks = tactfab::layout::build(p, plan)?;
     let sim = tactfab::etch::sim::simulate(p, plan, &masks, args.grid_um)?;
     let back = tactfab::etch::sim::simulate_back(p, plan, &masks, args.grid_um)?;
-    let sweep = if args.sensitivity {
-        Some(tactfab::etch::sim::sensitivity::sweep(
-            p,
-            plan,
-            &masks,
-            args.grid_um,
-        )?)
-    } else {
-        None
-    };
-    let sizing = if args.size_compensation {
-        Some(tactfab::etch::sim::sizing::size(
-            p,
-            plan,
-            &masks,
-            args.grid_um,
-        )?)
-    } else {
-        None
-    };
+    let sweep = when(
+        args.sensitivity,
+        sensitivity::sweep,
+        p,
+        plan,
+        &masks,
+        args.grid_um,
+    )?;
+    let sizing = when(
+        args.size_compensation,
+        sizing::size,
+        p,
+        plan,
+        &masks,
+        args.grid_um,
+    )?;
     if let Some(path) = &args.svg {
         tactfab::export::write_atomic(path, tactfab::etch::sim::svg::plan_view(&sim).as_bytes())?;
         if let Some(b) = &back {
@@ -204,6 +201,21 @@ fn simulate(args: &EtchArgs, p: &Process, plan: &mut EtchPlan) -> anyhow::Result
     }
     plan.warnings.extend(tactfab::etch::sim::finding(&sim));
     Ok((sim, sweep, sizing, back))
+}
+
+/// A whole-design analysis on the simulation grid (the sweep, the sizing).
+type Analysis<T> = fn(&Process, &EtchPlan, &MaskSet, f64) -> Result<T, SimError>;
+
+/// Runs `analysis` when its flag is set.
+fn when<T>(
+    on: bool,
+    analysis: Analysis<T>,
+    p: &Process,
+    plan: &EtchPlan,
+    masks: &MaskSet,
+    grid_um: f64,
+) -> Result<Option<T>, SimError> {
+    on.then(|| analysis(p, plan, masks, grid_um)).transpose()
 }
 
 /// `DIR/tooth.svg` -> `DIR/tooth-back.svg` (no extension: `-back.svg` appended).
