@@ -254,22 +254,22 @@ fn room_inside(g: &super::level_set::Grid, at: [f64; 2], dir: [f64; 2]) -> f64 {
 }
 
 /// The fine run with the Richardson estimates of its floor edge and corners from the `coarse`
-/// run of the same cell.
-#[track_caller]
+/// run of the same cell (corners matched by their drawn vertex); none when the coarse grid is
+/// not coarser (a cell too small to double its step).
 pub fn with_errors(mut fine: BackSimulation, coarse: &BackSimulation) -> BackSimulation {
-    assert!(
-        coarse.grid_um > fine.grid_um && coarse.corners.len() == fine.corners.len(),
-        "the coarse run must be the same cell on a coarser grid"
-    );
     let (h, h2) = (fine.grid_um, coarse.grid_um);
+    if h2 <= h {
+        return fine;
+    }
     fine.floor_edge_error = Some(Extrapolated::of(
         fine.floor_edge_y_um,
         h,
         coarse.floor_edge_y_um,
         h2,
     ));
-    for (f, c) in fine.corners.iter_mut().zip(&coarse.corners) {
-        f.error = match (f.deviation_um, c.deviation_um) {
+    for f in fine.corners.iter_mut() {
+        let c = coarse.corners.iter().find(|c| c.at_um == f.at_um);
+        f.error = match (f.deviation_um, c.and_then(|c| c.deviation_um)) {
             (Some(a), Some(b)) => Some(Extrapolated::of(a, h, b, h2)),
             _ => None,
         };

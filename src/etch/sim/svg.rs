@@ -86,7 +86,7 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
     }
     out.push_str("</g>\n");
     let legend = format!(
-        "Top edge at {} h (light to dark); orange: base at 95 % depth; dashed: drawn mask.",
+        "Plan view: top edge at {} h (light to dark); orange: base at 95 % depth.",
         sim.frames
             .iter()
             .map(|f| format!("{:.2}", f.time_h))
@@ -94,7 +94,7 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
             .join(", ")
     );
     let corner = format!(
-        "Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
+        "Dashed: drawn mask. Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
         sim.corner_deviation_um, sim.corner_shape, sim.edge_undercut_um
     );
     let place = format!(
@@ -198,7 +198,7 @@ pub fn back_plan_view(sim: &super::back::BackSimulation) -> String {
             w, h, sim.grid_um
         ),
         format!(
-            "Top edge at {} h (light to dark); dashed: drawn supports.",
+            "Plan view: top edge at {} h (light to dark); dashed: drawn supports.",
             sim.frames
                 .iter()
                 .map(|f| format!("{:.2}", f.time_h))
