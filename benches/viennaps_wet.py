@@ -9,6 +9,17 @@ Reads DIR/cell.json, writes DIR/mask.gds (the cell's polygons, um user units) an
 DIR/viennaps.json: the corner deviation along the tooth diagonal (> 0 outwards, as tactfab's),
 the mid-edge undercut, and the wall time. The top edge is read from the silicon surface mesh:
 silicon surface points within half a cell of z = 0 are the tooth top still under the mask.
+
+The free-mesa corner check (the closed form sqrt 2 R110 t of the uncompensated convex corner):
+
+    python3 benches/viennaps_wet.py DIR --mesa 300 --time-h 1.5 --grid-um 2 [--scheme S] [--alpha A]
+
+etches a quarter of a free SIDE um square mesa (its centre lines are the domain's reflective
+sides at x = y = 0, the mesa's edge SIDE/2 from them, the domain SIDE wide) with R100 24, R110
+42, R111 0.8 um/h and R311 on the {100}-{111} line (so tactfab's table without a {311} entry is
+the same function) and writes DIR/viennaps.json with its corner. --scheme names a
+viennaps.SpatialScheme (default STENCIL_LOCAL_LAX_FRIEDRICHS_1ST_ORDER, as ViennaPS's
+cantileverWetEtching example), --alpha sets AdvectionParameters.dissipationAlpha.
 """
 
 import json
@@ -24,8 +35,9 @@ import viennaps.d3 as psd
 from viennaps import AdvectionParameters, BoundaryType, Material, SpatialScheme
 
 
-def gds(path, polygons):
-    """A minimal GDSII file: one structure, one boundary per polygon on layer 1, 1 nm grid."""
+def gds(path, polygons, extra=()):
+    """A minimal GDSII file: one structure, one boundary per polygon on layer 1 (and each of
+    `extra` on layer 2: it only widens the domain's bounds), 1 nm grid."""
 
     def rec(kind, dtype, payload=b""):
         return struct.pack(">HBB", 4 + len(payload), kind, dtype) + payload
@@ -52,12 +64,12 @@ def gds(path, polygons):
     out += rec(0x03, 0x05, real8(1e-3) + real8(1e-9))
     out += rec(0x05, 0x02, struct.pack(">12h", *([0] * 12)))
     out += rec(0x06, 0x06, b"TOOTHCEL")
-    for poly in polygons:
+    for layer, poly in [(1, q) for q in polygons] + [(2, q) for q in extra]:
         pts = [(round(x * 1000), round(y * 1000)) for x, y in poly]
         if pts[0] != pts[-1]:
             pts.append(pts[0])
         out += rec(0x08, 0x00)
-        out += rec(0x0D, 0x02, struct.pack(">h", 1))
+        out += rec(0x0D, 0x02, struct.pack(">h", layer))
         out += rec(0x0E, 0x02, struct.pack(">h", 0))
         out += rec(0x10, 0x03, b"".join(struct.pack(">ii", x, y) for x, y in pts))
         out += rec(0x11, 0x00)
@@ -67,17 +79,39 @@ def gds(path, polygons):
         f.write(out)
 
 
+def opt(name, default):
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+
+
+def mesa_cell(side_um, time_h):
+    """A quarter of a free square mesa, its centre at the origin (see the module comment)."""
+    h = side_um / 2
+    return {
+        "cell_um": [side_um, side_um],
+        "grid_um": 2.0,
+        "time_h": time_h,
+        "tooth_top_um": side_um,
+        "rates_um_per_h": {"r100": 24.0, "r110": 42.0, "r111": 0.8, "r311": 24.0 + (0.8 - 24.0) / 3},
+        "polygons": [[[0, 0], [h, 0], [h, h], [0, h]]],
+        "quarter_mesa": True,
+    }
+
+
 def main():
     d = sys.argv[1]
     viennaps.Logger.setLogLevel(viennaps.LogLevel.WARNING)
-    cell = json.load(open(f"{d}/cell.json"))
-    grid = cell["grid_um"]
-    if "--grid-um" in sys.argv:
-        grid = float(sys.argv[sys.argv.index("--grid-um") + 1])
+    if "--mesa" in sys.argv:
+        cell = mesa_cell(float(opt("--mesa", 300)), float(opt("--time-h", 1.5)))
+    else:
+        cell = json.load(open(f"{d}/cell.json"))
+    grid = float(opt("--grid-um", cell["grid_um"]))
     lx, ly = cell["cell_um"]
     half = cell["tooth_top_um"] / 2
     r = cell["rates_um_per_h"]
-    gds(f"{d}/mask.gds", cell["polygons"])
+    quarter = cell.get("quarter_mesa", False)
+    # The quarter mesa's domain: a speck on layer 2 at the far corner sets the bounds.
+    extra = [[[lx - 1, ly - 1], [lx, ly - 1], [lx, ly], [lx - 1, ly]]] if quarter else []
+    gds(f"{d}/mask.gds", cell["polygons"], extra)
 
     t0 = time.perf_counter()
     mask = psd.GDSGeometry(grid)
@@ -106,7 +140,10 @@ def main():
         materialRates=[(Material.Si, -1.0)],
     )
     params = AdvectionParameters()
-    params.spatialScheme = SpatialScheme.STENCIL_LOCAL_LAX_FRIEDRICHS_1ST_ORDER
+    scheme = opt("--scheme", "STENCIL_LOCAL_LAX_FRIEDRICHS_1ST_ORDER")
+    params.spatialScheme = getattr(SpatialScheme, scheme)
+    if "--alpha" in sys.argv:
+        params.dissipationAlpha = float(opt("--alpha", 1.0))
     process = psd.Process()
     process.setDomain(domain)
     process.setProcessModel(model)
@@ -127,7 +164,9 @@ def main():
     zs = [z for _, _, z in nodes]
     print(f"silicon surface: {len(nodes)} points, z {min(zs):.1f} .. {max(zs):.1f} um", file=sys.stderr)
     top = [(x - x0, y - y0) for x, y, z in nodes if z > -0.5 * grid]
-    if pad > 0:
+    if quarter:
+        pass  # the mesa's centre is the origin
+    elif pad > 0:
         # A free mesa: its upper-right quarter, from its centre.
         c = cell["centre_um"]
         top = [(x - c[0], y - c[1]) for x, y in top if x >= c[0] and y >= c[1]]
@@ -136,14 +175,32 @@ def main():
         # neighbour's is the upper-right one).
         top = [(x, y) for x, y in top if x + y < 0.5 * (lx + ly)]
     diag = [(x + y) / math.sqrt(2) for x, y in top if abs(x - y) < grid]
+    # The corner below the top: the farthest silicon surface point along the diagonal in
+    # slabs one cell thick, from the mask down (a {110} bevel through the corner puts it |z|
+    # farther out at depth z, so s(z) - |z| is where that bevel meets the mask plane).
+    profile = []
+    if quarter:
+        depth = max(-z for _, _, z in nodes)
+        k = 0
+        while (k + 0.5) * grid < depth:
+            zc = -k * grid
+            pts = [(x + y) / math.sqrt(2) for x, y, z in nodes
+                   if abs(x - y) < grid and abs(z - zc) <= 0.5 * grid]
+            if pts:
+                profile.append([zc, max(pts) - half * math.sqrt(2)])
+            k += 1
     edge = [x for x, y in top if y < grid]
     out = {
         "version": str(viennaps.version),
         "grid_um": grid,
+        "scheme": scheme,
+        "dissipation_alpha": params.dissipationAlpha,
+        "time_h": cell["time_h"],
         "seconds": seconds,
         "corner_deviation_um": (max(diag) - half * math.sqrt(2)) if diag else None,
         "edge_undercut_um": (half - max(edge)) if edge else None,
         "bounds_um": list(bounds),
+        "corner_at_depth_um": profile,
     }
     json.dump(out, open(f"{d}/viennaps.json", "w"), indent=1)
     print(json.dumps(out))

@@ -1,6 +1,6 @@
 //! Benchmark (not a timed test): one tooth cell of the bundled process etched for the recipe's
 //! time (8.5 h of TMAH) on a 5 um grid, median wall time of RUNS runs; prints the tooth's
-//! numbers. With `--viennaps DIR` it also reads what `benches/viennaps_wet.py` wrote into DIR
+//! numbers; then the back mask's support corner likewise. With `--viennaps DIR` it also reads what `benches/viennaps_wet.py` wrote into DIR
 //! (same mask and rates; its top-edge contour and time) and prints the comparison.
 //!
 //! cargo run --release --example etch_sim_bench -- [RUNS] [--grid-um 5] [--set path=value ...]
@@ -47,6 +47,42 @@ fn main() -> anyhow::Result<()> {
         ts.push(t.elapsed().as_secs_f64());
     }
     let sim = sim.expect("runs > 0");
+    // The back mask's support corner (the U-channel), on the grid and its double likewise.
+    let mut tb = Vec::new();
+    let mut back = None;
+    for _ in 0..runs {
+        let t = Instant::now();
+        back = tactfab::etch::sim::simulate_back(p, &plan, &masks, grid_um)?;
+        tb.push(t.elapsed().as_secs_f64());
+    }
+    if let Some(b) = &back {
+        println!(
+            "back corner cell {} nodes, {} steps, grid {:.3} um: median {:.3} s over {runs} runs \
+             (min {:.3}, max {:.3}); floor edge {:.1} um (plan {:.1}), run-out {:.1} um (closed \
+             form {:.1}), corners {}",
+            b.nodes,
+            b.time_steps,
+            b.grid_um,
+            median(tb.clone()),
+            tb.iter().copied().fold(f64::INFINITY, f64::min),
+            tb.iter().copied().fold(0.0, f64::max),
+            b.floor_edge_y_um,
+            b.plan_floor_edge_y_um,
+            b.run_out_um,
+            b.closed_form_run_out_um,
+            b.corners
+                .iter()
+                .map(|c| format!(
+                    "{:?} {:.1} um (extrapolated {:.1}, closed form {:.1})",
+                    c.at_um,
+                    c.deviation_um.unwrap_or(f64::NAN),
+                    c.error.map_or(f64::NAN, |e| e.extrapolated_um),
+                    c.closed_form_um
+                ))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     println!(
         "tooth cell {} nodes, {} steps, {:.2} h, grid {:.3} um: median {:.3} s over {runs} runs \
          (min {:.3}, max {:.3})",

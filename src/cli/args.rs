@@ -154,7 +154,8 @@ pub struct EtchArgs {
     pub json: bool,
     /// Simulate the front etch of one tooth's symmetry cell from the drawn mask (2.5-D level
     /// set, the recipe's time): corner deviation, undercut, compensator, floor, facets (JSON
-    /// `simulation`); a few seconds at 5 um (release build).
+    /// `simulation`); and the back mask's support corner: channel floor edge, wall run-out,
+    /// support corners (JSON `simulation.back`); a few seconds at 5 um (release build).
     #[arg(long)]
     pub simulate: bool,
     /// Grid step of the simulation (1-50 um).
@@ -164,7 +165,8 @@ pub struct EtchArgs {
     /// `simulation.sensitivity`).
     #[arg(long, requires = "simulate")]
     pub sensitivity: bool,
-    /// Write the plan view of the simulated tooth (contours at several times) to this SVG file.
+    /// Write the plan view of the simulated tooth (contours at several times) to this SVG file,
+    /// and the back corner's beside it (`<stem>-back.svg`).
     #[arg(long, value_name = "FILE", requires = "simulate")]
     pub svg: Option<std::path::PathBuf>,
     /// Size the compensators by simulation: for each geometry the layout draws, the a (ratio

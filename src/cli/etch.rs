@@ -1,10 +1,11 @@
 //! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
 use tactfab::etch::sim::richardson::ToleranceDecision;
-use tactfab::etch::sim::sensitivity::Sensitivity;
-use tactfab::etch::sim::sizing::Sizing;
-use tactfab::etch::sim::ToothSimulation;
+use tactfab::etch::sim::sensitivity::{self, Sensitivity};
+use tactfab::etch::sim::sizing::{self, Sizing};
+use tactfab::etch::sim::{BackSimulation, SimError, ToothSimulation};
 use tactfab::etch::EtchPlan;
+use tactfab::layout::MaskSet;
 use tactfab::process::Process;
 use tactfab::spelling::yaml;
 
@@ -23,8 +24,9 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     if args.json {
         let mut v = serde_json::to_value(&plan)?;
         v["defaults_used"] = serde_json::to_value(&loaded.defaults_used)?;
-        if let Some((s, sweep, sizing)) = &sim {
+        if let Some((s, sweep, sizing, back)) = &sim {
             v["simulation"] = serde_json::to_value(s)?;
+            v["simulation"]["back"] = serde_json::to_value(back)?;
             if let Some(sw) = sweep {
                 v["simulation"]["sensitivity"] = serde_json::to_value(sw)?;
             }
@@ -139,8 +141,11 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
             f(y1, 1),
             f(y1 - y0, 1)
         ));
-        if let Some((s, sweep, sizing)) = &sim {
+        if let Some((s, sweep, sizing, back)) = &sim {
             out.push_str(&simulation_text(s, sweep.as_ref()));
+            if let Some(b) = back {
+                out.push_str(&back_text(b));
+            }
             if let Some(z) = sizing {
                 out.push_str(&sizing_text(z));
             }
@@ -155,39 +160,131 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
     })
 }
 
-/// Runs the tooth simulation (and the sweep), writes the SVG, adds the finding to the plan.
-fn simulate(
-    args: &EtchArgs,
-    p: &Process,
-    plan: &mut EtchPlan,
-) -> anyhow::Result<(ToothSimulation, Option<Sensitivity>, Option<Sizing>)> {
+/// What `--simulate` computed: the tooth, the sweep and the sizing when asked, the back corner.
+type Simulated = (
+    ToothSimulation,
+    Option<Sensitivity>,
+    Option<Sizing>,
+    Option<BackSimulation>,
+);
+
+/// Runs the tooth simulation (and the sweep), the back corner, writes the SVGs (the back's
+/// beside the tooth's, `<stem>-back.svg`), adds the finding to the plan.
+fn simulate(args: &EtchArgs, p: &Process, plan: &mut EtchPlan) -> anyhow::Result<Simulated> {
     let masks = tactfab::layout::build(p, plan)?;
     let sim = tactfab::etch::sim::simulate(p, plan, &masks, args.grid_um)?;
-    let sweep = if args.sensitivity {
-        Some(tactfab::etch::sim::sensitivity::sweep(
-            p,
-            plan,
-            &masks,
-            args.grid_um,
-        )?)
-    } else {
-        None
-    };
-    let sizing = if args.size_compensation {
-        Some(tactfab::etch::sim::sizing::size(
-            p,
-            plan,
-            &masks,
-            args.grid_um,
-        )?)
-    } else {
-        None
-    };
+    let back = tactfab::etch::sim::simulate_back(p, plan, &masks, args.grid_um)?;
+    let sweep = when(
+        args.sensitivity,
+        sensitivity::sweep,
+        p,
+        plan,
+        &masks,
+        args.grid_um,
+    )?;
+    let sizing = when(
+        args.size_compensation,
+        sizing::size,
+        p,
+        plan,
+        &masks,
+        args.grid_um,
+    )?;
     if let Some(path) = &args.svg {
         tactfab::export::write_atomic(path, tactfab::etch::sim::svg::plan_view(&sim).as_bytes())?;
+        if let Some(b) = &back {
+            tactfab::export::write_atomic(
+                &back_svg_path(path),
+                tactfab::etch::sim::svg::back_plan_view(b).as_bytes(),
+            )?;
+        }
     }
     plan.warnings.extend(tactfab::etch::sim::finding(&sim));
-    Ok((sim, sweep, sizing))
+    Ok((sim, sweep, sizing, back))
+}
+
+/// A whole-design analysis on the simulation grid (the sweep, the sizing).
+type Analysis<T> = fn(&Process, &EtchPlan, &MaskSet, f64) -> Result<T, SimError>;
+
+/// Runs `analysis` when its flag is set.
+fn when<T>(
+    on: bool,
+    analysis: Analysis<T>,
+    p: &Process,
+    plan: &EtchPlan,
+    masks: &MaskSet,
+    grid_um: f64,
+) -> Result<Option<T>, SimError> {
+    on.then(|| analysis(p, plan, masks, grid_um)).transpose()
+}
+
+/// `DIR/tooth.svg` -> `DIR/tooth-back.svg` (no extension: `-back.svg` appended).
+fn back_svg_path(front: &std::path::Path) -> std::path::PathBuf {
+    let stem = front
+        .file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    front.with_file_name(format!("{stem}-back.svg"))
+}
+
+/// The back corner's lines of the text report.
+fn back_text(b: &BackSimulation) -> String {
+    let mut out = format!(
+        "simulated back (U-channel) at support 1's corner, {} h ({}) on a {} um grid ({} nodes, \
+         {} steps):\n",
+        f(b.time_h, 2),
+        b.steps
+            .iter()
+            .map(|s| format!("`{}`", s.name))
+            .collect::<Vec<_>>()
+            .join(", "),
+        f(b.grid_um, 2),
+        b.nodes,
+        b.time_steps
+    );
+    out.push_str(&format!(
+        "  channel floor {} um deep, its edge at y {} um (plan {} um{}); floor {} um wide \
+         (plan {} um)\n",
+        f(b.floor_depth_um, 1),
+        f(b.floor_edge_y_um, 1),
+        f(b.plan_floor_edge_y_um, 1),
+        b.floor_edge_error.map_or(String::new(), |e| format!(
+            "; on the {} um grid {}, error {}, extrapolated {}",
+            f(e.coarse_grid_um, 2),
+            f(e.coarse_um, 1),
+            f(e.error_um, 1),
+            f(e.extrapolated_um, 1)
+        )),
+        f(b.floor_width_um, 1),
+        f(b.plan_floor_width_um, 1)
+    ));
+    out.push_str(&format!(
+        "  wall run-out {} um (closed form h / tan 54.74 deg {} um), edge undercut {} um (closed \
+         form {} um)\n",
+        f(b.run_out_um, 1),
+        f(b.closed_form_run_out_um, 1),
+        f(b.edge_undercut_um, 1),
+        f(b.closed_form_undercut_um, 1)
+    ));
+    for c in &b.corners {
+        out.push_str(&format!(
+            "  {} corner at ({}, {}) um: {} along its bisector (< 0 receded into the mask; \
+             closed form {} um){}\n",
+            c.kind,
+            f(c.at_um[0], 1),
+            f(c.at_um[1], 1),
+            c.deviation_um
+                .map_or("beyond the cell".into(), |d| format!("{} um", f(d, 1))),
+            f(c.closed_form_um, 1),
+            c.error.map_or(String::new(), |e| format!(
+                "; on the {} um grid {}, error {}, extrapolated {}",
+                f(e.coarse_grid_um, 2),
+                f(e.coarse_um, 1),
+                f(e.error_um, 1),
+                f(e.extrapolated_um, 1)
+            ))
+        ));
+    }
+    out
 }
 
 /// The sizing's lines of the text report.

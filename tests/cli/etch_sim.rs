@@ -64,6 +64,53 @@ fn simulation_reports_the_corner_and_writes_the_plan_view() {
     assert!(text.matches("<path").count() > 10, "contours drawn");
 }
 
+/// The back mask's support corner beside the tooth: the floor edge and width against the
+/// etch plan's, the wall against h / tan 54.74 deg, both convex corners receded, and its plan
+/// view written beside the tooth's, both rendering with their text on the canvas; JSON and
+/// both SVGs byte-identical run to run.
+#[test]
+fn back_mask_is_simulated_and_drawn_beside_the_tooth() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("tooth.svg");
+    let args = ["--svg", svg.to_str().unwrap()];
+    let (_, v) = simulate(&args);
+    let b = &v["simulation"]["back"];
+    let num = |k: &str| b[k].as_f64().unwrap_or_else(|| panic!("{k}: {b}"));
+    assert!((num("floor_depth_um") - 204.0).abs() < 1e-6);
+    let plan_floor = v["channel_floor_y_um"][0].as_f64().unwrap();
+    assert!((num("plan_floor_edge_y_um") - plan_floor).abs() < 1e-9);
+    // 20 um grid (the wall 7 cells wide): the floor edge within two cells of the plan, the
+    // run-out within a cell (measured 14 um here, 2.3 um on 10 um).
+    assert!((num("floor_edge_y_um") - plan_floor).abs() < 40.0, "{b}");
+    assert!(
+        (num("run_out_um") - num("closed_form_run_out_um")).abs() < 20.0,
+        "{b}"
+    );
+    assert!(num("floor_width_um") > 9600.0 && num("floor_width_um") < 9800.0);
+    let corners = b["corners"].as_array().unwrap();
+    assert_eq!(corners.len(), 2);
+    for c in corners {
+        assert_eq!(c["kind"], "convex");
+        let d = c["deviation_um"].as_f64().unwrap();
+        assert!(d < -300.0 && d > -600.0, "{c}");
+        assert!(c["error"]["extrapolated_um"].as_f64().is_some(), "{c}");
+    }
+    assert!(b["floor_edge_error"]["error_um"].as_f64().is_some());
+    let back_svg = dir.path().join("tooth-back.svg");
+    let first = std::fs::read(&back_svg).expect("the back plan view beside the tooth's");
+    let text = String::from_utf8(first.clone()).unwrap();
+    assert!(
+        text.starts_with("<svg") && text.contains("Back mask") && text.matches("<path").count() > 5
+    );
+    // Both plan views keep their text on the canvas (estimated, and laid out in Chromium).
+    super::harness::assert_svgs_fit(dir.path());
+    let front = std::fs::read(&svg).unwrap();
+    let (_, again) = simulate(&args);
+    assert_eq!(v, again);
+    assert_eq!(std::fs::read(&back_svg).unwrap(), first);
+    assert_eq!(std::fs::read(&svg).unwrap(), front);
+}
+
 #[test]
 fn tolerance_and_rates_come_from_the_process_file() {
     let (_, v) = simulate(&["--set", "etchants.etched_corner_tolerance_um=1000"]);
@@ -97,6 +144,14 @@ fn text_report_and_sensitivity() {
         "{}",
         run.stdout
     );
+    for line in [
+        "simulated back (U-channel) at support 1's corner",
+        "wall run-out",
+        "convex corner at (0.0, 0.0) um",
+        "convex corner at (0.0, 2500.0) um",
+    ] {
+        assert!(run.stdout.contains(line), "{line}: {}", run.stdout);
+    }
     for case in ["nominal", "r311_low", "r311_high", "r411_low", "r411_high"] {
         assert!(
             run.stdout.contains(&format!("sensitivity {case}: corner")),
@@ -135,6 +190,10 @@ fn bad_simulation_input_is_exit_2() {
     ]);
     run.expect_code(2);
     assert!(run.stderr.contains("no teeth"), "{}", run.stderr);
+    // A grid finer than the cells can hold is refused before anything is allocated.
+    let run = tactfab(&["etch", REFERENCE, "--simulate", "--grid-um", "1"]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("grid"), "{}", run.stderr);
 }
 
 #[test]

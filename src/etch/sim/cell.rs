@@ -84,6 +84,19 @@ pub fn tooth_cell(masks: &MaskSet, teeth: &Teeth, step_um: f64) -> Result<ToothC
             }
         }
     }
+    let drawn = rasterise(&grid, &polygons);
+    Ok(ToothCell {
+        grid,
+        drawn,
+        tooth,
+        polygons,
+        tooth_centres_um,
+        top_um: teeth.top_um,
+    })
+}
+
+/// The closed raster of `polygons` on `grid`: a node on a drawn edge is under the mask.
+pub fn rasterise(grid: &Grid, polygons: &[Polygon]) -> Vec<bool> {
     let boxes: Vec<_> = polygons.iter().filter_map(|p| p.bounding_rect()).collect();
     let mut drawn = Vec::with_capacity(grid.len());
     for j in 0..grid.ny {
@@ -92,7 +105,6 @@ pub fn tooth_cell(masks: &MaskSet, teeth: &Teeth, step_um: f64) -> Result<ToothC
                 x: grid.x_um(i),
                 y: grid.y_um(j),
             };
-            // A node on a drawn edge is under the mask (the polygon is closed).
             drawn.push(polygons.iter().zip(&boxes).any(|(p, b)| {
                 c.x >= b.min().x
                     && c.x <= b.max().x
@@ -102,12 +114,5 @@ pub fn tooth_cell(masks: &MaskSet, teeth: &Teeth, step_um: f64) -> Result<ToothC
             }));
         }
     }
-    Ok(ToothCell {
-        grid,
-        drawn,
-        tooth,
-        polygons,
-        tooth_centres_um,
-        top_um: teeth.top_um,
-    })
+    drawn
 }

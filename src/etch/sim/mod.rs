@@ -4,6 +4,8 @@
 //! generated [`crate::layout::MaskSet`] (`cell`) and what is read off the etched surface
 //! ([`readout`]).
 
+pub mod back;
+pub mod back_cell;
 pub mod cell;
 pub mod level_set;
 pub mod rate_table;
@@ -17,15 +19,18 @@ pub mod svg;
 pub mod tooth;
 
 #[cfg(test)]
+mod tests_back;
+#[cfg(test)]
 mod tests_closed_form;
 #[cfg(test)]
 mod tests_sizing;
 #[cfg(test)]
 mod tests_tooth;
 
+pub use back::BackSimulation;
 pub use level_set::{Grid, Stepper, Surface};
 pub use rate_table::{RateModel, RateTable};
-pub use run::{finding, simulate, simulate_with};
+pub use run::{finding, simulate, simulate_back, simulate_with};
 pub use tooth::{CornerShape, ToothSimulation};
 
 /// Why a simulation could not run. Each says what to change.

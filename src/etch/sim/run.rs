@@ -6,6 +6,8 @@ use crate::finding::{EtchCode, Finding};
 use crate::layout::MaskSet;
 use crate::process::{Etchant, Etchants, Process, Side};
 
+use super::back::{simulate_back_cell, with_errors, BackSimulation, BackStep};
+use super::back_cell::{back_cell, reach_um};
 use super::cell::tooth_cell;
 use super::rate_table::RateTable;
 use super::richardson::{corner_error, ToleranceDecision};
@@ -97,6 +99,50 @@ pub fn simulate_with(
         p.etchants.etched_corner_tolerance_um,
         FRAMES,
     )
+}
+
+/// The plan's back-side silicon etches in order (the U-channel), each with its own table.
+pub fn back_steps(plan: &EtchPlan, et: &Etchants) -> Vec<BackStep> {
+    plan.steps
+        .iter()
+        .filter(|s| matches!(s.side, Side::Back | Side::Both))
+        .map(|s| BackStep {
+            name: s.name.clone(),
+            time_h: s.time_h,
+            rates: rate_table(s, et),
+        })
+        .collect()
+}
+
+/// Simulates the back etch of a support corner (the U-channel's wall and the supports'
+/// corners) for the recipe's back-side steps, on `grid_um` and its double (Richardson); none
+/// when the recipe etches nothing from the back or the back mask draws nothing.
+pub fn simulate_back(
+    p: &Process,
+    plan: &EtchPlan,
+    masks: &MaskSet,
+    grid_um: f64,
+) -> Result<Option<BackSimulation>, SimError> {
+    let steps = back_steps(plan, &p.etchants);
+    if steps.is_empty() || masks.die_layer(crate::layout::LayerKind::BackSi).is_empty() {
+        return Ok(None);
+    }
+    let r110_t: f64 = steps.iter().map(|s| s.rates.r110_um_per_h * s.time_h).sum();
+    let reach = reach_um(r110_t, plan.back_depth_um);
+    let g = &p.geometry;
+    let run = |step_um: f64| {
+        let cell = back_cell(
+            masks,
+            g.dicing_street_um,
+            g.support_width_um,
+            reach,
+            step_um,
+        )?;
+        simulate_back_cell(&cell, &steps, plan.channel_floor_y_um[0], FRAMES)
+    };
+    let fine = run(grid_um)?;
+    let coarse = run(2.0 * grid_um)?;
+    Ok(Some(with_errors(fine, &coarse)))
 }
 
 /// ETCHED_CORNER_DEVIATION when the simulated corner lies beyond the process's tolerance, or
