@@ -121,17 +121,22 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         }
         files.push(("face-pressure.csv".into(), s.face_csv().into_bytes()));
         files.push(("through-sensor.svg".into(), s.svg().into_bytes()));
-        let u = &s.unit;
+        let (u, lp) = (&s.grid, &s.linear);
         after.push(format!(
-            "through the sensor, superposed: {} x {} cells of {} x {} mm on the linear plate ({} \
+            "through the sensor on the linear plate ({}): {} x {} cells of {} x {} mm ({} \
              levels, {} dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
-            u.grid.nx,
-            u.grid.ny,
-            f(u.grid.size_um().0 * 1e-3, 3),
-            f(u.grid.size_um().1 * 1e-3, 3),
-            u.levels,
-            u.dofs,
-            u.discretisation
+            if lp.unit_responses {
+                "each cell's unit response, superposed"
+            } else {
+                "the background and the feature as two patches scenes of one batch"
+            },
+            u.nx,
+            u.ny,
+            f(u.size_um().0 * 1e-3, 3),
+            f(u.size_um().1 * 1e-3, 3),
+            lp.levels,
+            lp.dofs,
+            lp.discretisation
                 .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
             f(spec.centre_um.0 * 1e-3, 2),
             f(spec.centre_um.1 * 1e-3, 2),
@@ -243,8 +248,38 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                     - xs.iter().fold(f64::MAX, |a, &b| a.min(b))
             };
             let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
+            let err = |x: &tactfab::hidden::scenes::SceneAnswer| {
+                format!(
+                    "discretisation {}, model {}",
+                    x.error
+                        .discretisation
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
+                    x.error
+                        .model
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}"))
+                )
+            };
             after.push(format!(
-                "  vessel (linear plate, superposed): {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                "  vessel on the linear plate: the grasp (vessel at 0 Pa) and 1 Pa in the vessel as \
+                 two patches scenes of one batch ({} levels, {} dofs; errors: grasp {}; per pascal \
+                 {}){}",
+                v.grasp.levels.max(v.unit.levels),
+                v.grasp.dofs.max(v.unit.dofs),
+                err(&v.grasp),
+                err(&v.unit),
+                if v.auto_climbs {
+                    format!(
+                        "; the grasp's model error is over --tol {}: auto answers the grasp on the \
+                         large-deflection plate (the full scenes above), the vessel's small-signal \
+                         part is the linear plate's",
+                        f(v.tol_rel, 3)
+                    )
+                } else {
+                    String::new()
+                }
+            ));
+            after.push(format!(
+                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
                  pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
                  the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
                 f(v.pulse.freq_hz, 3),

@@ -347,6 +347,13 @@ fn tissue_vessel_pulses_through_the_amplifiers() {
     assert!(run
         .stdout
         .contains("quasi-static: the plate's first natural frequency"));
+    // The vessel's path: two patches scenes on the linear plate, no cell unit responses.
+    assert!(
+        run.stdout.contains("vessel on the linear plate: the grasp")
+            && run.stdout.contains("as two patches scenes of one batch"),
+        "{}",
+        run.stdout
+    );
     let svg = std::fs::read_to_string(out.join("vessel.svg")).unwrap();
     assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
 }
