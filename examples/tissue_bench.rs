@@ -12,12 +12,13 @@
 //!     through the charge amplifiers: no unit responses.
 //! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
 //!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
-//! (f) The sphere's P / P0 from the axisymmetric scene (60 x 40 elements, two solves).
+//! (f) The sphere's P / P0 from the axisymmetric scene (the fitted mesh of 60 x 40's element
+//!     size, two solves), and (f') with its two coarser meshes and the Richardson estimate.
 //! (g) The background and the lump's grasp as two full scenes on `--model auto` (the
 //!     large-deflection plate at 3.2 N).
 //! (h) The traveler's tissue section (`hidden::summary`): three slab solves and three scenes.
 //!
-//! `tissue_bench RUNS vessel` times (e) alone; `tissue_bench RUNS summary` times (h) alone (run it in the dev profile for the traveler's
+//! `tissue_bench RUNS sphere` times (f) alone, `tissue_bench RUNS vessel` (f) and (e); `tissue_bench RUNS summary` times (h) alone (run it in the dev profile for the traveler's
 //! share of the debug-mode tests).
 
 use tactfab::design::Design;
@@ -31,7 +32,7 @@ use tactfab::hidden::summary::tissue_summary;
 use tactfab::hidden::vessel::{vessel, vessel_fields, Pulse};
 use tactfab::process::load_str;
 use tactfab::sensor::{Accuracy, SensorGeometry};
-use tactfab::softness::axislab::sphere_profile;
+use tactfab::softness::axislab::{sphere_convergence, sphere_profile};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
 mod support;
@@ -68,6 +69,21 @@ fn main() {
             tissue_summary(&g, Accuracy::new(0.05, 3)).expect("summary")
         });
         println!("(h) the traveler's tissue section: {ms:.0} ms, median of {runs}: {t:?}");
+        return;
+    }
+    let (ms, p) = time(runs, || sphere_profile(&slab, 60, 40).expect("sphere"));
+    println!(
+        "(f) sphere P/P0 (axisymmetric, fitted mesh of 60 x 40's size): {ms:.0} ms (peak {:.4}, \
+         {} elements), median of {runs}",
+        p.peak_ratio, p.elements
+    );
+    let (ms, c) = time(runs, || sphere_convergence(&slab, 60, 40).expect("sphere"));
+    println!(
+        "(f') its three meshes and Richardson: {ms:.0} ms (peaks {:?}, estimate {:?}), median of \
+         {runs}",
+        c.extreme, c.estimate
+    );
+    if std::env::args().nth(2).as_deref() == Some("sphere") {
         return;
     }
     let grid = CellGrid::new(&g, 1000.0).expect("grid");
@@ -132,11 +148,6 @@ fn main() {
     let (ms, p) = time(runs, || pressure_profile(&slab, 120, 40).expect("profile"));
     println!(
         "(a) P/P0 profile, 120 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
-        p.peak_ratio
-    );
-    let (ms, p) = time(runs, || sphere_profile(&slab, 60, 40).expect("sphere"));
-    println!(
-        "(f) sphere P/P0 (axisymmetric), 60 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
         p.peak_ratio
     );
     let (ms_ur, ur) = time(runs.min(3), || {

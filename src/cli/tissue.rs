@@ -6,6 +6,7 @@ use tactfab::hidden::locate::Verdict;
 use tactfab::hidden::study::{run as through_sensor, Spec};
 use tactfab::hidden::vessel::{Pulse, PA_PER_MMHG};
 use tactfab::sensor::{Accuracy, SensorGeometry};
+use tactfab::softness::axislab::sphere_convergence;
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
 use super::args::{FeatureArg, ModelArg, ShapeArg, TissueArgs};
@@ -78,6 +79,41 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         ("tissue.svg".to_string(), p.svg(&slab).into_bytes()),
     ];
     let mut after = Vec::new();
+    // The same feature as a sphere (axisymmetric) on three fitted meshes.
+    let sc = sphere_convergence(
+        &slab,
+        usize::from(a.across).div_ceil(2),
+        usize::from(a.through),
+    )?;
+    files.push(("tissue-sphere.csv".into(), sc.profile_csv().into_bytes()));
+    files.push((
+        "tissue-sphere-convergence.csv".into(),
+        sc.convergence_csv().into_bytes(),
+    ));
+    after.push(format!(
+        "  as a sphere (axisymmetric, on the axis of a {} mm radius tissue cylinder; meshes \
+         fitted to it): {} P / P0 {}, {}, {} on {}, {}, {} elements{}",
+        f(0.5 * a.width_mm, 2),
+        if a.feature == FeatureArg::Void {
+            "minimum"
+        } else {
+            "peak"
+        },
+        f(sc.extreme[0], 4),
+        f(sc.extreme[1], 4),
+        f(sc.extreme[2], 4),
+        sc.elements[0],
+        sc.elements[1],
+        sc.elements[2],
+        match (sc.estimate, sc.order, sc.error) {
+            (Some(e), Some(o), Some(err)) => format!(
+                " (order {}); Richardson estimate {}, the finest's error {err:.1e}",
+                f(o, 2),
+                f(e, 4)
+            ),
+            _ => "; not monotone: no Richardson estimate".into(),
+        }
+    ));
     if sensor {
         let g = SensorGeometry::new(&design);
         let mm = |v: &[f64]| v.iter().map(|x| x * 1e-3).collect::<Vec<_>>();
