@@ -3,12 +3,12 @@
 //! The cells' unit responses ([`super::cells`]) superpose, so they are the linear plate's. The
 //! default grasp puts a few newtons on the die, where the linear plate's membrane error is tens of
 //! percent: here each cell's pressure is one rectangle of a [`SceneLoad::Patches`] load and both
-//! scenes are solved by [`evaluate_many`] on the rung asked for (auto climbs to the
+//! scenes are solved by [`evaluate_many`](crate::sensor::evaluate_many) on the rung asked for (auto climbs to the
 //! large-deflection plate where the linear one misses the tolerance), each with its own error
 //! (discretisation + model), and compared with the superposition.
 //!
 //! [`cells_answers`] is the batch underneath: any cell-pressure fields as patches scenes in one
-//! [`evaluate_many`] call. On the linear plate each answer is, by linearity, the sum of its
+//! [`evaluate_many`](crate::sensor::evaluate_many) call. On the linear plate each answer is, by linearity, the sum of its
 //! cells' unit responses on the same mesh (exactly, when the mesh is the same): the vessel's two
 //! fields ([`super::vessel`]) and the through-sensor background and feature when neither the
 //! inverse nor the map needs the cells one by one.

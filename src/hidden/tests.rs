@@ -292,7 +292,7 @@ fn a_pulsing_vessel_rides_on_the_grasp_and_the_amplifier_passes_the_pulse() {
     assert!(v.unit.error.model.unwrap() < 1e-3, "{:?}", v.unit.error);
     // The last cycle's swing against the first-order high-pass closed form: 2 |gain| S p_amp
     // |H(f)|; the start-up transient (~1 / (omega tau) of it) has not fully gone. Measured
-    // 2.6834e-2 V against 2.6840e-2 V (2e-4).
+    // 2.6821e-2 V against 2.6826e-2 V (2e-4).
     let ch = &v.channels[m2];
     let (h, _) = high_pass_response(pulse.freq_hz, ch.tau_s);
     let want = 2.0 * ch.pass_band_v_per_n.abs() * pulse.amplitude_pa * h;
