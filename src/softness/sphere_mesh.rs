@@ -12,7 +12,7 @@
 //! - the rest of the cylinder, a rectilinear grid whose lines include the box's edges.
 //!
 //! Refining by an integer factor multiplies every block's counts ([`Counts::scaled`]): the
-//! meshes of a Richardson sequence are nested and similar.
+//! meshes of a Richardson sequence are similar (and nested when one factor divides the other).
 
 /// Element counts of the blocks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
