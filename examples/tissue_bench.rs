@@ -5,17 +5,20 @@
 //!     120 x 40 Q2/P1 elements; two solves: with and without the lump).
 //! (b) The die's unit responses: 30 x 15 cells of 1 mm on the linear plate (tol 0.05, 3 levels).
 //! (c) The inverse on one record (two references, candidate grid 0.5 mm + compass search).
-//! (e) A pulsating vessel (2 mm void 4 mm up, a cylinder across the jaw): two slab solves, 20
-//!     instants of a 1.2 Hz cycle through (b)'s unit responses, the plate's first modes (for the
-//!     quasi-static check) and 5 cycles at 1 ms through the charge amplifiers.
+//! (e) A pulsating vessel (2 mm void 4 mm up, a cylinder across the jaw) from nothing: the
+//!     slab's background, the void's grasp and its wall's unit pressure (slab solves), the grasp
+//!     and the unit pressure as two patches scenes of one linear-plate batch, 20 instants of a
+//!     1.2 Hz cycle, the plate's first modes (for the quasi-static check) and 5 cycles at 1 ms
+//!     through the charge amplifiers: no unit responses.
 //! (d) The detectability map of `tissue --detectability` (8 radii x 8 heights x 2 stiffness
 //!     ratios, those that fit), on (b)'s unit responses; and (b) + (d), the whole map.
-//! (f) The sphere's P / P0 from the axisymmetric scene (60 x 40 elements, two solves).
+//! (f) The sphere's P / P0 from the axisymmetric scene (the fitted mesh of 60 x 40's element
+//!     size, two solves), and (f') with its two coarser meshes and the Richardson estimate.
 //! (g) The background and the lump's grasp as two full scenes on `--model auto` (the
 //!     large-deflection plate at 3.2 N).
 //! (h) The traveler's tissue section (`hidden::summary`): three slab solves and three scenes.
 //!
-//! `tissue_bench RUNS summary` times (h) alone (run it in the dev profile for the traveler's
+//! `tissue_bench RUNS sphere` times (f) alone, `tissue_bench RUNS vessel` (f) and (e); `tissue_bench RUNS summary` times (h) alone (run it in the dev profile for the traveler's
 //! share of the debug-mode tests).
 
 use tactfab::design::Design;
@@ -23,12 +26,13 @@ use tactfab::hidden::cells::{unit_responses, CellGrid};
 use tactfab::hidden::detect::{detectability, MapSpec};
 use tactfab::hidden::field::{Background, Disturbance, Shape};
 use tactfab::hidden::locate::{locate, Search, SNR_THRESHOLD};
+use tactfab::hidden::scenes::cells_answers;
 use tactfab::hidden::scenes::full_scenes;
 use tactfab::hidden::summary::tissue_summary;
-use tactfab::hidden::vessel::{vessel, Pulse};
+use tactfab::hidden::vessel::{vessel, vessel_fields, Pulse};
 use tactfab::process::load_str;
 use tactfab::sensor::{Accuracy, SensorGeometry};
-use tactfab::softness::axislab::sphere_profile;
+use tactfab::softness::axislab::{sphere_convergence, sphere_profile};
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
 mod support;
@@ -67,18 +71,85 @@ fn main() {
         println!("(h) the traveler's tissue section: {ms:.0} ms, median of {runs}: {t:?}");
         return;
     }
+    let (ms, p) = time(runs, || sphere_profile(&slab, 60, 40).expect("sphere"));
+    println!(
+        "(f) sphere P/P0 (axisymmetric, fitted mesh of 60 x 40's size): {ms:.0} ms (peak {:.4}, \
+         {} elements), median of {runs}",
+        p.peak_ratio, p.elements
+    );
+    let (ms, c) = time(runs, || sphere_convergence(&slab, 60, 40).expect("sphere"));
+    println!(
+        "(f') its three meshes and Richardson: {ms:.0} ms (peaks {:?}, estimate {:?}), median of \
+         {runs}",
+        c.extreme, c.estimate
+    );
+    if std::env::args().nth(2).as_deref() == Some("sphere") {
+        return;
+    }
+    let grid = CellGrid::new(&g, 1000.0).expect("grid");
+    let acc = Accuracy::new(0.05, 3);
+    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
+    // (e) from nothing: the slab's background and vessel, the wall's unit pressure, the two
+    // plate scenes, the modes and the chain.
+    let electronics = tactfab::process::ReadoutElectronics::default();
+    let (ms, v) = time(runs, || {
+        let bg = Background::new(&slab, 120, 40, g.length_um).expect("background");
+        let cyl =
+            Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
+        vessel(
+            &g,
+            &grid,
+            &bg,
+            &cyl,
+            centre,
+            Pulse::default_pulse(),
+            &electronics,
+            acc,
+        )
+        .expect("vessel")
+    });
+    println!(
+        "(e) vessel cycle from nothing: {ms:.0} ms, median of {runs} ({} instants, {} samples x {} \
+         channels, plate {} levels {} dofs, f1 {:.0} Hz)",
+        v.instants.len(),
+        v.t_s.len(),
+        v.channels.len(),
+        v.grasp.levels,
+        v.grasp.dofs,
+        v.f1_hz
+    );
+    if std::env::args().nth(2).as_deref() == Some("vessel") {
+        // Its pieces, one run each.
+        let t = std::time::Instant::now();
+        let bg = Background::new(&slab, 120, 40, g.length_um).expect("background");
+        let t1 = t.elapsed().as_secs_f64() * 1e3;
+        let cyl =
+            Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
+        let t2 = t.elapsed().as_secs_f64() * 1e3;
+        let (grasp, unit) = vessel_fields(&bg, &cyl, &grid, centre).expect("fields");
+        let t3 = t.elapsed().as_secs_f64() * 1e3;
+        let plate = acc.with_model(tactfab::sensor::ModelChoice::Plate);
+        let fields = [("grasp", &grasp[..]), ("unit", &unit[..])];
+        let opts = tactfab::sensor::MeshOptions::default();
+        cells_answers(&g, &grid, &fields, plate, opts).expect("plate");
+        let t4 = t.elapsed().as_secs_f64() * 1e3;
+        tactfab::sensor::plate_modes(&g, 4, 3).expect("modes");
+        let t5 = t.elapsed().as_secs_f64() * 1e3;
+        println!(
+            "    background {t1:.0} ms, void grasp {:.0} ms, wall {:.0} ms, plate batch {:.0} ms, \
+             modes {:.0} ms",
+            t2 - t1,
+            t3 - t2,
+            t4 - t3,
+            t5 - t4
+        );
+        return;
+    }
     let (ms, p) = time(runs, || pressure_profile(&slab, 120, 40).expect("profile"));
     println!(
         "(a) P/P0 profile, 120 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
         p.peak_ratio
     );
-    let (ms, p) = time(runs, || sphere_profile(&slab, 60, 40).expect("sphere"));
-    println!(
-        "(f) sphere P/P0 (axisymmetric), 60 x 40: {ms:.0} ms (peak {:.3}), median of {runs}",
-        p.peak_ratio
-    );
-    let grid = CellGrid::new(&g, 1000.0).expect("grid");
-    let acc = Accuracy::new(0.05, 3);
     let (ms_ur, ur) = time(runs.min(3), || {
         unit_responses(&g, grid, acc).expect("units")
     });
@@ -90,7 +161,6 @@ fn main() {
         runs.min(3)
     );
     let bg = Background::new(&slab, 120, 40, g.length_um).expect("background");
-    let centre = (0.5 * g.length_um, 0.5 * g.width_um);
     let reference = Disturbance::new(&bg, lump, 2e-3, 4e-3, Shape::Sphere).expect("lump");
     let void = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Sphere).expect("void");
     let dv = ur.voltages_mv(&reference.cells(&bg, &grid, (12_300.0, 6_100.0)));
@@ -125,27 +195,6 @@ fn main() {
     );
     let (ms, _) = time(runs, || tissue_summary(&g, acc).expect("summary"));
     println!("(h) the traveler's tissue section: {ms:.0} ms");
-    let cyl = Disturbance::new(&bg, Feature::Void, 2e-3, 4e-3, Shape::Cylinder).expect("vessel");
-    let electronics = tactfab::process::ReadoutElectronics::default();
-    let (ms, v) = time(runs, || {
-        vessel(
-            &g,
-            &ur,
-            &bg,
-            &cyl,
-            centre,
-            Pulse::default_pulse(),
-            &electronics,
-        )
-        .expect("vessel")
-    });
-    println!(
-        "(e) vessel cycle: {ms:.0} ms ({} instants, {} samples x {} channels, f1 {:.0} Hz)",
-        v.instants.len(),
-        v.t_s.len(),
-        v.channels.len(),
-        v.f1_hz
-    );
     let spec = MapSpec {
         radii_m: [0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0]
             .iter()

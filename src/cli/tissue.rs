@@ -6,6 +6,7 @@ use tactfab::hidden::locate::Verdict;
 use tactfab::hidden::study::{run as through_sensor, Spec};
 use tactfab::hidden::vessel::{Pulse, PA_PER_MMHG};
 use tactfab::sensor::{Accuracy, SensorGeometry};
+use tactfab::softness::axislab::sphere_convergence;
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
 use super::args::{FeatureArg, ModelArg, ShapeArg, TissueArgs};
@@ -78,6 +79,41 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         ("tissue.svg".to_string(), p.svg(&slab).into_bytes()),
     ];
     let mut after = Vec::new();
+    // The same feature as a sphere (axisymmetric) on three fitted meshes.
+    let sc = sphere_convergence(
+        &slab,
+        usize::from(a.across).div_ceil(2),
+        usize::from(a.through),
+    )?;
+    files.push(("tissue-sphere.csv".into(), sc.profile_csv().into_bytes()));
+    files.push((
+        "tissue-sphere-convergence.csv".into(),
+        sc.convergence_csv().into_bytes(),
+    ));
+    after.push(format!(
+        "  as a sphere (axisymmetric, on the axis of a {} mm radius tissue cylinder; meshes \
+         fitted to it): {} P / P0 {}, {}, {} on {}, {}, {} elements{}",
+        f(0.5 * a.width_mm, 2),
+        if a.feature == FeatureArg::Void {
+            "minimum"
+        } else {
+            "peak"
+        },
+        f(sc.extreme[0], 4),
+        f(sc.extreme[1], 4),
+        f(sc.extreme[2], 4),
+        sc.elements[0],
+        sc.elements[1],
+        sc.elements[2],
+        match (sc.estimate, sc.order, sc.error) {
+            (Some(e), Some(o), Some(err)) => format!(
+                " (order {}); Richardson estimate {}, the finest's error {err:.1e}",
+                f(o, 2),
+                f(e, 4)
+            ),
+            _ => "; not monotone: no Richardson estimate".into(),
+        }
+    ));
     if sensor {
         let g = SensorGeometry::new(&design);
         let mm = |v: &[f64]| v.iter().map(|x| x * 1e-3).collect::<Vec<_>>();
@@ -121,17 +157,22 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
         }
         files.push(("face-pressure.csv".into(), s.face_csv().into_bytes()));
         files.push(("through-sensor.svg".into(), s.svg().into_bytes()));
-        let u = &s.unit;
+        let (u, lp) = (&s.grid, &s.linear);
         after.push(format!(
-            "through the sensor, superposed: {} x {} cells of {} x {} mm on the linear plate ({} \
+            "through the sensor on the linear plate ({}): {} x {} cells of {} x {} mm ({} \
              levels, {} dofs, discretisation error {}); the feature at x {} mm, y {} mm as a {}",
-            u.grid.nx,
-            u.grid.ny,
-            f(u.grid.size_um().0 * 1e-3, 3),
-            f(u.grid.size_um().1 * 1e-3, 3),
-            u.levels,
-            u.dofs,
-            u.discretisation
+            if lp.unit_responses {
+                "each cell's unit response, superposed"
+            } else {
+                "the background and the feature as two patches scenes of one batch"
+            },
+            u.nx,
+            u.ny,
+            f(u.size_um().0 * 1e-3, 3),
+            f(u.size_um().1 * 1e-3, 3),
+            lp.levels,
+            lp.dofs,
+            lp.discretisation
                 .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
             f(spec.centre_um.0 * 1e-3, 2),
             f(spec.centre_um.1 * 1e-3, 2),
@@ -243,8 +284,38 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                     - xs.iter().fold(f64::MAX, |a, &b| a.min(b))
             };
             let qs: Vec<f64> = v.instants.iter().map(|i| i.2[m2]).collect();
+            let err = |x: &tactfab::hidden::scenes::SceneAnswer| {
+                format!(
+                    "discretisation {}, model {}",
+                    x.error
+                        .discretisation
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}")),
+                    x.error
+                        .model
+                        .map_or_else(|| "not estimated".into(), |e| format!("{e:.1e}"))
+                )
+            };
             after.push(format!(
-                "  vessel (linear plate, superposed): {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
+                "  vessel on the linear plate: the grasp (vessel at 0 Pa) and 1 Pa in the vessel as \
+                 two patches scenes of one batch ({} levels, {} dofs; errors: grasp {}; per pascal \
+                 {}){}",
+                v.grasp.levels.max(v.unit.levels),
+                v.grasp.dofs.max(v.unit.dofs),
+                err(&v.grasp),
+                err(&v.unit),
+                if v.auto_climbs {
+                    format!(
+                        "; the grasp's model error is over --tol {}: auto answers the grasp on the \
+                         large-deflection plate (the full scenes above), the vessel's small-signal \
+                         part is the linear plate's",
+                        f(v.tol_rel, 3)
+                    )
+                } else {
+                    String::new()
+                }
+            ));
+            after.push(format!(
+                "  vessel: {} Hz, {} +/- {} mmHg; {} instants per cycle: {} {} mV at vessel \
                  pressure 0, {} mV per kPa, swinging {} mV peak to peak (quasi-static); through \
                  the {} (tau {} s, corner {} Hz): {} mV peak to peak in the last cycle",
                 f(v.pulse.freq_hz, 3),

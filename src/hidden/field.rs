@@ -7,8 +7,9 @@
 //! - feature: its disturbance d(s) = P / P0 - 1 at distance s from it along the face, times the
 //!   local background: dP(x, y) = P0(x) d(r). A sphere ([`Shape::Sphere`], the default) takes d
 //!   from the 3-D scene by axisymmetry: the sphere on the axis of a tissue cylinder between the
-//!   jaws ([`crate::softness::axislab`], its radius half the slab's width, the same element size
-//!   as the section), r the distance in plan. A cylinder lying across the jaw (the plane-strain
+//!   jaws ([`crate::softness::axislab`], its radius half the slab's width, elements of the
+//!   section's size near the sphere, their edges on it; P0 on the same mesh), r the distance in
+//!   plan. A cylinder lying across the jaw (the plane-strain
 //!   disc itself) has r = |x - x_c| at every y. [`Shape::RotatedSection`] is the older
 //!   approximation of a sphere: the plane section's d rotated about the centre (a void disturbs
 //!   far more as a cylinder than as a sphere: 0.31 against 0.55 at the minimum).
@@ -18,7 +19,7 @@
 
 use serde::Serialize;
 
-use crate::softness::axislab::face_pressure_pa as axi_face_pressure_pa;
+use crate::softness::axislab::sphere_profile;
 use crate::softness::inclusion::{face_pressure_pa, Feature, Slab};
 
 /// Elements across the tissue cylinder's radius for `nx` along the slab: the same size.
@@ -66,9 +67,6 @@ pub struct Background {
     /// Face nodes in die coordinates (the slab centred on the die) and P0 there.
     pub x_um: Vec<f64>,
     pub p0_pa: Vec<f64>,
-    /// The featureless tissue cylinder of the sphere's scene: face radii (um) and P0 there.
-    pub axi_r_um: Vec<f64>,
-    pub axi_p0_pa: Vec<f64>,
 }
 
 impl Background {
@@ -84,14 +82,11 @@ impl Background {
         let x_um = (0..=2 * nx)
             .map(|i| shift + slab.width_m * 1e6 * i as f64 / (2 * nx) as f64)
             .collect();
-        let (axi_r_m, axi_p0_pa) = axi_face_pressure_pa(&plain, axi_elements(nx), ny)?;
         Ok(Background {
             slab: plain,
             elements: (nx, ny),
             x_um,
             p0_pa,
-            axi_r_um: axi_r_m.iter().map(|r| r * 1e6).collect(),
-            axi_p0_pa,
         })
     }
 
@@ -149,13 +144,15 @@ impl Disturbance {
         let (nx, ny) = bg.elements;
         let ratio = |a: &f64, b: &f64| if *b > 0.0 { a / b - 1.0 } else { 0.0 };
         let (s_um, d): (Vec<f64>, Vec<f64>) = if shape == Shape::Sphere {
-            let (_, p) = axi_face_pressure_pa(&slab, axi_elements(nx), ny)?;
+            // The sphere's own P0 on its own mesh (which follows the sphere).
+            let p = sphere_profile(&slab, axi_elements(nx), ny)?;
             let d = p
+                .p_pa
                 .iter()
-                .zip(&bg.axi_p0_pa)
+                .zip(&p.p0_pa)
                 .map(|(a, b)| ratio(a, b))
                 .collect();
-            (bg.axi_r_um.clone(), d)
+            (p.r_m.iter().map(|r| r * 1e6).collect(), d)
         } else {
             let p = face_pressure_pa(&slab, nx, ny)?;
             // The right half from the centre node (the section is mirror-symmetric about it).

@@ -1,21 +1,26 @@
 //! `tactfab tissue --through-sensor` as one library call: the slab's background and feature,
-//! the cells' unit responses, the nine voltages with and without the feature, and optionally
-//! the inverse on them (with seeded noise) and the detectability map.
+//! the nine voltages with and without the feature on the linear plate, and optionally the
+//! inverse on them (with seeded noise), the detectability map and the pulsating vessel.
+//!
+//! The cells' unit responses ([`super::cells`], one scene per cell) are solved only when the
+//! inverse or the map needs them (they move the feature for free); otherwise the background and
+//! the feature are two patches scenes of one linear-plate batch ([`cells_answers`]), which is
+//! the same superposition at a fraction of the cost.
 
 use serde::Serialize;
 use std::fmt::Write as _;
 
 use crate::analysis::noise::Gaussian;
 use crate::process::{Limits, ReadoutElectronics, RegionUm, Scene, SceneLoad};
-use crate::sensor::{evaluate, Accuracy, ModelChoice, SensorGeometry};
+use crate::sensor::{evaluate, Accuracy, MeshOptions, ModelChoice, SensorGeometry};
 use crate::softness::inclusion::{Feature, Slab};
 
 use super::cells::{unit_responses, CellGrid, UnitResponses};
 use super::detect::{detectability, DetectMap, MapSpec};
 use super::field::{Background, Disturbance, Shape};
 use super::locate::{locate, Located, Search};
-use super::scenes::{full_scenes, FullScenes};
-use super::vessel::{vessel, Pulse, Vessel};
+use super::scenes::{cells_answers, full_scenes, FullScenes};
+use super::vessel::{cycle, vessel, vessel_fields, Pulse, Vessel};
 use super::HiddenError;
 
 /// What to run.
@@ -45,13 +50,27 @@ pub struct Spec {
     pub full_scenes: bool,
 }
 
+/// How the linear plate answered the background and the feature.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LinearPlate {
+    /// True: through each cell's unit response; false: as two patches scenes.
+    pub unit_responses: bool,
+    pub levels: usize,
+    pub dofs: usize,
+    /// The worst estimated discretisation error (None before three levels).
+    pub discretisation: Option<f64>,
+}
+
 /// Everything the study reports.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Study {
     pub electrodes: Vec<String>,
     pub background_mv: Vec<f64>,
     pub feature_mv: Vec<f64>,
-    pub unit: UnitResponses,
+    pub grid: CellGrid,
+    pub linear: LinearPlate,
+    /// The cells' unit responses, when the inverse or the map asked for them.
+    pub unit: Option<UnitResponses>,
     pub peak_ratio: f64,
     pub min_ratio: f64,
     /// Total force of the background on the die (N) and the linear plate's model error at it
@@ -102,12 +121,63 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
             hint: "use --model auto, plate or large-deflection",
         });
     }
-    let ur = unit_responses(g, grid, spec.accuracy)?;
     let p0 = bg.cells(&grid);
     let dp = dist.cells(&bg, &grid, spec.centre_um);
-    let background_mv = ur.voltages_mv(&p0);
-    let dv = ur.voltages_mv(&dp);
-    let feature_mv: Vec<f64> = background_mv.iter().zip(&dv).map(|(a, b)| a + b).collect();
+    let mut vessel_done = None;
+    let ur = if spec.locate.is_some() || spec.map.is_some() {
+        Some(unit_responses(g, grid, spec.accuracy)?)
+    } else {
+        None
+    };
+    let (background_mv, feature_mv, linear) = match &ur {
+        Some(ur) => {
+            let b = ur.voltages_mv(&p0);
+            let dv = ur.voltages_mv(&dp);
+            let f = b.iter().zip(&dv).map(|(a, b)| a + b).collect();
+            let info = LinearPlate {
+                unit_responses: true,
+                levels: ur.levels,
+                dofs: ur.dofs,
+                discretisation: ur.discretisation,
+            };
+            (b, f, info)
+        }
+        None => {
+            let with: Vec<f64> = p0.iter().zip(&dp).map(|(a, b)| a + b).collect();
+            let mut fields = vec![
+                ("tissue-background", &p0[..]),
+                ("tissue-feature", &with[..]),
+            ];
+            // The vessel's grasp is the feature's field: its unit field joins the same batch.
+            let wall = match &spec.vessel {
+                Some(_) => Some(vessel_fields(&bg, &dist, &grid, spec.centre_um)?.1),
+                None => None,
+            };
+            if let Some(w) = &wall {
+                fields.push(("vessel-per-pa", w));
+            }
+            let plate = spec.accuracy.with_model(ModelChoice::Plate);
+            let a = cells_answers(g, &grid, &fields, plate, MeshOptions::default())?;
+            if let (Some((pulse, electronics)), Some(unit)) = (&spec.vessel, a.get(2)) {
+                let grasp = a[1].clone();
+                let tol = spec.accuracy.tol_rel;
+                vessel_done = Some(cycle(g, grasp, unit.clone(), *pulse, electronics, tol)?);
+            }
+            let worse = |x: Option<f64>, y: Option<f64>| x.zip(y).map(|(x, y)| x.max(y));
+            let info = LinearPlate {
+                unit_responses: false,
+                levels: a[0].levels.max(a[1].levels),
+                dofs: a[0].dofs.max(a[1].dofs),
+                discretisation: worse(a[0].error.discretisation, a[1].error.discretisation),
+            };
+            (a[0].voltages_mv.clone(), a[1].voltages_mv.clone(), info)
+        }
+    };
+    let dv: Vec<f64> = feature_mv
+        .iter()
+        .zip(&background_mv)
+        .map(|(a, b)| a - b)
+        .collect();
     let scenes = if spec.full_scenes {
         Some(full_scenes(
             g,
@@ -169,7 +239,8 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
                 noise_mv: spec.noise_mv,
                 threshold_snr: spec.threshold_snr,
             };
-            Some(locate(&ur, &bg, &[&refs[0], &refs[1]], &measured, search)?)
+            let ur = ur.as_ref().expect("unit responses for the inverse");
+            Some(locate(ur, &bg, &[&refs[0], &refs[1]], &measured, search)?)
         }
         None => None,
     };
@@ -188,28 +259,33 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
                 noise_mv: spec.noise_mv,
                 threshold_snr: spec.threshold_snr,
             };
-            Some(detectability(&ur, &bg, &m)?)
+            let ur = ur.as_ref().expect("unit responses for the map");
+            Some(detectability(ur, &bg, &m)?)
         }
         None => None,
     };
-    let vessel = match &spec.vessel {
-        Some((pulse, electronics)) => Some(vessel(
+    let vessel = match (&spec.vessel, vessel_done) {
+        (_, Some(v)) => Some(v),
+        (Some((pulse, electronics)), None) => Some(vessel(
             g,
-            &ur,
+            &grid,
             &bg,
             &dist,
             spec.centre_um,
             *pulse,
             electronics,
+            spec.accuracy,
         )?),
-        None => None,
+        (None, None) => None,
     };
     Ok(Study {
         vessel,
         scenes,
-        electrodes: ur.electrodes.clone(),
+        electrodes: g.electrodes.iter().map(|e| e.name.clone()).collect(),
         background_mv,
         feature_mv,
+        grid,
+        linear,
         unit: ur,
         peak_ratio: dist.peak_ratio,
         min_ratio: dist.min_ratio,
@@ -257,7 +333,7 @@ impl Study {
 
     /// `face-pressure.csv`: each cell's centre, background and extra pressure.
     pub fn face_csv(&self) -> String {
-        let g = &self.unit.grid;
+        let g = &self.grid;
         let mut s = String::from("x_mm,y_mm,P0_pa,dP_pa\n");
         for k in 0..g.len() {
             let (x0, y0, x1, y1) = g.rect(k);

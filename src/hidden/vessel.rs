@@ -4,8 +4,14 @@
 //!
 //! The slab is linear, so its face pressure is P(t) = P_grasp + p(t) W, W the face pressure per
 //! pascal in the vessel with the jaws held ([`wall_pressure_face_pa`]): two slab solves for the
-//! whole cycle. Through the cells' unit responses the nine voltages are V(t) = V_grasp +
-//! p(t) V_W: the 20 instants of a cycle cost 20 dot products. The read-out chain
+//! whole cycle. The linear plate too: the grasp (the vessel at zero pressure) and W, each as a
+//! patches scene of the face's cells, are two scenes of one batched linear-plate solve
+//! ([`cells_answers`]: one factorisation per mesh level), and V(t) = V_grasp + p(t) V_W: the
+//! 20 instants of a cycle cost 20 multiply-adds, no cell unit responses. (By linearity this is
+//! the sum of the cells' unit responses, [`super::cells`], on the same mesh: a test checks it.)
+//! The grasp's own linear-plate model error is reported: at the default grasp it is over the
+//! tolerance, where `--model auto` answers the grasp on the large-deflection plate (the full
+//! scenes), so the vessel's small signal is the linear plate's. The read-out chain
 //! ([`crate::readout_chain`]) then turns each electrode's charge C_i V_i(t) into its amplifier's
 //! output, the record starting with the jaws closed and the amplifier reset (the grasp's own
 //! transient is `tactfab readout --history half-sine`).
@@ -23,11 +29,14 @@ use std::fmt::Write as _;
 
 use crate::process::ReadoutElectronics;
 use crate::readout_chain::{run as chain, Amplifier, Channel, Source};
-use crate::sensor::{plate_modes, SensorGeometry, MODAL_LEVELS, MODES_REPORTED};
+use crate::sensor::{
+    plate_modes, Accuracy, MeshOptions, ModelChoice, SensorGeometry, MODAL_LEVELS, MODES_REPORTED,
+};
 use crate::softness::inclusion::{wall_pressure_face_pa, Feature};
 
-use super::cells::UnitResponses;
+use super::cells::CellGrid;
 use super::field::{Background, Disturbance};
+use super::scenes::{cells_answers, SceneAnswer};
 use super::HiddenError;
 
 /// One mmHg in Pa (the conventional millimetre of mercury, 133.322 Pa: NIST SP 811, B.8).
@@ -72,6 +81,15 @@ pub struct Vessel {
     /// The grasp with the vessel at zero pressure, and the voltages per pascal in the vessel.
     pub grasp_mv: Vec<f64>,
     pub per_pa_mv: Vec<f64>,
+    /// The two linear-plate answers behind them (mesh, error: discretisation and, for the
+    /// grasp, the linear plate's model error at its force; the unit's is at 1 Pa).
+    pub grasp: SceneAnswer,
+    pub unit: SceneAnswer,
+    /// The tolerance asked for, and whether `--model auto` would leave the linear plate for the
+    /// grasp (its model error over the tolerance): then only the small signal is the linear
+    /// plate's, the grasp itself is the full scenes'.
+    pub tol_rel: f64,
+    pub auto_climbs: bool,
     /// The instants of one cycle: time, vessel pressure, nine voltages (mV, quasi-static).
     pub instants: Vec<(f64, f64, Vec<f64>)>,
     pub amplifier: Amplifier,
@@ -85,38 +103,25 @@ pub struct Vessel {
     pub f1_over_pulse: f64,
 }
 
-/// The vessel `dist` (a void's disturbance, its radius and height) at `centre_um` on the
-/// background `bg`, pulsing with `pulse`, through the unit responses `ur` and the front end of
-/// `electronics`.
-pub fn vessel(
-    g: &SensorGeometry,
-    ur: &UnitResponses,
+/// The cells' pressures of the vessel `dist` (a void's disturbance, its radius and height) at
+/// `centre_um` on the background `bg`: the grasp with the vessel at zero pressure, and W, the
+/// face pressure per pascal in the vessel (Pa per Pa), each as one value per cell of `grid`.
+pub fn vessel_fields(
     bg: &Background,
     dist: &Disturbance,
+    grid: &CellGrid,
     centre_um: (f64, f64),
-    pulse: Pulse,
-    electronics: &ReadoutElectronics,
-) -> Result<Vessel, HiddenError> {
-    let ok = |v: f64| v.is_finite();
+) -> Result<(Vec<f64>, Vec<f64>), HiddenError> {
     if dist.shape == super::field::Shape::Sphere {
         return Err(HiddenError::Input {
             problem: "a spherical vessel".into(),
             hint: "a vessel is a tube: --shape cylinder (across the jaw) or rotated-section",
         });
     }
-    let fine = dist.feature == Feature::Void
-        && pulse.freq_hz > 0.0
-        && ok(pulse.freq_hz)
-        && ok(pulse.mean_pa)
-        && ok(pulse.amplitude_pa)
-        && (2..=10_000).contains(&pulse.instants)
-        && pulse.dt_s > 0.0
-        && pulse.cycles > 0.0
-        && pulse.cycles / (pulse.freq_hz * pulse.dt_s) <= 2e6;
-    if !fine {
+    if dist.feature != Feature::Void {
         return Err(HiddenError::Input {
-            problem: format!("vessel {:?} with {pulse:?}", dist.feature),
-            hint: "a void, a positive rate, 2-10,000 instants and at most 2,000,000 samples",
+            problem: format!("vessel {:?}", dist.feature),
+            hint: "a vessel is a void whose wall carries the pressure",
         });
     }
     let slab = crate::softness::inclusion::Slab {
@@ -138,11 +143,74 @@ pub fn vessel(
             .collect(),
         ..dist.clone()
     };
-    let grid = &ur.grid;
-    let bgv = ur.voltages_mv(&bg.cells(grid));
-    let dv = ur.voltages_mv(&dist.cells(bg, grid, centre_um));
-    let grasp_mv: Vec<f64> = bgv.iter().zip(&dv).map(|(a, b)| a + b).collect();
-    let per_pa_mv = ur.voltages_mv(&per_pa.cells(bg, grid, centre_um));
+    let p0 = bg.cells(grid);
+    let grasp = p0
+        .iter()
+        .zip(dist.cells(bg, grid, centre_um))
+        .map(|(a, b)| a + b)
+        .collect();
+    Ok((grasp, per_pa.cells(bg, grid, centre_um)))
+}
+
+/// The vessel `dist` at `centre_um` on the background `bg`, pulsing with `pulse`: its two fields
+/// ([`vessel_fields`]) on the cells of `grid` as one batch on the linear plate (`acc`'s
+/// tolerance and levels; the rung is forced: the cycle superposes), then [`cycle`].
+#[allow(clippy::too_many_arguments)]
+pub fn vessel(
+    g: &SensorGeometry,
+    grid: &CellGrid,
+    bg: &Background,
+    dist: &Disturbance,
+    centre_um: (f64, f64),
+    pulse: Pulse,
+    electronics: &ReadoutElectronics,
+    acc: Accuracy,
+) -> Result<Vessel, HiddenError> {
+    check_pulse(&pulse)?;
+    let (grasp, unit) = vessel_fields(bg, dist, grid, centre_um)?;
+    let fields = [("vessel-grasp", &grasp[..]), ("vessel-per-pa", &unit[..])];
+    let plate = acc.with_model(ModelChoice::Plate);
+    let mut a = cells_answers(g, grid, &fields, plate, MeshOptions::default())?.into_iter();
+    let (grasp, unit) = (a.next().expect("grasp"), a.next().expect("unit"));
+    cycle(g, grasp, unit, pulse, electronics, acc.tol_rel)
+}
+
+/// A usable pulse: a positive rate, 2-10,000 instants, at most 2,000,000 samples.
+fn check_pulse(pulse: &Pulse) -> Result<(), HiddenError> {
+    let ok = |v: f64| v.is_finite();
+    let fine = pulse.freq_hz > 0.0
+        && ok(pulse.freq_hz)
+        && ok(pulse.mean_pa)
+        && ok(pulse.amplitude_pa)
+        && (2..=10_000).contains(&pulse.instants)
+        && pulse.dt_s > 0.0
+        && pulse.cycles > 0.0
+        && pulse.cycles / (pulse.freq_hz * pulse.dt_s) <= 2e6;
+    if fine {
+        Ok(())
+    } else {
+        Err(HiddenError::Input {
+            problem: format!("vessel pulse {pulse:?}"),
+            hint: "a positive rate, 2-10,000 instants and at most 2,000,000 samples",
+        })
+    }
+}
+
+/// The cycle from the linear plate's answers to the grasp (`grasp`, the vessel at zero
+/// pressure) and to 1 Pa in the vessel (`unit`): the instants V(t) = V_grasp + p(t) V_unit, the
+/// electrodes' charges through the front end of `electronics`, and the plate's first mode.
+pub fn cycle(
+    g: &SensorGeometry,
+    grasp: SceneAnswer,
+    unit: SceneAnswer,
+    pulse: Pulse,
+    electronics: &ReadoutElectronics,
+    tol_rel: f64,
+) -> Result<Vessel, HiddenError> {
+    check_pulse(&pulse)?;
+    let electrodes: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
+    let grasp_mv = grasp.voltages_mv.clone();
+    let per_pa_mv = unit.voltages_mv.clone();
     let period = 1.0 / pulse.freq_hz;
     let instants = (0..pulse.instants)
         .map(|k| {
@@ -160,19 +228,14 @@ pub fn vessel(
     let n = (pulse.cycles * period / pulse.dt_s).round() as usize;
     let t_s: Vec<f64> = (0..=n).map(|k| k as f64 * pulse.dt_s).collect();
     let p_pa: Vec<f64> = t_s.iter().map(|&t| pulse.p(t)).collect();
-    let sources: Vec<Source> = ur
+    let sources: Vec<Source> = g
         .electrodes
         .iter()
         .zip(&per_pa_mv)
-        .map(|(name, v)| {
-            let area = g
-                .electrodes
-                .iter()
-                .find(|e| &e.name == name)
-                .map_or(0.0, |e| e.area_um2);
-            let c_f = g.capacitance_f(area);
+        .map(|(e, v)| {
+            let c_f = g.capacitance_f(e.area_um2);
             Source {
-                name: name.clone(),
+                name: e.name.clone(),
                 charge_pc_per_n: v * 1e-3 * c_f * 1e12,
                 capacitance_pf: c_f * 1e12,
             }
@@ -190,11 +253,16 @@ pub fn vessel(
     }
     let channels = chain(&sources, &amplifier, &t_s, &p_pa);
     let f1_hz = plate_modes(g, MODES_REPORTED, MODAL_LEVELS)?.modes[0].freq_hz;
+    let auto_climbs = grasp.error.model.is_some_and(|e| e > tol_rel);
     Ok(Vessel {
         pulse,
-        electrodes: ur.electrodes.clone(),
+        electrodes,
         grasp_mv,
         per_pa_mv,
+        grasp,
+        unit,
+        tol_rel,
+        auto_climbs,
         instants,
         amplifier,
         channels,

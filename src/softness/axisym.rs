@@ -15,6 +15,7 @@
 //! collapsed to a point on the axis (a polar mesh's centre) since det J vanishes only on its edge.
 
 use super::continuum::{gauss, lagrange};
+use super::mapped::Projection;
 
 /// One axisymmetric element: its stiffness parts (per radian) and its pressure projection.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,9 +72,8 @@ fn strain_of(i: usize, n: &[f64; 9], g: &[(f64, f64); 9], r: f64) -> [f64; 4] {
 pub fn axi_q2(rz: &[(f64, f64); 9]) -> AxiQ2 {
     const ND: usize = 18;
     let g3 = gauss(3);
-    let (mut kmu, mut klam) = (vec![0.0; ND * ND], vec![0.0; ND * ND]);
-    let mut gm = [0.0; 9];
-    let mut bv = vec![0.0; 3 * ND];
+    let mut kmu = vec![0.0; ND * ND];
+    let mut projection = Projection::new();
     for &(xi, wx) in &g3 {
         for &(eta, wy) in &g3 {
             let (n, grad, r, det) = at(rz, xi, eta);
@@ -86,29 +86,11 @@ pub fn axi_q2(rz: &[(f64, f64); 9]) -> AxiQ2 {
                         w * (2.0 * (p[0] * q[0] + p[1] * q[1] + p[2] * q[2]) + p[3] * q[3]);
                 }
             }
-            let pi = [1.0, xi, eta];
-            for a in 0..3 {
-                for c in 0..3 {
-                    gm[3 * a + c] += w * pi[a] * pi[c];
-                }
-                for i in 0..ND {
-                    bv[a * ND + i] += w * pi[a] * (b[i][0] + b[i][1] + b[i][2]);
-                }
-            }
+            let div: [f64; ND] = std::array::from_fn(|i| b[i][0] + b[i][1] + b[i][2]);
+            projection.add(wx * wy * det, r, xi, eta, &div);
         }
     }
-    let ginv = super::mapped::inverse3(&gm);
-    let mut proj = vec![0.0; 3 * ND];
-    for a in 0..3 {
-        for i in 0..ND {
-            proj[a * ND + i] = (0..3).map(|c| ginv[3 * a + c] * bv[c * ND + i]).sum();
-        }
-    }
-    for i in 0..ND {
-        for j in 0..ND {
-            klam[i * ND + j] = (0..3).map(|a| bv[a * ND + i] * proj[a * ND + j]).sum();
-        }
-    }
+    let (proj, klam) = projection.finish();
     AxiQ2 {
         kmu,
         klam,

@@ -62,6 +62,33 @@ pub struct FarField {
 /// Largest mesh \[choice\]: 20,000 elements.
 const MAX_ELEMENTS: usize = 20_000;
 
+/// The Q2 node lines of a quarter annulus around the unit circle (shared with
+/// [`super::kirsch`]): rho with `n_in` equal rings from 0 to 1 (none around a hole), then `n_out`
+/// rings from 1 to `outer` graded geometrically, mid-nodes halfway; theta on 0-90 deg in `nt`
+/// elements.
+pub(crate) fn quarter_annulus(
+    n_in: usize,
+    n_out: usize,
+    outer: f64,
+    nt: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut edges: Vec<f64> = (0..n_in).map(|i| i as f64 / n_in as f64).collect();
+    edges.extend((0..=n_out).map(|i| outer.powf(i as f64 / n_out as f64)));
+    let rho = (0..2 * (edges.len() - 1) + 1)
+        .map(|i| {
+            if i % 2 == 0 {
+                edges[i / 2]
+            } else {
+                0.5 * (edges[i / 2] + edges[i / 2 + 1])
+            }
+        })
+        .collect();
+    let theta = (0..=2 * nt)
+        .map(|j| std::f64::consts::FRAC_PI_2 * j as f64 / (2 * nt) as f64)
+        .collect();
+    (rho, theta)
+}
+
 /// Solves the body: matrix E = 1, Poisson `nu`, far-field tension S = 1 along the axis.
 pub fn solve(
     body: Body,
@@ -84,21 +111,8 @@ pub fn solve(
             hint: "an outer radius > a, rings inside an inclusion, 1-20,000 elements",
         });
     }
-    // Node lines in rho: equal rings inside, geometric outside; mid-nodes halfway.
-    let mut edges: Vec<f64> = (0..n_in).map(|i| i as f64 / n_in as f64).collect();
-    edges.extend((0..=n_out).map(|i| outer.powf(i as f64 / n_out as f64)));
-    let rho: Vec<f64> = (0..2 * (edges.len() - 1) + 1)
-        .map(|i| {
-            if i % 2 == 0 {
-                edges[i / 2]
-            } else {
-                0.5 * (edges[i / 2] + edges[i / 2 + 1])
-            }
-        })
-        .collect();
-    let theta: Vec<f64> = (0..=2 * nt)
-        .map(|j| std::f64::consts::FRAC_PI_2 * j as f64 / (2 * nt) as f64)
-        .collect();
+    let (rho, theta) = quarter_annulus(n_in, n_out, outer, nt);
+    let edges_len = rho.len().div_ceil(2);
     let (ni, nj) = (rho.len(), theta.len());
     let centre = !cavity;
     // Node numbering: the centre (rho = 0) is one node.
@@ -135,7 +149,7 @@ pub fn solve(
     let matrix = lame(1.0, nu);
     let mut asm = Assembler::new(n, 1);
     let mut built = Vec::new();
-    let ne = edges.len() - 1;
+    let ne = edges_len - 1;
     for ej in 0..nt {
         for ei in 0..ne {
             let nodes: [usize; 9] = std::array::from_fn(|q| node(2 * ei + q % 3, 2 * ej + q / 3));

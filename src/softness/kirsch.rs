@@ -62,22 +62,7 @@ pub fn hole_hoop_stress(outer: f64, nr: usize, nt: usize, nu: f64) -> Result<f64
         stress_pa: 1.0,
     };
     // Node lines: element boundaries graded geometrically in r, mid-nodes at the middle.
-    let lines = |n: usize, f: &dyn Fn(f64) -> f64| -> Vec<f64> {
-        (0..=2 * n).map(|i| f(i as f64 / (2 * n) as f64)).collect()
-    };
-    let rs: Vec<f64> = {
-        let edges: Vec<f64> = (0..=nr).map(|i| outer.powf(i as f64 / nr as f64)).collect();
-        (0..=2 * nr)
-            .map(|i| {
-                if i % 2 == 0 {
-                    edges[i / 2]
-                } else {
-                    0.5 * (edges[i / 2] + edges[i / 2 + 1])
-                }
-            })
-            .collect()
-    };
-    let ts = lines(nt, &|s| s * std::f64::consts::FRAC_PI_2);
+    let (rs, ts) = super::far_field::quarter_annulus(0, nr, outer, nt);
     let (ni, nj) = (rs.len(), ts.len());
     let node = |i: usize, j: usize| j * ni + i;
     let pos = |i: usize, j: usize| (rs[i] * ts[j].cos(), rs[i] * ts[j].sin());

@@ -62,15 +62,67 @@ pub(crate) fn inverse3(m: &[f64; 9]) -> [f64; 9] {
     cof.map(|v| v / det)
 }
 
+/// The B-bar pressure projection onto pi = {1, xi, eta} (Hughes, The Finite Element Method,
+/// 1987, sec. 4.5), shared by the plane ([`mapped_q2`]) and the axisymmetric
+/// ([`super::axisym::axi_q2`]) Q2/P1 elements: G_ab = int pi_a pi_b w dA and Bv_ai = int pi_a
+/// div N_i w dA are summed over the Gauss points with the radius weight w (1 in plane strain,
+/// r in the axisymmetric element), then P = G^-1 Bv and K_lambda = Bv^T P.
+pub(crate) struct Projection {
+    gm: [f64; 9],
+    bv: Vec<f64>,
+}
+
+impl Projection {
+    pub(crate) fn new() -> Self {
+        Projection {
+            gm: [0.0; 9],
+            bv: vec![0.0; 3 * 18],
+        }
+    }
+
+    /// One Gauss point at (xi, eta) of weight `w` (Gauss weight times det J), radius weight
+    /// `radius` and the divergence of each of the 18 dofs' shape functions there.
+    pub(crate) fn add(&mut self, w: f64, radius: f64, xi: f64, eta: f64, div: &[f64; 18]) {
+        let w = w * radius;
+        let pi = [1.0, xi, eta];
+        for a in 0..3 {
+            for b in 0..3 {
+                self.gm[3 * a + b] += w * pi[a] * pi[b];
+            }
+            for (i, d) in div.iter().enumerate() {
+                self.bv[a * 18 + i] += w * pi[a] * d;
+            }
+        }
+    }
+
+    /// (P, K_lambda): G^-1 Bv (3 x 18) and Bv^T G^-1 Bv (18 x 18), row-major.
+    pub(crate) fn finish(self) -> (Vec<f64>, Vec<f64>) {
+        const ND: usize = 18;
+        let ginv = inverse3(&self.gm);
+        let mut proj = vec![0.0; 3 * ND];
+        for a in 0..3 {
+            for i in 0..ND {
+                proj[a * ND + i] = (0..3).map(|b| ginv[3 * a + b] * self.bv[b * ND + i]).sum();
+            }
+        }
+        let mut klam = vec![0.0; ND * ND];
+        for i in 0..ND {
+            for j in 0..ND {
+                klam[i * ND + j] = (0..3).map(|a| self.bv[a * ND + i] * proj[a * ND + j]).sum();
+            }
+        }
+        (proj, klam)
+    }
+}
+
 /// The mapped Q2/P1 element on nodes `xy` (local node k = 3 b + a at (xi_a, eta_b), xi_a, eta_b
 /// in {-1, 0, 1}; counter-clockwise). Panics on an inverted element (a meshing bug).
 #[track_caller]
 pub fn mapped_q2(xy: &[(f64, f64); 9]) -> MappedQ2 {
     const ND: usize = 18;
     let g3 = gauss(3);
-    let (mut kmu, mut klam) = (vec![0.0; ND * ND], vec![0.0; ND * ND]);
-    let mut gm = [0.0; 9];
-    let mut bv = vec![0.0; 3 * ND];
+    let mut kmu = vec![0.0; ND * ND];
+    let mut projection = Projection::new();
     for &(xi, wx) in &g3 {
         for &(eta, wy) in &g3 {
             let (grad, det) = gradients(xy, xi, eta);
@@ -89,34 +141,17 @@ pub fn mapped_q2(xy: &[(f64, f64); 9]) -> MappedQ2 {
                     kmu[i * ND + j] += w * v;
                 }
             }
-            let pi = [1.0, xi, eta];
-            for a in 0..3 {
-                for b in 0..3 {
-                    gm[3 * a + b] += w * pi[a] * pi[b];
+            let div: [f64; ND] = std::array::from_fn(|i| {
+                if i % 2 == 0 {
+                    grad[i / 2].0
+                } else {
+                    grad[i / 2].1
                 }
-                for i in 0..ND {
-                    let d = if i % 2 == 0 {
-                        grad[i / 2].0
-                    } else {
-                        grad[i / 2].1
-                    };
-                    bv[a * ND + i] += w * pi[a] * d;
-                }
-            }
+            });
+            projection.add(w, 1.0, xi, eta, &div);
         }
     }
-    let ginv = inverse3(&gm);
-    let mut proj = vec![0.0; 3 * ND];
-    for a in 0..3 {
-        for i in 0..ND {
-            proj[a * ND + i] = (0..3).map(|b| ginv[3 * a + b] * bv[b * ND + i]).sum();
-        }
-    }
-    for i in 0..ND {
-        for j in 0..ND {
-            klam[i * ND + j] = (0..3).map(|a| bv[a * ND + i] * proj[a * ND + j]).sum();
-        }
-    }
+    let (proj, klam) = projection.finish();
     MappedQ2 {
         kmu,
         klam,

@@ -33,6 +33,7 @@ pub mod inverse;
 pub mod kirsch;
 pub mod mapped;
 pub mod plot;
+pub mod sphere_mesh;
 pub mod study;
 pub mod tissue_fe;
 

@@ -163,6 +163,24 @@ fn tissue_lump_and_void_through_the_binary() {
         ratios.push(r[60]);
         let svg = std::fs::read_to_string(out.join("tissue.svg")).unwrap();
         assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
+        // The same feature as a sphere: three fitted meshes and the Richardson estimate.
+        let conv = std::fs::read_to_string(out.join("tissue-sphere-convergence.csv")).unwrap();
+        assert!(
+            conv.starts_with("mesh,elements,extreme_P_over_P0,order,error\nscale 2,"),
+            "{conv}"
+        );
+        // (On this coarse 60 x 20 the sequence is pre-asymptotic: the estimate is left empty
+        // and the text says why.)
+        let rich = conv.lines().last().unwrap();
+        assert!(rich.starts_with("richardson,,"), "{conv}");
+        assert!(
+            (rich.len() > 14 && run.stdout.contains("Richardson estimate"))
+                || (rich == "richardson,,,," && run.stdout.contains("no Richardson estimate")),
+            "{conv}\n{}",
+            run.stdout
+        );
+        let sphere = std::fs::read_to_string(out.join("tissue-sphere.csv")).unwrap();
+        assert!(sphere.starts_with("r_mm,P_pa,P0_pa,P_over_P0\n0.000000,"));
     }
     assert!(ratios[0] > 1.4 && ratios[1] < 0.4, "{ratios:?}");
     // A disc that does not fit in the slab is bad input.
@@ -347,6 +365,13 @@ fn tissue_vessel_pulses_through_the_amplifiers() {
     assert!(run
         .stdout
         .contains("quasi-static: the plate's first natural frequency"));
+    // The vessel's path: two patches scenes on the linear plate, no cell unit responses.
+    assert!(
+        run.stdout.contains("vessel on the linear plate: the grasp")
+            && run.stdout.contains("as two patches scenes of one batch"),
+        "{}",
+        run.stdout
+    );
     let svg = std::fs::read_to_string(out.join("vessel.svg")).unwrap();
     assert!(tactfab::plot::text_outside_canvas(&svg).is_empty());
 }
