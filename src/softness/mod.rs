@@ -28,6 +28,7 @@ pub mod axisym;
 pub mod composite_beam;
 pub mod continuum;
 pub mod far_field;
+pub mod hex_bbar;
 pub mod inclusion;
 pub mod inverse;
 pub mod kirsch;
