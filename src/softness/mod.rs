@@ -34,6 +34,7 @@ pub mod inverse;
 pub mod kirsch;
 pub mod mapped;
 pub mod plot;
+pub mod slab3d;
 pub mod study;
 pub mod tissue_fe;
 
