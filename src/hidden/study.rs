@@ -43,6 +43,11 @@ pub struct Spec {
     /// ([`super::scenes`]); the unit responses, the inverse, the map and the vessel stay on the
     /// linear plate (they superpose).
     pub full_scenes: bool,
+    /// The 3-D slab's face field (`softness::slab3d`, the slab centred on the die; its sphere
+    /// at `centre_um`): when given, the cells take P0(x, y) and P(x, y) from it
+    /// ([`super::face3d`]) for the voltages and the full scenes; the inverse, the map and the
+    /// vessel keep the 2-D background and disturbance.
+    pub face3d: Option<crate::softness::slab3d::FaceField>,
 }
 
 /// Everything the study reports.
@@ -103,8 +108,10 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
         });
     }
     let ur = unit_responses(g, grid, spec.accuracy)?;
-    let p0 = bg.cells(&grid);
-    let dp = dist.cells(&bg, &grid, spec.centre_um);
+    let (p0, dp) = match &spec.face3d {
+        Some(f) => super::face3d::cells(f, &grid),
+        None => (bg.cells(&grid), dist.cells(&bg, &grid, spec.centre_um)),
+    };
     let background_mv = ur.voltages_mv(&p0);
     let dv = ur.voltages_mv(&dp);
     let feature_mv: Vec<f64> = background_mv.iter().zip(&dv).map(|(a, b)| a + b).collect();
@@ -211,8 +218,11 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
         background_mv,
         feature_mv,
         unit: ur,
-        peak_ratio: dist.peak_ratio,
-        min_ratio: dist.min_ratio,
+        peak_ratio: spec
+            .face3d
+            .as_ref()
+            .map_or(dist.peak_ratio, |f| f.peak_ratio),
+        min_ratio: spec.face3d.as_ref().map_or(dist.min_ratio, |f| f.min_ratio),
         background_force_n,
         model_error_at_load,
         located,

@@ -35,6 +35,7 @@ pub mod kirsch;
 pub mod mapped;
 pub mod plot;
 pub mod slab3d;
+pub mod slab3d_out;
 pub mod study;
 pub mod tissue_fe;
 
