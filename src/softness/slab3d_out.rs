@@ -58,7 +58,7 @@ impl FaceField {
             e
         };
         let (ex, ey) = (edges(&self.x_m), edges(&self.y_m));
-        let width = left + w_px + 140.0;
+        let width = left + w_px + 170.0;
         let height = top + h_px + 70.0;
         let mut s = format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width:.0}\" height=\"{height:.0}\" \
@@ -87,7 +87,7 @@ impl FaceField {
              fill=\"none\" stroke=\"black\"/>\n\
              <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\">x along the jaw (mm), {:.1} \
              to {:.1}</text>\n\
-             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\" transform=\"rotate(-90 \
+             <text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"middle\" transform=\"rotate(270 \
              {:.2} {:.2})\">y across (mm), {:.1} to {:.1}</text>",
             left + 0.5 * w_px,
             top + h_px + 30.0,
