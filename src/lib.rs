@@ -63,7 +63,8 @@
 //!     [`softness`] (composite beam, paper 001 Eq. 7-12, beside a locking-free tissue FE, and the
 //!     inverse; the tissue slab with a hidden lump, void or vessel, checked against Kirsch's
 //!     hole; the spherical feature by axisymmetry, checked against Goodier's cavity and
-//!     Eshelby's inclusions), [`hidden`] (that slab's pressure through the sensor: per-cell unit
+//!     Eshelby's inclusions; the 3-D slab across the jaw with a sphere anywhere, on Q2/P1
+//!     bricks), [`hidden`] (that slab's pressure through the sensor: per-cell unit
 //!     responses of the linear plate, the grasp as full scenes on any plate rung, the inverse
 //!     that locates and classifies the feature and flags its mirror ambiguity, the
 //!     detectability map, the pulsating vessel through the read-out chain), [`sweep`] (paper 001's 15,000 plates,

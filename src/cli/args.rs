@@ -651,6 +651,22 @@ pub struct TissueArgs {
     pub across: u16,
     #[arg(long, default_value = "40", value_parser = clap::value_parser!(u16).range(1..=200))]
     pub through: u16,
+    /// The tissue model: 2d (the plane section above; through the sensor P0(x) the same at
+    /// every y, the feature's disturbance from --shape) or 3d (a block --width-mm along the jaw x
+    /// --jaw-width-mm across x --thickness-mm with free sides and the sphere at --x-mm, --y-mm:
+    /// tissue-3d.csv and the plan-view heat map tissue-3d.svg; through the sensor the cells take
+    /// its P0(x, y) and P(x, y); about 6 s on the default mesh).
+    #[arg(long, value_enum, default_value = "2d")]
+    pub slab: SlabArg,
+    /// --slab 3d: the block's width across the jaw (mm) [choice: the die's width].
+    #[arg(long, value_parser = parse::length_mm)]
+    pub jaw_width_mm: Option<f64>,
+    /// --slab 3d: brick size over the sphere and down to the face (mm) and the largest elsewhere
+    /// (mm; graded by 1.3).
+    #[arg(long, default_value = "0.6667", value_parser = parse::length_mm)]
+    pub near_mm: f64,
+    #[arg(long, default_value = "2.5", value_parser = parse::length_mm)]
+    pub far_mm: f64,
     /// Load the sensor with the slab's pressure: the nine voltages with and without the
     /// feature (through-sensor.csv, face-pressure.csv, through-sensor.svg). --x-mm and --y-mm
     /// then place the feature on the die (x along the jaw, y across; default the die centre).
@@ -725,6 +741,15 @@ pub struct TissueArgs {
     pub model: ModelArg,
     #[command(flatten)]
     pub replace: OverwriteArgs,
+}
+
+/// `tissue --slab`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SlabArg {
+    #[value(name = "2d")]
+    Plane,
+    #[value(name = "3d")]
+    Block,
 }
 
 /// `tissue --shape`.

@@ -9,7 +9,9 @@ use tactfab::sensor::{Accuracy, SensorGeometry};
 use tactfab::softness::axislab::sphere_convergence;
 use tactfab::softness::inclusion::{pressure_profile, Feature, Slab};
 
-use super::args::{FeatureArg, ModelArg, ShapeArg, TissueArgs};
+use tactfab::softness::slab3d::{face_field, FaceField, Mesh3d, Slab3d};
+
+use super::args::{FeatureArg, ModelArg, ShapeArg, SlabArg, TissueArgs};
 use super::output::f;
 use super::{design, write_dir, Outcome};
 
@@ -114,8 +116,30 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             _ => "; not monotone: no Richardson estimate".into(),
         }
     ));
+    let face3d = if a.slab == SlabArg::Block {
+        let g = SensorGeometry::new(&design);
+        let (face, lines) = block(a, &slab, &g)?;
+        files.push(("tissue-3d.csv".into(), face.csv().into_bytes()));
+        files.push((
+            "tissue-3d.svg".into(),
+            face.svg("3-D tissue slab: P / P0 on the sensor face")
+                .into_bytes(),
+        ));
+        after.extend(lines);
+        Some(face)
+    } else {
+        None
+    };
     if sensor {
         let g = SensorGeometry::new(&design);
+        // The 3-D slab is centred on the die: its sphere's place on the die.
+        let centre3d = face3d.as_ref().map(|f| {
+            let w_um = f.y_m.last().copied().unwrap_or(0.0) * 1e6;
+            (
+                0.5 * (g.length_um - a.width_mm * 1e3) + slab.centre_x_m * 1e6,
+                0.5 * (g.width_um - w_um) + a.y_mm.map_or(0.5 * w_um, |y| y * 1e3),
+            )
+        });
         let mm = |v: &[f64]| v.iter().map(|x| x * 1e-3).collect::<Vec<_>>();
         let spec = Spec {
             slab,
@@ -125,10 +149,11 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
                 ShapeArg::Cylinder => Shape::Cylinder,
                 ShapeArg::RotatedSection => Shape::RotatedSection,
             },
-            centre_um: (
+            centre_um: centre3d.unwrap_or((
                 a.x_mm.map_or(0.5 * g.length_um, |x| x * 1e3),
                 a.y_mm.map_or(0.5 * g.width_um, |y| y * 1e3),
-            ),
+            )),
+            face3d: face3d.clone(),
             cell_um: a.cell_mm * 1e3,
             accuracy: Accuracy::new(a.tol, usize::from(a.max_levels)).with_model(a.model.into()),
             full_scenes: true,
@@ -177,6 +202,8 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
             f(spec.centre_um.0 * 1e-3, 2),
             f(spec.centre_um.1 * 1e-3, 2),
             match spec.shape {
+                _ if spec.face3d.is_some() =>
+                    "sphere in the 3-D slab (P0(x, y) and P(x, y) from it)",
                 Shape::Sphere => "sphere (axisymmetric: on the axis of a tissue cylinder)",
                 Shape::Cylinder => "cylinder across the jaw",
                 Shape::RotatedSection =>
@@ -408,4 +435,82 @@ pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
     let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
     println!("wrote {} into {}", names.join(", "), a.out.display());
     Ok(Outcome::Ok)
+}
+
+/// `--slab 3d`: the block across the jaw with its sphere, and the lines to print. Bad sizes
+/// name the flags.
+fn block(
+    a: &TissueArgs,
+    slab: &Slab,
+    g: &SensorGeometry,
+) -> anyhow::Result<(FaceField, Vec<String>)> {
+    let w_mm = a.jaw_width_mm.unwrap_or(g.width_um * 1e-3);
+    let y_mm = a.y_mm.unwrap_or(0.5 * w_mm);
+    let s = Slab3d::from_slab(slab, w_mm * 1e-3, y_mm * 1e-3);
+    let mesh = Mesh3d {
+        near_m: a.near_mm * 1e-3,
+        far_m: a.far_mm * 1e-3,
+    };
+    let face = face_field(&s, &mesh).map_err(|e| match e {
+        tactfab::softness::SoftnessError::BadInput { field, hint, .. } => anyhow::anyhow!(
+            "{}: {hint} (--slab 3d: --width-mm {} along, --jaw-width-mm {} across, \
+             --thickness-mm {}; sphere --x-mm {}, --y-mm {}, --height-mm {}, --radius-mm {})",
+            match field {
+                "radius_m" => "--radius-mm",
+                "lump e_pa" => "--lump-e-kpa",
+                "compression" => "--compression",
+                "tissue_e_pa" => "--tissue-e-kpa",
+                "mesh near_m" | "elements" => "--near-mm / --far-mm",
+                "width_m" => "--jaw-width-mm",
+                _ => "the slab",
+            },
+            f(a.width_mm, 2),
+            f(w_mm, 2),
+            f(a.thickness_mm, 2),
+            f(slab.centre_x_m * 1e3, 2),
+            f(y_mm, 2),
+            f(a.height_mm, 2),
+            f(a.radius_mm, 2)
+        ),
+        other => other.into(),
+    })?;
+    let (lx, ly) = (s.length_m, s.width_m);
+    let mid = face.p0_at_pa(0.5 * lx, 0.5 * ly);
+    let lines = vec![
+        format!(
+            "3-D slab {} x {} x {} mm (along x across x thick; free sides), sphere at x {} mm, y \
+             {} mm: {} x {} x {} Q2/P1 bricks ({} unknowns{}), near {} mm, far {} mm",
+            f(lx * 1e3, 2),
+            f(ly * 1e3, 2),
+            f(s.thickness_m * 1e3, 2),
+            f(slab.centre_x_m * 1e3, 2),
+            f(y_mm, 2),
+            face.elements[0],
+            face.elements[1],
+            face.elements[2],
+            face.unknowns,
+            match face.mirrored {
+                [true, true] => ", a quarter by symmetry",
+                [true, false] | [false, true] => ", a half by symmetry",
+                [false, false] => "",
+            },
+            f(a.near_mm, 3),
+            f(a.far_mm, 3)
+        ),
+        format!(
+            "  3-D P / P0: up to {} at ({}, {}) mm, down to {} at ({}, {}) mm; P0 {} kPa at the \
+             middle, {} kPa at the jaw's edge (y = 0) and {} kPa at the slab's end (x = 0) on \
+             the middle lines",
+            f(face.peak_ratio, 3),
+            f(face.peak_at_m[0] * 1e3, 2),
+            f(face.peak_at_m[1] * 1e3, 2),
+            f(face.min_ratio, 3),
+            f(face.min_at_m[0] * 1e3, 2),
+            f(face.min_at_m[1] * 1e3, 2),
+            f(mid * 1e-3, 3),
+            f(face.p0_at_pa(0.5 * lx, 0.0) * 1e-3, 3),
+            f(face.p0_at_pa(0.0, 0.5 * ly) * 1e-3, 3)
+        ),
+    ];
+    Ok((face, lines))
 }

@@ -21,6 +21,7 @@
 
 pub mod cells;
 pub mod detect;
+pub mod face3d;
 pub mod field;
 pub mod locate;
 pub mod scenes;

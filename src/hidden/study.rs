@@ -48,6 +48,11 @@ pub struct Spec {
     /// ([`super::scenes`]); the unit responses, the inverse, the map and the vessel stay on the
     /// linear plate (they superpose).
     pub full_scenes: bool,
+    /// The 3-D slab's face field (`softness::slab3d`, the slab centred on the die; its sphere
+    /// at `centre_um`): when given, the cells take P0(x, y) and P(x, y) from it
+    /// ([`super::face3d`]) for the voltages and the full scenes; the inverse, the map and the
+    /// vessel keep the 2-D background and disturbance.
+    pub face3d: Option<crate::softness::slab3d::FaceField>,
 }
 
 /// How the linear plate answered the background and the feature.
@@ -121,8 +126,10 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
             hint: "use --model auto, plate or large-deflection",
         });
     }
-    let p0 = bg.cells(&grid);
-    let dp = dist.cells(&bg, &grid, spec.centre_um);
+    let (p0, dp) = match &spec.face3d {
+        Some(f) => super::face3d::cells(f, &grid),
+        None => (bg.cells(&grid), dist.cells(&bg, &grid, spec.centre_um)),
+    };
     let mut vessel_done = None;
     let ur = if spec.locate.is_some() || spec.map.is_some() {
         Some(unit_responses(g, grid, spec.accuracy)?)
@@ -156,10 +163,22 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
             if let Some(w) = &wall {
                 fields.push(("vessel-per-pa", w));
             }
+            // The vessel stays on the 2-D slab: with the 3-D face its grasp is solved apart.
+            let grasp_2d: Option<Vec<f64>> = match (&spec.vessel, &spec.face3d) {
+                (Some(_), Some(_)) => {
+                    let b = bg.cells(&grid);
+                    let d = dist.cells(&bg, &grid, spec.centre_um);
+                    Some(b.iter().zip(&d).map(|(a, b)| a + b).collect())
+                }
+                _ => None,
+            };
+            if let Some(w) = &grasp_2d {
+                fields.push(("vessel-grasp", w));
+            }
             let plate = spec.accuracy.with_model(ModelChoice::Plate);
             let a = cells_answers(g, &grid, &fields, plate, MeshOptions::default())?;
             if let (Some((pulse, electronics)), Some(unit)) = (&spec.vessel, a.get(2)) {
-                let grasp = a[1].clone();
+                let grasp = a.get(3).unwrap_or(&a[1]).clone();
                 let tol = spec.accuracy.tol_rel;
                 vessel_done = Some(cycle(g, grasp, unit.clone(), *pulse, electronics, tol)?);
             }
@@ -287,8 +306,11 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
         grid,
         linear,
         unit: ur,
-        peak_ratio: dist.peak_ratio,
-        min_ratio: dist.min_ratio,
+        peak_ratio: spec
+            .face3d
+            .as_ref()
+            .map_or(dist.peak_ratio, |f| f.peak_ratio),
+        min_ratio: spec.face3d.as_ref().map_or(dist.min_ratio, |f| f.min_ratio),
         background_force_n,
         model_error_at_load,
         located,

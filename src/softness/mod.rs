@@ -18,7 +18,9 @@
 //! the stress concentration 3 at a circular hole. [`axisym`] is the axisymmetric Q2/P1 element,
 //! [`axislab`] the spherical lump or void on the axis of a tissue cylinder between the jaws (the
 //! 3-D scene by axisymmetry), and [`far_field`] checks both elements against Goodier's spherical
-//! cavity and Eshelby's spherical and cylindrical inclusions.
+//! cavity and Eshelby's spherical and cylindrical inclusions. [`slab3d`] is the 3-D block of
+//! tissue across the jaw (free sides) with a sphere anywhere, on the Q2/P1 (B-bar) brick of
+//! [`hex_bbar`]; [`slab3d_out`] writes its face field.
 //!
 //! Both models assume perfect bonding between tissue and plate, linear elasticity, and neglect the
 //! PVDF film's own stiffness (25 um, 3 GPa against 100 um Si: < 0.5 % of the bending stiffness).
@@ -28,11 +30,14 @@ pub mod axisym;
 pub mod composite_beam;
 pub mod continuum;
 pub mod far_field;
+pub mod hex_bbar;
 pub mod inclusion;
 pub mod inverse;
 pub mod kirsch;
 pub mod mapped;
 pub mod plot;
+pub mod slab3d;
+pub mod slab3d_out;
 pub mod sphere_mesh;
 pub mod study;
 pub mod tissue_fe;

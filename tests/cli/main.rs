@@ -16,6 +16,7 @@ mod properties;
 mod readme;
 mod readout;
 mod sensor;
+mod slab3d;
 mod softsweep;
 mod solid;
 mod solid_export;
