@@ -18,7 +18,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 
 use super::axisym::axi_q2;
-use super::continuum::{gauss, lagrange, lame, Assembler, DofExpr};
+use super::continuum::{gauss, lagrange, lame, lame_combined, pair_dofs, Assembler, DofExpr};
 use super::inclusion::{Feature, Slab};
 use super::sphere_mesh::{sphere_mesh, Counts, Geometry, SphereMesh};
 use super::SoftnessError;
@@ -179,17 +179,8 @@ fn face_pressure(s: &Slab, mesh: &SphereMesh, feature: Feature) -> Result<AxiFac
             (true, Some(l)) => l,
             _ => tissue,
         };
-        let ke: Vec<f64> = m
-            .kmu
-            .iter()
-            .zip(&m.klam)
-            .map(|(a, b)| mu * a + lam * b)
-            .collect();
-        let map: Vec<&DofExpr> = nodes
-            .iter()
-            .flat_map(|&q| [&dofs[2 * q], &dofs[2 * q + 1]])
-            .collect();
-        asm.add(0, &ke, &map);
+        let ke = lame_combined(&m.kmu, &m.klam, mu, lam);
+        asm.add(0, &ke, &pair_dofs(nodes, &dofs));
         if rz.iter().any(|p| p.1 == 0.0) {
             on_face.push((*nodes, ke));
         }

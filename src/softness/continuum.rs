@@ -74,6 +74,24 @@ pub(crate) fn lagrange(p: usize, xi: f64) -> (Vec<f64>, Vec<f64>) {
     }
 }
 
+/// The element stiffness K = mu K_mu + lambda K_lambda from [`element_parts`]' split (any of
+/// this module's elements: the split is what lets one element serve every material).
+pub(crate) fn lame_combined(kmu: &[f64], klam: &[f64], mu: f64, lam: f64) -> Vec<f64> {
+    kmu.iter()
+        .zip(klam)
+        .map(|(a, b)| mu * a + lam * b)
+        .collect()
+}
+
+/// An element's dof map for two-dof nodes numbered into a flat list (u_x of node q at 2 q,
+/// u_y at 2 q + 1), in the element's node order.
+pub(crate) fn pair_dofs<'a>(nodes: &[usize], dofs: &'a [DofExpr]) -> Vec<&'a DofExpr> {
+    nodes
+        .iter()
+        .flat_map(|&q| [&dofs[2 * q], &dofs[2 * q + 1]])
+        .collect()
+}
+
 /// Element stiffness (2 dofs per node, local node k = b (p+1) + a at (xi_a, eta_b)) of a hx x hy
 /// rectangle, split into the mu part and the lambda part so that K = mu_k + lambda_k for given
 /// (lambda, mu); returns (K_mu / mu, K_lambda / lambda) so a change of E only rescales.
@@ -485,17 +503,9 @@ pub fn cantilever_tip(
                     mesh.y_m[ey + 1] - mesh.y_m[ey],
                 )
                 .clone();
-            let k: Vec<f64> = kmu
-                .iter()
-                .zip(&klam)
-                .map(|(a, b)| mu * a + lam * b)
-                .collect();
+            let k = lame_combined(&kmu, &klam, mu, lam);
             let nodes = mesh.element_nodes(ex, ey);
-            let map: Vec<&DofExpr> = nodes
-                .iter()
-                .flat_map(|&nd| [&exprs[2 * nd], &exprs[2 * nd + 1]])
-                .collect();
-            asm.add(0, &k, &map);
+            asm.add(0, &k, &pair_dofs(&nodes, &exprs));
         }
     }
     // Edge load at x = 0: f_a = int N_a(y) t_y(y) dy per element edge.

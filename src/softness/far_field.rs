@@ -12,7 +12,7 @@
 //! (decaying as (a / rho)^3 around a sphere and (a / rho)^2 around a cylinder).
 
 use super::axisym::{axi_q2, AxiQ2};
-use super::continuum::{gauss, lagrange, lame, Assembler, DofExpr};
+use super::continuum::{gauss, lagrange, lame, lame_combined, pair_dofs, Assembler, DofExpr};
 use super::mapped::{mapped_q2, MappedQ2};
 use super::SoftnessError;
 
@@ -163,16 +163,8 @@ pub fn solve(
                 Body::Cylinder => Element::Plane(mapped_q2(&xy)),
             };
             let (kmu, klam) = el.parts();
-            let ke: Vec<f64> = kmu
-                .iter()
-                .zip(klam)
-                .map(|(a, b)| mu * a + lam * b)
-                .collect();
-            let map: Vec<&DofExpr> = nodes
-                .iter()
-                .flat_map(|&q| [&dofs[2 * q], &dofs[2 * q + 1]])
-                .collect();
-            asm.add(0, &ke, &map);
+            let ke = lame_combined(kmu, klam, mu, lam);
+            asm.add(0, &ke, &pair_dofs(&nodes, &dofs));
             built.push((nodes, el, lam, mu));
         }
     }

@@ -16,7 +16,9 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::continuum::{lame, Assembler, DofExpr, ElementCache, Order, QuadMesh, Volumetric};
+use super::continuum::{
+    lame, lame_combined, Assembler, DofExpr, ElementCache, Order, QuadMesh, Volumetric,
+};
 use super::SoftnessError;
 
 /// The feature in the slab.
@@ -228,10 +230,7 @@ fn face_pressure(
             let (kmu, klam) = cache.get(qm.x_m[ex + 1] - qm.x_m[ex], qm.y_m[ey + 1] - qm.y_m[ey]);
             let unit = |m: usize, share: f64| -> Vec<f64> {
                 let (lam, mu) = units[m];
-                kmu.iter()
-                    .zip(klam)
-                    .map(|(a, b)| share * (mu * a + lam * b))
-                    .collect()
+                lame_combined(kmu, klam, share * mu, share * lam)
             };
             let (kt, kl) = (unit(0, 1.0 - f), unit(1, f));
             let nodes = qm.element_nodes(ex, ey);

@@ -9,7 +9,7 @@
 //! are small), symmetry on both axes, and the exact Kirsch traction on r = R: the infinite plate
 //! is represented exactly, so what is left is discretisation error alone.
 
-use super::continuum::{gauss, lagrange, lame, Assembler, DofExpr};
+use super::continuum::{gauss, lagrange, lame, lame_combined, pair_dofs, Assembler, DofExpr};
 use super::mapped::{mapped_q2, MappedQ2};
 use super::SoftnessError;
 
@@ -91,17 +91,8 @@ pub fn hole_hoop_stress(outer: f64, nr: usize, nt: usize, nu: f64) -> Result<f64
                 .collect();
             let xy: [(f64, f64); 9] = std::array::from_fn(|q| pos(2 * ei + q % 3, 2 * ej + q / 3));
             let m = mapped_q2(&xy);
-            let ke: Vec<f64> = m
-                .kmu
-                .iter()
-                .zip(&m.klam)
-                .map(|(a, b)| mu * a + lam * b)
-                .collect();
-            let map: Vec<&DofExpr> = nodes
-                .iter()
-                .flat_map(|&q| [&dofs[2 * q], &dofs[2 * q + 1]])
-                .collect();
-            asm.add(0, &ke, &map);
+            let ke = lame_combined(&m.kmu, &m.klam, mu, lam);
+            asm.add(0, &ke, &pair_dofs(&nodes, &dofs));
             elements.push((nodes, m));
         }
     }

@@ -11,7 +11,8 @@
 use serde::Serialize;
 
 use crate::softness::continuum::{
-    lame, Assembler, DofExpr, ElementCache, Order, QuadMesh, ScaledSystem, Volumetric,
+    lame, lame_combined, Assembler, DofExpr, ElementCache, Order, QuadMesh, ScaledSystem,
+    Volumetric,
 };
 use crate::softness::{SoftnessError, SoftnessSetup};
 
@@ -156,11 +157,7 @@ impl TissueModel {
             for ex in 0..mesh.across {
                 let (kmu, klam) =
                     cache.get(qm.x_m[ex + 1] - qm.x_m[ex], qm.y_m[ey + 1] - qm.y_m[ey]);
-                let k: Vec<f64> = kmu
-                    .iter()
-                    .zip(klam)
-                    .map(|(a, b)| mu * a + lam * b)
-                    .collect();
+                let k = lame_combined(kmu, klam, mu, lam);
                 let nodes = qm.element_nodes(ex, ey);
                 let map: Vec<&DofExpr> = nodes
                     .iter()
