@@ -106,7 +106,7 @@ fn verify_solid(
             symmetry: !args.no_symmetry,
             nonlinear: false,
         };
-        let solid = solid_against_plate(g, s, run, acc).context("solid solve failed")?;
+        let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(&solid, acc.tol_rel);
         out.push(solid);
     }
@@ -322,7 +322,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             symmetry: !args.no_symmetry,
             nonlinear: false,
         };
-        reports.push(solid_against_plate(g, s, run, acc).context("solid solve failed")?);
+        reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
     if args.json {
         println!(

@@ -449,23 +449,38 @@ pub fn evaluate_solid(
 /// tolerance and levels): where that is the large-deflection plate the solid is solved
 /// geometrically nonlinear and compared with it, else linear and compared with the linear plate.
 /// Each quantity's difference is that plate rung's model error as the solid measures it.
+/// `answered` is the caller's own answer to `scene` at `acc`, if it has one: when `acc` is auto
+/// it is auto's answer, so the plate ladder is not solved again for the comparison.
 pub fn solid_against_plate(
     g: &SensorGeometry,
     scene: &Scene,
     run: SolidRun,
     acc: super::Accuracy,
+    answered: Option<&super::SceneReport>,
 ) -> Result<SolidReport, SensorError> {
     use super::evaluate::ModelKind;
-    let auto = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Auto))?;
+    let is_plate = |r: &super::SceneReport| {
+        matches!(
+            r.model.kind,
+            ModelKind::LargeDeflectionPlate | ModelKind::Plate
+        )
+    };
+    let solved;
+    let auto = match answered {
+        Some(r) if acc.model == super::ModelChoice::Auto => r,
+        _ => {
+            solved = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Auto))?;
+            &solved
+        }
+    };
     let nonlinear = auto.model.kind == ModelKind::LargeDeflectionPlate;
     // The solid is compared with a plate rung: auto's answer when it is one, else the linear plate.
-    let plate = if matches!(
-        auto.model.kind,
-        ModelKind::LargeDeflectionPlate | ModelKind::Plate
-    ) {
+    let linear;
+    let plate = if is_plate(auto) {
         auto
     } else {
-        super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?
+        linear = super::evaluate(g, scene, acc.with_model(super::ModelChoice::Plate))?;
+        &linear
     };
     let values: Vec<(String, f64)> = plate
         .quantities
