@@ -52,21 +52,7 @@ fn check(s: &Slab, nr: usize, nz: usize) -> Result<f64, SoftnessError> {
     if !(rc > 0.0 && rc.is_finite() && s.thickness_m > 0.0 && s.thickness_m.is_finite()) {
         return bad("width_m", s.width_m, "the slab needs a positive size");
     }
-    if !(s.tissue_e_pa > 0.0 && s.tissue_e_pa.is_finite() && (0.0..0.5).contains(&s.tissue_nu)) {
-        return bad(
-            "tissue_e_pa",
-            s.tissue_e_pa,
-            "tissue E > 0 and nu in [0, 0.5)",
-        );
-    }
-    if !(s.compression > 0.0 && s.compression < 0.5) {
-        return bad("compression", s.compression, "a compression in (0, 0.5)");
-    }
-    if let Feature::Lump { e_pa, nu } = s.feature {
-        if !(e_pa > 0.0 && e_pa.is_finite() && (0.0..0.5).contains(&nu)) {
-            return bad("lump e_pa", e_pa, "a lump needs E > 0 and nu in [0, 0.5)");
-        }
-    }
+    super::inclusion::check_materials(s.tissue_e_pa, s.tissue_nu, s.compression, s.feature)?;
     if s.feature != Feature::None {
         let (r, h) = (s.radius_m, s.centre_height_m);
         if !(r > 0.0 && h - r > 0.0 && h + r < s.thickness_m && r < rc) {

@@ -88,6 +88,38 @@ pub struct PressureProfile {
 /// Largest mesh \[choice\]: 80,000 Q2 elements (400 x 200), about 0.6 M unknowns.
 pub const MAX_ELEMENTS: usize = 80_000;
 
+/// The tissue's and the lump's elastic constants and the compression, as every slab model
+/// (plane, axisymmetric, 3-D) takes them.
+pub(crate) fn check_materials(
+    tissue_e_pa: f64,
+    tissue_nu: f64,
+    compression: f64,
+    feature: Feature,
+) -> Result<(), SoftnessError> {
+    let bad = |field: &'static str, value: f64, hint: &'static str| {
+        Err(SoftnessError::BadInput { field, value, hint })
+    };
+    if !(tissue_e_pa > 0.0 && tissue_e_pa.is_finite()) {
+        return bad("tissue_e_pa", tissue_e_pa, "tissue E must be positive");
+    }
+    if !(0.0..0.5).contains(&tissue_nu) {
+        return bad("tissue_nu", tissue_nu, "nu must lie in [0, 0.5)");
+    }
+    if !(compression > 0.0 && compression < 0.5) {
+        return bad(
+            "compression",
+            compression,
+            "a compression in (0, 0.5) of the thickness",
+        );
+    }
+    if let Feature::Lump { e_pa, nu } = feature {
+        if !(e_pa > 0.0 && e_pa.is_finite() && (0.0..0.5).contains(&nu)) {
+            return bad("lump e_pa", e_pa, "a lump needs E > 0 and nu in [0, 0.5)");
+        }
+    }
+    Ok(())
+}
+
 fn check(s: &Slab, nx: usize, ny: usize) -> Result<(), SoftnessError> {
     let bad = |field: &'static str, value: f64, hint: &'static str| {
         Err(SoftnessError::BadInput { field, value, hint })
@@ -102,24 +134,7 @@ fn check(s: &Slab, nx: usize, ny: usize) -> Result<(), SoftnessError> {
             "the slab needs a positive thickness",
         );
     }
-    if !(s.tissue_e_pa > 0.0 && s.tissue_e_pa.is_finite()) {
-        return bad("tissue_e_pa", s.tissue_e_pa, "tissue E must be positive");
-    }
-    if !(0.0..0.5).contains(&s.tissue_nu) {
-        return bad("tissue_nu", s.tissue_nu, "nu must lie in [0, 0.5)");
-    }
-    if !(s.compression > 0.0 && s.compression < 0.5) {
-        return bad(
-            "compression",
-            s.compression,
-            "a compression in (0, 0.5) of the thickness",
-        );
-    }
-    if let Feature::Lump { e_pa, nu } = s.feature {
-        if !(e_pa > 0.0 && e_pa.is_finite() && (0.0..0.5).contains(&nu)) {
-            return bad("lump e_pa", e_pa, "a lump needs E > 0 and nu in [0, 0.5)");
-        }
-    }
+    check_materials(s.tissue_e_pa, s.tissue_nu, s.compression, s.feature)?;
     if s.feature != Feature::None {
         let r = s.radius_m;
         if !(r > 0.0

@@ -180,21 +180,7 @@ fn check(s: &Slab3d, m: &Mesh3d) -> Result<(), SoftnessError> {
             return bad(f, v, "the slab needs a positive size");
         }
     }
-    if !(positive(s.tissue_e_pa) && (0.0..0.5).contains(&s.tissue_nu)) {
-        return bad(
-            "tissue_e_pa",
-            s.tissue_e_pa,
-            "tissue E > 0 and nu in [0, 0.5)",
-        );
-    }
-    if !(s.compression > 0.0 && s.compression < 0.5) {
-        return bad("compression", s.compression, "a compression in (0, 0.5)");
-    }
-    if let Feature::Lump { e_pa, nu } = s.feature {
-        if !(positive(e_pa) && (0.0..0.5).contains(&nu)) {
-            return bad("lump e_pa", e_pa, "a lump needs E > 0 and nu in [0, 0.5)");
-        }
-    }
+    super::inclusion::check_materials(s.tissue_e_pa, s.tissue_nu, s.compression, s.feature)?;
     if s.feature != Feature::None {
         let (r, c) = (s.radius_m, s.centre_m);
         let inside = positive(r)
