@@ -3,30 +3,11 @@
 
 use super::harness::tactfab;
 
-/// Coarse for speed: 1 mm bricks near the lump, 3 mm far; 1.5 mm cells, two plate levels.
+/// Coarse for speed: 1 mm bricks near the lump, 3 mm far; otherwise as the 2-D slab's tests.
 fn coarse(out: &std::path::Path, extra: &[&str]) -> super::harness::Run {
-    let mut args = vec![
-        "tissue",
-        "process/mis-grasper.yaml",
-        "-o",
-        out.to_str().unwrap(),
-        "--slab",
-        "3d",
-        "--near-mm",
-        "1",
-        "--far-mm",
-        "3",
-        "--across",
-        "60",
-        "--through",
-        "20",
-        "--cell-mm",
-        "1.5",
-        "--max-levels",
-        "2",
-    ];
+    let mut args = vec!["--slab", "3d", "--near-mm", "1", "--far-mm", "3"];
     args.extend_from_slice(extra);
-    tactfab(&args)
+    super::softsweep::coarse_tissue(out, &args)
 }
 
 #[test]

@@ -203,7 +203,7 @@ fn tissue_lump_and_void_through_the_binary() {
 
 /// `tactfab tissue` into `out`, coarse for speed (a 60 x 20 slab mesh, 1.5 mm cells, two plate
 /// levels), with `extra` flags.
-fn coarse_tissue(out: &std::path::Path, extra: &[&str]) -> super::harness::Run {
+pub(super) fn coarse_tissue(out: &std::path::Path, extra: &[&str]) -> super::harness::Run {
     let mut args = vec![
         "tissue",
         "process/mis-grasper.yaml",
