@@ -111,14 +111,38 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
                 f(s.mask_remaining_um, 3)
             ));
             if let Some(c) = &s.compensation {
+                let shape = match c.bar_width_um {
+                    Some(b) => format!(
+                        "bar {} x {} um (L = h/{})",
+                        f(c.side_um, 1),
+                        f(b, 1),
+                        c.ratio
+                    ),
+                    None => format!("square {} um (a = h/{})", f(c.side_um, 1), c.ratio),
+                };
+                let (reach, gap) = if c.reach.x_um == c.reach.y_um {
+                    (
+                        format!("{} um", f(c.reach.x_um, 1)),
+                        format!("{} um", f(c.min_gap.x_um, 1)),
+                    )
+                } else {
+                    (
+                        format!(
+                            "{} um along x and {} um along y",
+                            f(c.reach.x_um, 1),
+                            f(c.reach.y_um, 1)
+                        ),
+                        format!(
+                            "{} / {} um (x / y)",
+                            f(c.min_gap.x_um, 1),
+                            f(c.min_gap.y_um, 1)
+                        ),
+                    )
+                };
                 out.push_str(&format!(
-                    "  compensation {}: square {} um (a = h/{}), reaches {} um, needs {} um \
-                     between facing corners\n",
+                    "  compensation {}: {shape}, reaches {reach}, needs {gap} between facing \
+                     corners\n",
                     yaml(&c.kind),
-                    f(c.side_um, 1),
-                    c.ratio,
-                    f(c.reach_um, 1),
-                    f(c.min_gap_um, 1)
                 ));
             }
         }

@@ -91,6 +91,7 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
         .find(|s| matches!(s.side, Side::Front | Side::Both))?;
     let h = front.depth_um;
     let kind = front_compensation(p).map_or(CompensationGeometry::CornerAttached, |c| c.2);
+    let bar_width_um = front.compensation.and_then(|c| c.bar_width_um);
     let (centre, centre_from) = match (t.centre_a_um, front_rule_a_um(p)) {
         (Some(c), _) => (c, "layout.test_die.centre_a_um".to_string()),
         (None, Some(r)) => (
@@ -115,22 +116,22 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
         return None;
     }
     let top = p.geometry.teeth.top_um;
-    let reach = a_um.iter().copied().fold(0.0, f64::max) * reach_per_a(kind);
+    let reach = reach_per_a(kind).scaled(a_um.iter().copied().fold(0.0, f64::max));
     let street = front.min_street_um + p.drc.min_space_um;
-    let pitch = top + 2.0 * reach + street;
+    let pitch = top + 2.0 * reach.x_um + street;
     let pixel = p.layout.label_pixel_um;
     let label = |a: f64| vec![format!("A {a:.0}")];
     let label_h = text::block_size_um(&label(0.0), pixel).1;
     let n = a_um.len() as f64;
     let w = 2.0 * MARGIN_UM + n * pitch - street;
-    let hgt = 2.0 * MARGIN_UM + label_h + LABEL_GAP_UM + 2.0 * reach + top;
-    let y_tooth = MARGIN_UM + label_h + LABEL_GAP_UM + reach;
+    let hgt = 2.0 * MARGIN_UM + label_h + LABEL_GAP_UM + 2.0 * reach.y_um + top;
+    let y_tooth = MARGIN_UM + label_h + LABEL_GAP_UM + reach.y_um;
     let mut c = Cell::default();
     let mut front_polys: Vec<Polygon> = Vec::new();
     let mut teeth_um = Vec::new();
     for (k, &a) in a_um.iter().enumerate() {
-        let x = MARGIN_UM + reach + k as f64 * pitch;
-        let d = design(h, h / a, kind);
+        let x = MARGIN_UM + reach.x_um + k as f64 * pitch;
+        let d = design(h, h / a, kind, bar_width_um);
         front_polys.extend(translate(
             &teeth::tooth_cell(top, Some(&d), overlap),
             x,

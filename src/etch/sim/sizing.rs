@@ -14,7 +14,7 @@
 
 use serde::Serialize;
 
-use crate::etch::compensation::{design, largest_a_um};
+use crate::etch::compensation::{default_bar_width_um, design, largest_a_um};
 use crate::etch::{CompensationDesign, EtchPlan};
 use crate::layout::{LayerKind, MaskSet};
 use crate::process::{CompensationGeometry, Process};
@@ -135,6 +135,17 @@ pub fn size(
     let h = step.depth_um;
     let tol = p.etchants.etched_corner_tolerance_um;
     let overlap = p.layout.compensation_overlap_um;
+    // A bar is as wide as the front etch's, else the plan's default width.
+    let bar_width_um = step
+        .compensation
+        .and_then(|c| c.bar_width_um)
+        .unwrap_or_else(|| {
+            default_bar_width_um(
+                step.undercut_um,
+                p.drc.min_width_um,
+                p.geometry.teeth.top_um,
+            )
+        });
     let mut m = masks.clone();
     let mut evaluations = 0;
     let mut coarse_grid_um = 2.0 * grid_um;
@@ -142,7 +153,10 @@ pub fn size(
         // A corner-attached square no larger than its overlap lies inside the tooth: none.
         let d: Option<CompensationDesign> = (a > 0.0
             && !(kind == CompensationGeometry::CornerAttached && a <= overlap))
-            .then(|| design(h, h / a, kind));
+            .then(|| {
+                let b = (kind == CompensationGeometry::Bar110).then_some(bar_width_um);
+                design(h, h / a, kind, b)
+            });
         let cell = m
             .cells
             .get_mut(&name)
