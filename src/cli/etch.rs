@@ -327,8 +327,12 @@ fn sizing_text(z: &Sizing) -> String {
     for g in &z.geometries {
         let ratio = g.sized_ratio.map_or("none".into(), |r| f(r, 3));
         out.push_str(&format!(
-            "  {}: a up to {} um ({}); {} a = {} um (ratio h/a {}), corner {} um{}\n",
+            "  {}{}: a up to {} um ({}); {} a = {} um (ratio h/a {}), corner {} um{}\n",
             yaml(&g.geometry),
+            g.bar_width_um.map_or(String::new(), |b| format!(
+                " (a is the bar's length; {} um wide)",
+                f(b, 1)
+            )),
             f(g.largest_a_um, 1),
             g.limited_by,
             if g.within_tolerance {
