@@ -143,3 +143,29 @@ fn default_width_is_six_undercuts() {
         "{b}"
     );
 }
+
+/// The test die ladders bar lengths, also on a die without teeth (the plan then draws no
+/// compensation, so the bar width is the default worked out there too), and keeps no room
+/// above its teeth (a bar reaches nothing along y).
+#[test]
+fn test_die_ladders_bars() {
+    let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
+    let build = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let p = crate::process::load_str(&text, "f.yaml", &sets)
+            .unwrap()
+            .process;
+        let plan = crate::etch::plan(&p);
+        crate::layout::build(&p, &plan).unwrap().test_die.unwrap()
+    };
+    let squares = build(&[]);
+    let bar = "steps.tmah-etch.compensation.geometry=bar_110";
+    for sets in [vec![bar], vec![bar, "geometry.teeth.pattern=none"]] {
+        let t = build(&sets);
+        assert_eq!(t.geometry, crate::process::CompensationGeometry::Bar110);
+        assert_eq!(t.a_um, squares.a_um);
+        // Corner-attached squares of up to 517.6 um reach that far along y on both sides.
+        let dy = squares.size_um[1] - t.size_um[1];
+        assert!((dy - 2.0 * squares.a_um[6]).abs() < 1e-6, "{dy}");
+    }
+}
