@@ -9,6 +9,7 @@ use serde::Serialize;
 /// use tactfab::process::{CompensationGeometry, Side};
 /// assert_eq!(tactfab::spelling::yaml(&Side::Both), "both");
 /// assert_eq!(tactfab::spelling::yaml(&CompensationGeometry::CornerAttached), "corner_attached");
+/// assert_eq!(tactfab::spelling::yaml(&CompensationGeometry::Bar110), "bar_110");
 /// ```
 pub fn yaml<T: Serialize>(t: &T) -> String {
     match serde_json::to_value(t) {

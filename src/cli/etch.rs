@@ -111,14 +111,38 @@ pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
                 f(s.mask_remaining_um, 3)
             ));
             if let Some(c) = &s.compensation {
+                let shape = match c.bar_width_um {
+                    Some(b) => format!(
+                        "bar {} x {} um (L = h/{})",
+                        f(c.side_um, 1),
+                        f(b, 1),
+                        c.ratio
+                    ),
+                    None => format!("square {} um (a = h/{})", f(c.side_um, 1), c.ratio),
+                };
+                let (reach, gap) = if c.reach.x_um == c.reach.y_um {
+                    (
+                        format!("{} um", f(c.reach.x_um, 1)),
+                        format!("{} um", f(c.min_gap.x_um, 1)),
+                    )
+                } else {
+                    (
+                        format!(
+                            "{} um along x and {} um along y",
+                            f(c.reach.x_um, 1),
+                            f(c.reach.y_um, 1)
+                        ),
+                        format!(
+                            "{} / {} um (x / y)",
+                            f(c.min_gap.x_um, 1),
+                            f(c.min_gap.y_um, 1)
+                        ),
+                    )
+                };
                 out.push_str(&format!(
-                    "  compensation {}: square {} um (a = h/{}), reaches {} um, needs {} um \
-                     between facing corners\n",
+                    "  compensation {}: {shape}, reaches {reach}, needs {gap} between facing \
+                     corners\n",
                     yaml(&c.kind),
-                    f(c.side_um, 1),
-                    c.ratio,
-                    f(c.reach_um, 1),
-                    f(c.min_gap_um, 1)
                 ));
             }
         }
@@ -303,8 +327,12 @@ fn sizing_text(z: &Sizing) -> String {
     for g in &z.geometries {
         let ratio = g.sized_ratio.map_or("none".into(), |r| f(r, 3));
         out.push_str(&format!(
-            "  {}: a up to {} um ({}); {} a = {} um (ratio h/a {}), corner {} um{}\n",
+            "  {}{}: a up to {} um ({}); {} a = {} um (ratio h/a {}), corner {} um{}\n",
             yaml(&g.geometry),
+            g.bar_width_um.map_or(String::new(), |b| format!(
+                " (a is the bar's length; {} um wide)",
+                f(b, 1)
+            )),
             f(g.largest_a_um, 1),
             g.limited_by,
             if g.within_tolerance {

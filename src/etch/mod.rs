@@ -12,6 +12,9 @@ pub mod rate;
 pub mod resist;
 pub mod sim;
 
+#[cfg(test)]
+mod tests_bars;
+
 pub use compensation::{design as compensation_design, CompensationDesign};
 pub use plan::*;
 

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::compensation::{design, CompensationDesign};
+use super::compensation::{default_bar_width_um, design, CompensationDesign};
 use super::geometry::{
     mesa_base_um, min_street_um, sidewall_run_out_um, undercut_um, v_groove_depth_um,
 };
@@ -393,7 +393,9 @@ fn silicon_etch(
     let front_side = matches!(e.side, Side::Front | Side::Both);
     let teeth = &p.geometry.teeth;
     let compensation = if teeth.pattern != TeethPattern::None && front_side {
-        compensation(name, e, warnings)
+        let bar_width_um =
+            default_bar_width_um(undercut_um(r111, time_h), p.drc.min_width_um, teeth.top_um);
+        compensation(name, e, bar_width_um, warnings)
     } else {
         None
     };
@@ -627,10 +629,12 @@ fn mask_budget(
 }
 
 /// The corner compensation of an etch that shapes teeth: a = h / ratio, warning when the ratio is
-/// the KOH rule used with TMAH or when there is none.
+/// the KOH rule used with TMAH or when there is none; a bar is the file's width wide, else
+/// `default_bar_width_um`.
 fn compensation(
     name: &str,
     e: &crate::process::SiliconEtch,
+    default_bar_width_um: f64,
     warnings: &mut Vec<Finding>,
 ) -> Option<CompensationDesign> {
     let Some(c) = &e.compensation else {
@@ -658,7 +662,9 @@ fn compensation(
             ),
         ));
     }
-    Some(design(e.depth_um, c.ratio, c.geometry))
+    let bar_width_um = (c.geometry == CompensationGeometry::Bar110)
+        .then(|| c.bar_width_um.unwrap_or(default_bar_width_um));
+    Some(design(e.depth_um, c.ratio, c.geometry, bar_width_um))
 }
 
 /// Cross-checks of geometry against the etch steps: depths, teeth spacing, compensators.
@@ -762,38 +768,58 @@ fn compensator_checks(
 ) {
     let t = &g.teeth;
     let (gx, gy) = (t.pitch_x_um - t.top_um, t.pitch_y_um - t.top_um);
+    let (nx, ny) = (c.min_gap.x_um, c.min_gap.y_um);
     // Facing corners: orthogonal neighbours (matrix) across gx or gy; diagonal neighbours
-    // (checkered) across gx and gy at once.
+    // (checkered) across gx and gy at once, and the teeth two cells away along a row or
+    // column (what a bar, reaching along x only, meets first) across pitch + street.
+    let (two_x, two_y) = (gx + t.pitch_x_um, gy + t.pitch_y_um);
     let collide = match t.pattern {
-        TeethPattern::Matrix => gx < c.min_gap_um || gy < c.min_gap_um,
-        _ => gx < c.min_gap_um && gy < c.min_gap_um,
+        TeethPattern::Matrix => gx < nx || gy < ny,
+        _ => (gx < nx && gy < ny) || two_x < nx || two_y < ny,
     };
     let kind = match c.kind {
         CompensationGeometry::CornerAttached => "corner-attached",
         CompensationGeometry::Centred => "centred",
+        CompensationGeometry::Bar110 => "<110> bar",
     };
     if collide {
+        let (needs, leaves, raise) = if nx == ny {
+            (
+                format!("{nx:.1} um"),
+                format!("{gx:.0} x {gy:.0} um"),
+                t.top_um + nx,
+            )
+        } else if t.pattern == TeethPattern::Matrix {
+            (
+                format!("{nx:.1} x {ny:.1} um"),
+                format!("{gx:.0} x {gy:.0} um"),
+                t.top_um + nx,
+            )
+        } else {
+            (
+                format!("{nx:.1} x {ny:.1} um"),
+                format!("{two_x:.0} x {two_y:.0} um two cells apart"),
+                0.5 * (t.top_um + nx),
+            )
+        };
         warnings.push(Finding::error(
             DrcCode::CompensatorsCollide,
             format!(
-                "{kind} compensators of {:.1} um need {:.1} um between facing tooth corners; the \
-                 pitch leaves {:.0} x {:.0} um: they merge into a bridge. Raise the pitch to >= \
-                 {:.0} um",
+                "{kind} compensators of {:.1} um need {needs} between facing tooth corners; the \
+                 pitch leaves {leaves}: they merge into a bridge. Raise the pitch to >= \
+                 {raise:.0} um",
                 c.side_um,
-                c.min_gap_um,
-                gx,
-                gy,
-                t.top_um + c.min_gap_um
             ),
         ));
     }
-    // Outermost teeth: corner squares reach `reach_um` beyond the tooth top.
+    // Outermost teeth: compensators reach `reach` beyond the tooth top.
     let inset = (t.pitch_x_um - t.top_um) / 2.0;
     let inset_y = (t.pitch_y_um - t.top_um) / 2.0;
-    let x0 = t.origin_x_um + inset - c.reach_um;
-    let y0 = t.origin_y_um + inset_y - c.reach_um;
-    let x1 = t.origin_x_um + t.count_x as f64 * t.pitch_x_um - inset + c.reach_um;
-    let y1 = t.origin_y_um + t.count_y as f64 * t.pitch_y_um - inset_y + c.reach_um;
+    let (rx, ry) = (c.reach.x_um, c.reach.y_um);
+    let x0 = t.origin_x_um + inset - rx;
+    let y0 = t.origin_y_um + inset_y - ry;
+    let x1 = t.origin_x_um + t.count_x as f64 * t.pitch_x_um - inset + rx;
+    let y1 = t.origin_y_um + t.count_y as f64 * t.pitch_y_um - inset_y + ry;
     if x0 < 0.0 || y0 < 0.0 || x1 > g.die_length_um || y1 > g.die_width_um {
         warnings.push(Finding::error(
             DrcCode::CompensatorOutsideDie,

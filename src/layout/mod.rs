@@ -209,8 +209,11 @@ fn place_teeth(die: &mut Cell, tooth_name: &str, teeth: &[Tooth]) {
 /// The legend line naming the tooth pattern, size and compensation.
 fn teeth_note(p: &Process, c: &CompensationDesign) -> String {
     let g = &p.geometry;
+    let width = c
+        .bar_width_um
+        .map_or(String::new(), |b| format!(" X {b:.1} UM"));
     format!(
-        "DIE TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM",
+        "DIE TEETH {} {} X {} UM, {} COMPENSATION {:.1} UM{width}",
         yaml(&g.teeth.pattern),
         g.teeth.top_um,
         g.teeth.top_um,

@@ -33,12 +33,17 @@ mod tests {
         #[test]
         fn compensated_tooth_contains_the_plain_one(
             top in 100.0f64..3000.0, depth in 10.0f64..300.0, ratio in 0.4f64..0.7,
-            centred in any::<bool>(), overlap in 1.0f64..20.0,
+            kind in 0usize..3, overlap in 1.0f64..20.0, width in 0.01f64..1.0,
         ) {
-            let kind = if centred { CompensationGeometry::Centred } else { CompensationGeometry::CornerAttached };
-            let c = compensation_design(depth, ratio, kind);
+            let kind = [
+                CompensationGeometry::CornerAttached,
+                CompensationGeometry::Centred,
+                CompensationGeometry::Bar110,
+            ][kind];
+            let bar = (kind == CompensationGeometry::Bar110).then_some(width * top);
+            let c = compensation_design(depth, ratio, kind, bar);
             // layout::build rejects an overlap that swallows the whole square (LayoutError::CompensationOverlap).
-            prop_assume!(kind == CompensationGeometry::Centred || overlap < c.side_um);
+            prop_assume!(kind != CompensationGeometry::CornerAttached || overlap < c.side_um);
             let comp = tooth_cell(top, Some(&c), overlap);
             let plain = tooth_cell(top, None, overlap);
             let mut both = comp.clone();

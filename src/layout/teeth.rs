@@ -1,5 +1,5 @@
-//! Front silicon: square tooth tops on the cell grid, each with a compensation square at its four
-//! convex corners, merged per tooth into one polygon (the tooth cell).
+//! Front silicon: square tooth tops on the cell grid, each with a compensator (a square or a
+//! <110> bar) at its four convex corners, merged per tooth into one polygon (the tooth cell).
 
 use geo::Polygon;
 
@@ -40,11 +40,14 @@ pub fn teeth(t: &Teeth) -> Vec<Tooth> {
     out
 }
 
-/// The compensation squares of a tooth whose top is [0, top]^2.
+/// The compensators of a tooth whose top is [0, top]^2.
 ///
 /// Corner-attached: the square shares the corner and extends diagonally outwards; it is pulled
 /// `overlap_um` into the tooth so tooth and square form one simple polygon (a single shared
 /// vertex would be a self-touching ring). Centred: side from the plan, centred on the corner.
+/// <110> bar: L = `side_um` long along x beyond the corner, b wide, its outer edge on the
+/// tooth's edge (mirrored about the tooth's centre lines), pulled `overlap_um` into the tooth
+/// along x so the union does not rest on a shared edge alone.
 pub fn compensators(top_um: f64, c: &CompensationDesign, overlap_um: f64) -> Vec<Polygon> {
     let mut out = Vec::new();
     for (cx, cy, sx, sy) in [
@@ -61,6 +64,10 @@ pub fn compensators(top_um: f64, c: &CompensationDesign, overlap_um: f64) -> Vec
             CompensationGeometry::Centred => {
                 let h = c.side_um / 2.0;
                 rect(cx - h, cy - h, cx + h, cy + h)
+            }
+            CompensationGeometry::Bar110 => {
+                let b = c.bar_width_um.expect("a bar design carries its width");
+                rect(cx - sx * overlap_um, cy, cx + sx * c.side_um, cy - sy * b)
             }
         };
         out.push(sq);
@@ -85,7 +92,7 @@ mod tests {
 
     #[test]
     fn corner_attached_tooth_is_one_polygon_of_the_expected_area() {
-        let c = compensation_design(200.0, 0.544, CompensationGeometry::CornerAttached);
+        let c = compensation_design(200.0, 0.544, CompensationGeometry::CornerAttached, None);
         let t = tooth_cell(2000.0, Some(&c), 10.0);
         assert_eq!(t.len(), 1);
         let a = c.side_um;
@@ -95,6 +102,32 @@ mod tests {
             "{} vs {expected}",
             t[0].unsigned_area()
         );
+    }
+
+    /// One polygon; area s^2 + 4 L b; the plain top lies inside (XOR of the union with the
+    /// compensated tooth is zero) and the part outside the top is the four bars exactly.
+    #[test]
+    fn bar_tooth_is_one_polygon_of_the_expected_area() {
+        use crate::layout::boolean::{rect, union, xor_area_um2};
+        let (l, b) = (367.647, 50.0);
+        let c = compensation_design(200.0, 200.0 / l, CompensationGeometry::Bar110, Some(b));
+        let t = tooth_cell(2000.0, Some(&c), 10.0);
+        assert_eq!(t.len(), 1);
+        let expected = 2000.0 * 2000.0 + 4.0 * l * b;
+        assert!(
+            (t[0].unsigned_area() - expected).abs() < 1e-3,
+            "{} vs {expected}",
+            t[0].unsigned_area()
+        );
+        let bars = [
+            rect(2000.0, 2000.0 - b, 2000.0 + l, 2000.0),
+            rect(2000.0, 0.0, 2000.0 + l, b),
+            rect(-l, 0.0, 0.0, b),
+            rect(-l, 2000.0 - b, 0.0, 2000.0),
+        ];
+        let mut drawn = vec![rect(0.0, 0.0, 2000.0, 2000.0)];
+        drawn.extend(bars);
+        assert!(xor_area_um2(&union(&drawn), &t) < 1e-6);
     }
 
     #[test]

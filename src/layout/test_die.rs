@@ -10,7 +10,7 @@
 use geo::{Coord, Polygon};
 use serde::Serialize;
 
-use crate::etch::compensation::{design, reach_per_a};
+use crate::etch::compensation::{default_bar_width_um, design, reach_per_a};
 use crate::etch::EtchPlan;
 use crate::process::{CompensationGeometry, Process, Side, StepParams};
 
@@ -46,7 +46,7 @@ pub struct TestDieInfo {
 /// The first front-side silicon etch's compensator a = h / ratio; without a compensation
 /// section the paper's rule a = h / 0.544; none without a front etch.
 pub fn front_rule_a_um(p: &Process) -> Option<f64> {
-    front_compensation(p).map(|(h, r, _)| h / r).or_else(|| {
+    front_compensation(p).map(|(h, r, _, _)| h / r).or_else(|| {
         p.steps.iter().find_map(|s| match &s.params {
             StepParams::SiliconEtch(e) if matches!(e.side, Side::Front | Side::Both) => {
                 Some(e.depth_um / crate::etch::sim::sizing::RULE_RATIO)
@@ -56,13 +56,13 @@ pub fn front_rule_a_um(p: &Process) -> Option<f64> {
     })
 }
 
-/// Depth, ratio and geometry of the first front-side etch's compensation.
-fn front_compensation(p: &Process) -> Option<(f64, f64, CompensationGeometry)> {
+/// Depth, ratio, geometry and stated bar width of the first front-side etch's compensation.
+fn front_compensation(p: &Process) -> Option<(f64, f64, CompensationGeometry, Option<f64>)> {
     p.steps.iter().find_map(|s| match &s.params {
         StepParams::SiliconEtch(e) if matches!(e.side, Side::Front | Side::Both) => e
             .compensation
             .as_ref()
-            .map(|c| (e.depth_um, c.ratio, c.geometry)),
+            .map(|c| (e.depth_um, c.ratio, c.geometry, c.bar_width_um)),
         _ => None,
     })
 }
@@ -91,6 +91,17 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
         .find(|s| matches!(s.side, Side::Front | Side::Both))?;
     let h = front.depth_um;
     let kind = front_compensation(p).map_or(CompensationGeometry::CornerAttached, |c| c.2);
+    // The file's bar width, else the plan's default (computed here too: the plan draws no
+    // compensation when the die has no teeth).
+    let bar_width_um = (kind == CompensationGeometry::Bar110).then(|| {
+        front_compensation(p).and_then(|c| c.3).unwrap_or_else(|| {
+            default_bar_width_um(
+                front.undercut_um,
+                p.drc.min_width_um,
+                p.geometry.teeth.top_um,
+            )
+        })
+    });
     let (centre, centre_from) = match (t.centre_a_um, front_rule_a_um(p)) {
         (Some(c), _) => (c, "layout.test_die.centre_a_um".to_string()),
         (None, Some(r)) => (
@@ -115,22 +126,22 @@ pub fn build(p: &Process, plan: &EtchPlan, cell: &str) -> Option<(Cell, TestDieI
         return None;
     }
     let top = p.geometry.teeth.top_um;
-    let reach = a_um.iter().copied().fold(0.0, f64::max) * reach_per_a(kind);
+    let reach = reach_per_a(kind).scaled(a_um.iter().copied().fold(0.0, f64::max));
     let street = front.min_street_um + p.drc.min_space_um;
-    let pitch = top + 2.0 * reach + street;
+    let pitch = top + 2.0 * reach.x_um + street;
     let pixel = p.layout.label_pixel_um;
     let label = |a: f64| vec![format!("A {a:.0}")];
     let label_h = text::block_size_um(&label(0.0), pixel).1;
     let n = a_um.len() as f64;
     let w = 2.0 * MARGIN_UM + n * pitch - street;
-    let hgt = 2.0 * MARGIN_UM + label_h + LABEL_GAP_UM + 2.0 * reach + top;
-    let y_tooth = MARGIN_UM + label_h + LABEL_GAP_UM + reach;
+    let hgt = 2.0 * MARGIN_UM + label_h + LABEL_GAP_UM + 2.0 * reach.y_um + top;
+    let y_tooth = MARGIN_UM + label_h + LABEL_GAP_UM + reach.y_um;
     let mut c = Cell::default();
     let mut front_polys: Vec<Polygon> = Vec::new();
     let mut teeth_um = Vec::new();
     for (k, &a) in a_um.iter().enumerate() {
-        let x = MARGIN_UM + reach + k as f64 * pitch;
-        let d = design(h, h / a, kind);
+        let x = MARGIN_UM + reach.x_um + k as f64 * pitch;
+        let d = design(h, h / a, kind, bar_width_um);
         front_polys.extend(translate(
             &teeth::tooth_cell(top, Some(&d), overlap),
             x,

@@ -582,6 +582,12 @@ pub enum CompensationGeometry {
     CornerAttached,
     /// Square centred on the convex corner.
     Centred,
+    /// A <110> beam (Bao 1993, named in process-physics.md) at each convex corner, continuing
+    /// the tooth's top edge along die x out into the street: for the corner (+s/2, +s/2) from
+    /// the tooth centre the rectangle x in [s/2, s/2 + L], y in [s/2 - b, s/2], mirrored about
+    /// the tooth's centre lines; L = h / ratio, b = `bar_width_um`.
+    #[serde(rename = "bar_110")]
+    Bar110,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
@@ -591,6 +597,12 @@ pub struct Compensation {
     #[serde(default = "d::compensation_ratio")]
     pub ratio: f64,
     pub geometry: CompensationGeometry,
+    /// Width b of a `bar_110` beam (um; only for that geometry). None: b = 6 R111 t / sin 54.74
+    /// deg, three times the width the two sides' {111} undercut cuts through during the etch
+    /// (R100/R111 spans 12.5-50 about the tables' 30 in process-physics.md, so R111 may be 2.4
+    /// times the table's), at least `drc.min_width_um` and at most the tooth top \[choice\].
+    #[serde(default)]
+    pub bar_width_um: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]

@@ -844,7 +844,7 @@ fn steps(v: &mut V, p: &Process, is_placeholder: &dyn Fn(&str) -> bool) {
                 "%",
             ),
             StepParams::SiliconEtch(s) if !is_placeholder(&format!("{b}.etchant")) => {
-                silicon_etch(v, &b, s, p.wafer.thickness_um)
+                silicon_etch(v, &b, s, p.wafer.thickness_um, p.geometry.teeth.top_um)
             }
             StepParams::MetalEtch(m) => {
                 v.range(&format!("{b}.temp_c"), m.temp_c, 10.0, 90.0, false, "C");
@@ -934,8 +934,9 @@ fn expose(v: &mut V, b: &str, x: &Expose, masks: &[Mask]) {
 }
 
 /// A silicon etch: bath temperature and concentration for its etchant, a depth short of the
-/// wafer, time, measured rate and compensation ratio.
-fn silicon_etch(v: &mut V, b: &str, s: &SiliconEtch, wafer_um: f64) {
+/// wafer, time, measured rate, compensation ratio and a bar's width (no wider than the tooth
+/// top, and only for a bar).
+fn silicon_etch(v: &mut V, b: &str, s: &SiliconEtch, wafer_um: f64, top_um: f64) {
     let (tlo, thi) = etchant_temp_range_c(s.etchant);
     v.range(
         &format!("{b}.temp_c"),
@@ -977,6 +978,21 @@ fn silicon_etch(v: &mut V, b: &str, s: &SiliconEtch, wafer_um: f64) {
             false,
             "",
         );
+        if let Some(w) = c.bar_width_um {
+            let path = format!("{b}.compensation.bar_width_um");
+            if c.geometry == CompensationGeometry::Bar110 {
+                v.positive(&path, w, top_um, "um (at most geometry.teeth.top_um)");
+            } else {
+                v.push(
+                    path,
+                    format!(
+                        "a bar width is given for the `{}` geometry, which draws squares",
+                        crate::spelling::yaml(&c.geometry)
+                    ),
+                    "no bar_width_um, or geometry: bar_110",
+                );
+            }
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 use serde::Serialize;
 
 use crate::drc::DrcReport;
+use crate::etch::compensation::Reach;
 use crate::etch::{limits, EtchPlan, EtchStep, OxidationResult, OxideEtchResult, ResistResult};
 use crate::finding::{Code, EtchCode, Finding};
 use crate::layout::MaskSet;
@@ -192,8 +193,10 @@ pub struct CompensationRow {
     pub depth_um: f64,
     pub ratio: f64,
     pub side_um: f64,
-    pub reach_um: f64,
-    pub min_gap_um: f64,
+    /// Width of a <110> bar; none for squares.
+    pub bar_width_um: Option<f64>,
+    pub reach: Reach,
+    pub min_gap: Reach,
     /// Street between facing tooth corners the pitch leaves (x, y).
     pub street_um: (f64, f64),
     /// Side range for a TMAH test die when the ratio is the KOH rule.
@@ -219,14 +222,26 @@ impl CompensationRow {
             self.step.clone(),
             self.geometry.clone(),
             format!("{:.1}", self.depth_um),
-            format!("{:.1} (h / {})", self.side_um, self.ratio),
-            format!("{:.1}", self.reach_um),
-            format!("{:.1}", self.min_gap_um),
+            match self.bar_width_um {
+                Some(b) => format!("{:.1} (h / {}) x {b:.1} wide", self.side_um, self.ratio),
+                None => format!("{:.1} (h / {})", self.side_um, self.ratio),
+            },
+            xy(self.reach),
+            xy(self.min_gap),
             format!("{:.0} / {:.0}", self.street_um.0, self.street_um.1),
             self.test_die_um
                 .map(|(a, b)| format!("a from {a:.0} to {b:.0} um"))
                 .unwrap_or_else(|| "-".into()),
         ]
+    }
+}
+
+/// One number when x and y agree, else `x / y`.
+fn xy(r: Reach) -> String {
+    if r.x_um == r.y_um {
+        format!("{:.1}", r.x_um)
+    } else {
+        format!("{:.1} / {:.1}", r.x_um, r.y_um)
     }
 }
 
@@ -1035,11 +1050,18 @@ fn silicon_rows(r: &EtchStep, c: &mut Vec<Computed>) {
         ),
     );
     if let Some(k) = &r.compensation {
-        push(
-            "compensation square",
-            format!("{:.1} um", k.side_um),
-            format!("a = h / {} ({})", k.ratio, label(&k.kind)),
-        );
+        match k.bar_width_um {
+            Some(b) => push(
+                "compensation bar",
+                format!("{:.1} x {b:.1} um", k.side_um),
+                format!("L = h / {} ({})", k.ratio, label(&k.kind)),
+            ),
+            None => push(
+                "compensation square",
+                format!("{:.1} um", k.side_um),
+                format!("a = h / {} ({})", k.ratio, label(&k.kind)),
+            ),
+        }
     }
 }
 
@@ -1140,8 +1162,9 @@ fn compensation(p: &Process, plan: &EtchPlan) -> Vec<CompensationRow> {
                 depth_um: s.depth_um,
                 ratio: c.ratio,
                 side_um: c.side_um,
-                reach_um: c.reach_um,
-                min_gap_um: c.min_gap_um,
+                bar_width_um: c.bar_width_um,
+                reach: c.reach,
+                min_gap: c.min_gap,
                 street_um: street,
                 test_die_um: koh_rule
                     .then(|| (0.8 * s.depth_um / c.ratio, 1.5 * s.depth_um / c.ratio)),

@@ -255,7 +255,11 @@ fn size_compensation_reports_each_geometry_against_the_rule() {
     assert!((z["rule_ratio"].as_f64().unwrap() - 0.544).abs() < 1e-12);
     let gs = z["geometries"].as_array().unwrap();
     let names: Vec<&str> = gs.iter().map(|g| g["geometry"].as_str().unwrap()).collect();
-    assert_eq!(names, ["corner_attached", "centred"]);
+    assert_eq!(names, ["corner_attached", "centred", "bar_110"]);
+    // The bar row names its width (the default, 6 side undercuts: 50.0 um); the squares none.
+    let b = gs[2]["bar_width_um"].as_f64().unwrap();
+    assert!((b - 49.97).abs() < 0.01, "{b}");
+    assert!(gs[0].get("bar_width_um").is_none());
     for g in gs {
         let a = g["sized_a_um"].as_f64().unwrap();
         assert!(a >= 0.0 && a <= g["largest_a_um"].as_f64().unwrap() + 1e-9);
@@ -276,6 +280,7 @@ fn size_compensation_reports_each_geometry_against_the_rule() {
         "compensation sizing by simulation",
         "corner_attached:",
         "centred:",
+        "bar_110 (a is the bar's length; 50.0 um wide):",
         "rule a = h/0.544",
     ] {
         assert!(run.stdout.contains(s), "{s}: {}", run.stdout);
@@ -285,4 +290,40 @@ fn size_compensation_reports_each_geometry_against_the_rule() {
     assert_eq!(v, w);
     // Without --simulate: a usage error.
     tactfab(&["etch", REFERENCE, "--size-compensation"]).expect_code(2);
+}
+
+#[test]
+fn bars_are_simulated_and_bad_widths_refused() {
+    let bar = "steps.tmah-etch.compensation.geometry=bar_110";
+    let (_, v) = simulate(&["--set", bar]);
+    assert_eq!(v["steps"][0]["compensation"]["kind"], "bar_110");
+    let s = &v["simulation"];
+    // The bar is used up along its centre line during the etch, and the corner then rounds.
+    let t = s["compensator_consumed_h"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 8.5, "{t}");
+    assert!(s["corner_deviation_um"].as_f64().unwrap() < 0.0);
+    for (w, what) in [("0", "out of range"), ("2500", "out of range")] {
+        let run = tactfab(&[
+            "etch",
+            REFERENCE,
+            "--set",
+            bar,
+            "--set",
+            &format!("steps.tmah-etch.compensation.bar_width_um={w}"),
+        ]);
+        run.expect_code(2);
+        assert!(
+            run.stderr.contains("compensation.bar_width_um") && run.stderr.contains(what),
+            "{}",
+            run.stderr
+        );
+    }
+    let run = tactfab(&[
+        "etch",
+        REFERENCE,
+        "--set",
+        "steps.tmah-etch.compensation.bar_width_um=50",
+    ]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("draws squares"), "{}", run.stderr);
 }

@@ -91,7 +91,8 @@ fn json_contract_and_hand_computed_values() {
     let c = &s["compensation"];
     assert_eq!(c["kind"], "corner_attached");
     close(&c["side_um"], 367.647, 1e-3); // 200 / 0.544
-    close(&c["min_gap_um"], 735.294, 1e-3);
+    close(&c["min_gap"]["x_um"], 735.294, 1e-3);
+    close(&c["min_gap"]["y_um"], 735.294, 1e-3);
 }
 
 #[test]

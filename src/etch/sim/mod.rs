@@ -21,6 +21,8 @@ pub mod tooth;
 #[cfg(test)]
 mod tests_back;
 #[cfg(test)]
+mod tests_bars;
+#[cfg(test)]
 mod tests_closed_form;
 #[cfg(test)]
 mod tests_sizing;

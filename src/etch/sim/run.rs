@@ -83,7 +83,8 @@ pub fn with_corner_error(mut fine: ToothSimulation, coarse: &ToothSimulation) ->
     fine
 }
 
-/// The same with another rate table (the sensitivity sweep).
+/// The same with another rate table (the sensitivity sweep). The step's compensation says what
+/// the masks draw (a bar's consumption is read along the bar).
 pub fn simulate_with(
     p: &Process,
     step: &EtchStep,
@@ -98,6 +99,7 @@ pub fn simulate_with(
         step.time_h,
         p.etchants.etched_corner_tolerance_um,
         FRAMES,
+        step.compensation.and_then(|c| c.bar_width_um),
     )
 }
 

@@ -1,8 +1,8 @@
 //! Compensation sizing by simulation (issue 19, item 3): for the recipe's etchant and time, the
 //! compensator size a (ratio h / a) whose simulated corner lies within
 //! `etchants.etched_corner_tolerance_um`, for each geometry the layout draws (corner-attached
-//! and centred squares), by bracketing and bisection on the corner, compared with the paper's
-//! KOH rule a = h / 0.544.
+//! and centred squares, <110> bars of length a), by bracketing and bisection on the corner,
+//! compared with the paper's KOH rule a = h / 0.544.
 //!
 //! A larger compensator leaves more silicon at the corner (the corner deviation rises with a;
 //! `tests_tooth` checks it), so the corner's zero is bracketed by a = 0 (no compensator: the
@@ -14,7 +14,7 @@
 
 use serde::Serialize;
 
-use crate::etch::compensation::{design, largest_a_um};
+use crate::etch::compensation::{default_bar_width_um, design, largest_a_um};
 use crate::etch::{CompensationDesign, EtchPlan};
 use crate::layout::{LayerKind, MaskSet};
 use crate::process::{CompensationGeometry, Process};
@@ -27,11 +27,12 @@ use super::SimError;
 pub const MAX_BISECTION_STEPS: usize = 8;
 /// The paper's rule a = h / 0.544 (paper 002 sec. VI.A, a KOH rule; process-physics.md).
 pub const RULE_RATIO: f64 = 0.544;
-/// Geometries the layout draws (`src/layout/teeth.rs`). <110> beams (Bao 1993) are named in
-/// reference/process-physics.md without a sizing rule or rates, so they are not drawn.
-pub const GEOMETRIES: [CompensationGeometry; 2] = [
+/// Geometries the layout draws (`src/layout/teeth.rs`). The <110> bar (Bao 1993) has no sizing
+/// rule in reference/process-physics.md; its L is judged against the squares' a = h / 0.544.
+pub const GEOMETRIES: [CompensationGeometry; 3] = [
     CompensationGeometry::CornerAttached,
     CompensationGeometry::Centred,
+    CompensationGeometry::Bar110,
 ];
 
 /// One simulated compensator size.
@@ -74,6 +75,9 @@ pub enum RuleVerdict {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GeometrySizing {
     pub geometry: CompensationGeometry,
+    /// A bar's width b (its a is the length L); absent for squares.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bar_width_um: Option<f64>,
     /// The largest a the teeth can carry ([`largest_a_um`]) and what limits it.
     pub largest_a_um: f64,
     pub limited_by: &'static str,
@@ -135,14 +139,35 @@ pub fn size(
     let h = step.depth_um;
     let tol = p.etchants.etched_corner_tolerance_um;
     let overlap = p.layout.compensation_overlap_um;
+    // A bar is as wide as the front etch's, else the plan's default width.
+    let bar_width_um = step
+        .compensation
+        .and_then(|c| c.bar_width_um)
+        .unwrap_or_else(|| {
+            default_bar_width_um(
+                step.undercut_um,
+                p.drc.min_width_um,
+                p.geometry.teeth.top_um,
+            )
+        });
     let mut m = masks.clone();
+    // The plan says what the masks draw (a bar's consumption is read along the bar).
+    let mut pl = plan.clone();
+    let front = plan
+        .steps
+        .iter()
+        .position(|s| std::ptr::eq(s, step))
+        .expect("the front step is the plan's");
     let mut evaluations = 0;
     let mut coarse_grid_um = 2.0 * grid_um;
     let mut eval = |kind: CompensationGeometry, a: f64| -> Result<Probe, SimError> {
         // A corner-attached square no larger than its overlap lies inside the tooth: none.
         let d: Option<CompensationDesign> = (a > 0.0
             && !(kind == CompensationGeometry::CornerAttached && a <= overlap))
-            .then(|| design(h, h / a, kind));
+            .then(|| {
+                let b = (kind == CompensationGeometry::Bar110).then_some(bar_width_um);
+                design(h, h / a, kind, b)
+            });
         let cell = m
             .cells
             .get_mut(&name)
@@ -151,7 +176,8 @@ pub fn size(
             LayerKind::FrontSi,
             crate::layout::teeth::tooth_cell(p.geometry.teeth.top_um, d.as_ref(), overlap),
         );
-        let s = simulate(p, plan, &m, grid_um)?;
+        pl.steps[front].compensation = d;
+        let s = simulate(p, &pl, &m, grid_um)?;
         evaluations += 1;
         if let Some(e) = s.corner_error {
             coarse_grid_um = e.coarse_grid_um;
@@ -229,6 +255,7 @@ pub fn size(
         };
         geometries.push(GeometrySizing {
             geometry: kind,
+            bar_width_um: (kind == CompensationGeometry::Bar110).then_some(bar_width_um),
             largest_a_um: a_max,
             limited_by,
             sized_a_um: best.a_um,

@@ -94,8 +94,10 @@ pub fn plan_view(sim: &ToothSimulation) -> String {
             .join(", ")
     );
     let corner = format!(
-        "Dashed: drawn mask. Corner {:+.1} um along the diagonal ({:?}), edge undercut {:.1} um.",
-        sim.corner_deviation_um, sim.corner_shape, sim.edge_undercut_um
+        "Dashed: drawn mask. Corner {:+.1} um along the diagonal ({}), edge undercut {:.1} um.",
+        sim.corner_deviation_um,
+        crate::spelling::yaml(&sim.corner_shape),
+        sim.edge_undercut_um
     );
     let place = format!(
         "Tooth ({}, {}) of the die, {:.0} x {:.0} um around its centre, grid {:.2} um.",

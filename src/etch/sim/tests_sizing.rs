@@ -22,7 +22,11 @@ fn with_ratio(p: &Process, ratio: Option<f64>, geometry: CompensationGeometry) -
     for s in &mut q.steps {
         if let StepParams::SiliconEtch(e) = &mut s.params {
             if e.compensation.is_some() {
-                e.compensation = ratio.map(|ratio| Compensation { ratio, geometry });
+                e.compensation = ratio.map(|ratio| Compensation {
+                    ratio,
+                    geometry,
+                    bar_width_um: None,
+                });
             }
         }
     }

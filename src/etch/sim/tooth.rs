@@ -100,7 +100,9 @@ pub struct ToothSimulation {
     pub corner_error: Option<CornerError>,
     /// Mid-edge: drawn edge to etched top edge, > 0 inwards.
     pub edge_undercut_um: f64,
-    /// When the etched top edge on the diagonal first reached the drawn corner; none when the
+    /// When the compensator is used up: for squares, when the etched top edge on the diagonal
+    /// first reaches the drawn corner; for a <110> bar, when the top along the bar's centre
+    /// line (from the tooth centre along x) first ends at the drawn tooth edge. None when the
     /// mask draws nothing beyond the corner or the compensator outlasts the etch.
     pub compensator_consumed_h: Option<f64>,
     /// Deepest floor in the cell (the (100) etch depth).
@@ -129,13 +131,15 @@ pub struct ToothSimulation {
 }
 
 /// Etches `cell` with `table` for `time_h` and reads the tooth off it; `frames` plan-view
-/// contours are kept at equal times.
+/// contours are kept at equal times. `bar_width_um`: the drawn compensator is a <110> bar of
+/// that width (its consumption is read along its centre line), none for squares or nothing.
 pub fn simulate_cell(
     table: RateTable,
     cell: &ToothCell,
     time_h: f64,
     tolerance_um: f64,
     frames: usize,
+    bar_width_um: Option<f64>,
 ) -> Result<ToothSimulation, SimError> {
     let g = cell.grid;
     let stepper = Stepper::new(RateModel::new(table), &g);
@@ -152,10 +156,24 @@ pub fn simulate_cell(
         crossing_on_ray(&f, &g, (cx, cy), (diag, diag), 0.0, street_mid).unwrap_or(street_mid)
             - half * 2f64.sqrt()
     };
+    // A bar's top along its centre line y = s/2 - b/2, beyond the drawn tooth edge x = s/2
+    // (> 0: bar left; the bar lies in the cell's tooth row, so the ray stays in the cell).
+    let bar = |s: &Surface, b: f64| {
+        let f = stepper.top_field(s);
+        crossing_on_ray(&f, &g, (cx, cy + half - b / 2.0), (1.0, 0.0), 0.0, reach).unwrap_or(0.0)
+            - half
+    };
     let mut history = vec![CornerAt {
         time_h: 0.0,
         corner_deviation_um: corner(&s),
     }];
+    let mut bar_history: Vec<CornerAt> = bar_width_um
+        .map(|b| CornerAt {
+            time_h: 0.0,
+            corner_deviation_um: bar(&s, b),
+        })
+        .into_iter()
+        .collect();
     let mut kept = Vec::new();
     let every = (HISTORY_POINTS / frames.max(1)).max(1);
     for k in 1..=HISTORY_POINTS {
@@ -165,6 +183,12 @@ pub fn simulate_cell(
             time_h: t,
             corner_deviation_um: corner(&s),
         });
+        if let Some(b) = bar_width_um {
+            bar_history.push(CornerAt {
+                time_h: t,
+                corner_deviation_um: bar(&s, b),
+            });
+        }
         if k % every == 0 || k == HISTORY_POINTS {
             kept.push(Frame {
                 time_h: t,
@@ -213,7 +237,14 @@ pub fn simulate_cell(
         corner_bridged,
         corner_error: None,
         edge_undercut_um,
-        compensator_consumed_h: consumed(&history, 0.5 * g.dx_um),
+        compensator_consumed_h: consumed(
+            if bar_width_um.is_some() {
+                &bar_history
+            } else {
+                &history
+            },
+            0.5 * g.dx_um,
+        ),
         floor_depth_um,
         floor_residue_height_um,
         floor_residue_area_um2,
@@ -227,8 +258,9 @@ pub fn simulate_cell(
     })
 }
 
-/// The first time the corner deviation falls to 0 (linear between the readings), when it
-/// started more than `drawn_um` (half a cell: a compensator is drawn) above 0.
+/// The first time the corner deviation (or a bar's length) falls to 0 (linear between the
+/// readings), when it started more than `drawn_um` (half a cell: a compensator is drawn) above
+/// 0.
 fn consumed(history: &[CornerAt], drawn_um: f64) -> Option<f64> {
     if history.first()?.corner_deviation_um <= drawn_um {
         return None;
