@@ -33,7 +33,8 @@
 //!    (a manifest of what tactfab wrote, swapped in as a unit).
 //! 7. [`fe`] is a Kirchhoff plate solver (Bogner-Fox-Schmit rectangles, faer supernodal Cholesky in
 //!    a nested-dissection order from the mesh grid) that knows nothing of sensors: meshes,
-//!    thickness regions, line supports (clamped, simple, symmetry lines), loads, reactions,
+//!    thickness regions, line supports (clamped, simple, symmetry lines, elastic edge springs from
+//!    [`fe::footing`]'s beam on a Winkler foundation), loads, reactions,
 //!    strains, mirroring a half solution back to the whole plate, and the one three-mesh error
 //!    estimate ([`fe::ThreeMesh`]). Its second rung, [`fe::VonKarman`], is the large-deflection
 //!    plate on the same mesh (bilinear in-plane displacements beside the bending field, Newton on
@@ -43,8 +44,9 @@
 //!    linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
 //!    St. Venant-Kirchhoff, Newton on the same symbolic analysis).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
-//!    scene's load between the plate and the supports, and reads the electrodes: thickness mode
-//!    Q = d33 F under the supports, extension mode Q = integral of (d31 s1 + d32 s2) under the
+//!    scene's load between the plate and the supports (clamped at the etched walls, or on the
+//!    supports' elastic footing, [`sensor::footing`]), and reads the electrodes: thickness mode
+//!    Q = d33 F under the supports (the footing's pressure under the island on the footing), extension mode Q = integral of (d31 s1 + d32 s2) under the
 //!    plate, V = Q / C. It refines the mesh until the estimated error is under the requested
 //!    [`sensor::Accuracy`] and says which model answered ([`sensor::ModelKind`]), why, and what it
 //!    cost, solving half or a quarter of the plate when the teeth and the loads are

@@ -194,6 +194,43 @@ impl Pattern {
         }
     }
 
+    /// Adds a block coupling the 4 bending dofs of each of `nodes` (neighbours in the stencil;
+    /// `ke` row-major, 4 n x 4 n, node by node) to the values; constrained rows and columns are
+    /// skipped.
+    #[track_caller]
+    pub fn add_node_block(
+        &self,
+        vals: &mut [f64],
+        mesh: &RectMesh,
+        free_index: &[usize],
+        nodes: &[usize],
+        ke: &[f64],
+    ) {
+        let m = self.m;
+        let nxl = mesh.x_um.len();
+        let n = 4 * nodes.len();
+        assert_eq!(ke.len(), n * n, "4 dofs per node");
+        for j in 0..n {
+            let c = free_index[m * nodes[j / 4] + j % 4];
+            if c == CONSTRAINED {
+                continue;
+            }
+            let (ic, jc) = (nodes[j / 4] % nxl, nodes[j / 4] / nxl);
+            for i in 0..n {
+                let (ir, jr) = (nodes[i / 4] % nxl, nodes[i / 4] / nxl);
+                assert!(
+                    ir.abs_diff(ic) <= 1 && jr.abs_diff(jc) <= 1,
+                    "stencil neighbours"
+                );
+                let k = (jr + 1 - jc) * 3 + (ir + 1 - ic);
+                let s = self.slot[9 * m * c + m * k + i % 4];
+                if s != NO_SLOT {
+                    vals[s as usize] += ke[i * n + j];
+                }
+            }
+        }
+    }
+
     /// Assembled lower-triangle values (CSC order) from the element stiffness matrices.
     #[track_caller]
     pub fn values(&self, mesh: &RectMesh, dofs: &DofMap, k: &ElementStiffness) -> Vec<f64> {

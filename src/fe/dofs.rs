@@ -20,6 +20,9 @@ pub struct DofMap {
     pub constrained: Vec<(usize, f64, usize)>,
     /// Reaction group names in order of first appearance.
     pub groups: Vec<String>,
+    /// Free dofs held by edge springs (w and the normal slope of each spring node): they remove
+    /// rigid-body modes as constraints would.
+    pub elastic: Vec<usize>,
 }
 
 /// Global dofs of an element in BFS local order.
@@ -109,6 +112,21 @@ impl DofMap {
             let g = group_id(&p.group, &mut groups);
             owner[4 * mesh.node(i, j) + p.dof.offset()] = Some((p.value, g));
         }
+        let mut elastic = Vec::new();
+        for s in &problem.edge_springs {
+            let normal = match s.along {
+                Axis::X => 2,
+                Axis::Y => 1,
+            };
+            for seg in crate::fe::edge_spring::segments(mesh, s)? {
+                for n in seg.nodes {
+                    elastic.extend([4 * n, 4 * n + normal]);
+                }
+            }
+            group_id(&s.group, &mut groups);
+        }
+        elastic.sort_unstable();
+        elastic.dedup();
         let mut free_index = vec![CONSTRAINED; n_dofs];
         let mut free_dofs = Vec::new();
         let mut constrained = Vec::new();
@@ -127,6 +145,7 @@ impl DofMap {
             free_dofs,
             constrained,
             groups,
+            elastic,
         })
     }
 
@@ -154,7 +173,8 @@ impl DofMap {
         let (xc, yc, l) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), (x1 - x0).max(y1 - y0));
         let nxl = mesh.x_um.len();
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 3];
-        for &(d, _, _) in &self.constrained {
+        let held = self.constrained.iter().map(|c| c.0);
+        for d in held.chain(self.elastic.iter().copied()) {
             let node = d / 4;
             let (x, y) = (
                 (mesh.x_um[node % nxl] - xc) / l,

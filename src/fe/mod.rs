@@ -27,7 +27,9 @@ pub mod cholesky;
 pub mod clip;
 pub mod convergence;
 pub mod dofs;
+pub mod edge_spring;
 pub mod error;
+pub mod footing;
 pub mod loads;
 pub mod mass;
 pub mod material;
@@ -46,6 +48,8 @@ pub mod vonkarman;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_footing;
+#[cfg(test)]
 mod tests_leissa;
 #[cfg(test)]
 mod tests_modal;
@@ -60,7 +64,8 @@ pub use material::{BendingStiffness, DieEdge, PlateMaterial};
 pub use mesh::{RectMesh, RefinePoint};
 pub use modal::{natural_frequencies, ModalOptions, Mode, Modes};
 pub use problem::{
-    Axis, Dof, LineSupport, Load, PlateProblem, PrescribedDof, RectUm, SupportKind, ThicknessRegion,
+    Axis, Dof, EdgeSpring, LineSupport, Load, PlateProblem, PrescribedDof, RectUm, SupportKind,
+    ThicknessRegion,
 };
 pub use quarter_square::quarter_square;
 pub use solution::{

@@ -50,6 +50,24 @@ pub struct LineSupport {
     pub to_um: f64,
 }
 
+/// An elastic support along a mesh line: a distributed spring on the deflection w and the slope
+/// normal to the line, per unit length of the line (an edge on an elastic footing,
+/// [`crate::fe::footing`]). Its force in the load direction is reported as the group's reaction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EdgeSpring {
+    pub group: String,
+    pub along: Axis,
+    pub at_um: f64,
+    pub from_um: f64,
+    pub to_um: f64,
+    /// +1 if the spring's slope theta is +dw/d(normal axis), -1 if it is -dw/d(normal axis): the
+    /// slope taken pointing away from the plate, into the footing.
+    pub outward: f64,
+    /// Stiffness per unit length on (w, theta): [[N/m^2, N/m], [N/m, N]] (symmetric, positive
+    /// definite).
+    pub stiffness: [[f64; 2]; 2],
+}
+
 /// Nodal degree of freedom of the BFS element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum Dof {
@@ -161,6 +179,8 @@ pub struct PlateProblem {
     pub thickness_regions: Vec<ThicknessRegion>,
     pub material: PlateMaterial,
     pub supports: Vec<LineSupport>,
+    /// Elastic edge supports (springs on w and the normal slope along a line).
+    pub edge_springs: Vec<EdgeSpring>,
     pub prescribed: Vec<PrescribedDof>,
     pub load_cases: Vec<Vec<Load>>,
 }
@@ -174,6 +194,7 @@ impl PlateProblem {
             thickness_regions: Vec::new(),
             material,
             supports: Vec::new(),
+            edge_springs: Vec::new(),
             prescribed: Vec::new(),
             load_cases: Vec::new(),
         }

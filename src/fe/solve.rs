@@ -3,10 +3,11 @@
 use crate::fe::assemble::{ElementStiffness, Pattern};
 use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::dofs::DofMap;
+use crate::fe::edge_spring::{self, SpringSegment};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
 use crate::fe::ordering::free_dof_order;
-use crate::fe::problem::{Load, PlateProblem};
+use crate::fe::problem::{EdgeSpring, Load, PlateProblem};
 use crate::fe::solution::NodalReaction;
 use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
 use faer::sparse::SparseColMat;
@@ -29,6 +30,30 @@ pub struct Factorised {
     /// Elements with a constrained dof: K u there gives the reactions (and K u_fixed the
     /// prescribed values' load) without a product over the whole plate.
     support_elements: Vec<usize>,
+    /// Edge springs with their segments on this mesh.
+    springs: Vec<Springs>,
+}
+
+pub(crate) type Springs = (EdgeSpring, Vec<SpringSegment>);
+
+pub(crate) fn springs_of(problem: &PlateProblem) -> FeResult<Vec<Springs>> {
+    problem
+        .edge_springs
+        .iter()
+        .map(|s| Ok((s.clone(), edge_spring::segments(&problem.mesh, s)?)))
+        .collect()
+}
+
+fn values_with_springs(
+    pattern: &Pattern,
+    mesh: &crate::fe::mesh::RectMesh,
+    dofs: &DofMap,
+    kel: &ElementStiffness,
+    springs: &[Springs],
+) -> Vec<f64> {
+    let mut vals = pattern.values(mesh, dofs, kel);
+    edge_spring::add_to_values(pattern, &mut vals, mesh, &dofs.free_index, springs);
+    vals
 }
 
 fn support_elements(mesh: &crate::fe::mesh::RectMesh, dofs: &DofMap) -> Vec<usize> {
@@ -79,7 +104,8 @@ impl Factorised {
         let symbolic = SymbolicFactor::new(pattern.symbolic.as_ref(), &order)?;
         let thickness = problem.element_thickness_um();
         let kel = ElementStiffness::new(problem, &thickness)?;
-        let vals = pattern.values(mesh, &dofs, &kel);
+        let springs = springs_of(problem)?;
+        let vals = values_with_springs(&pattern, mesh, &dofs, &kel, &springs);
         let llt = numeric(&symbolic, &pattern, vals)?;
         let ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
@@ -97,6 +123,7 @@ impl Factorised {
             ctx,
             key: pattern_key(problem),
             support_elements,
+            springs,
         })
     }
 
@@ -117,7 +144,13 @@ impl Factorised {
         let llt = numeric(
             &self.symbolic,
             &self.pattern,
-            self.pattern.values(&problem.mesh, &self.dofs, &kel),
+            values_with_springs(
+                &self.pattern,
+                &problem.mesh,
+                &self.dofs,
+                &kel,
+                &self.springs,
+            ),
         )?;
         self.kel = kel;
         self.llt = llt;
@@ -162,11 +195,13 @@ impl Factorised {
         }
         let thickness = problem.element_thickness_um();
         let kel = ElementStiffness::new(problem, &thickness)?;
+        let springs = springs_of(problem)?;
         let llt = numeric(
             &self.symbolic,
             &self.pattern,
-            self.pattern.values(mesh, &dofs, &kel),
+            values_with_springs(&self.pattern, mesh, &dofs, &kel, &springs),
         )?;
+        self.springs = springs;
         self.kel = kel;
         self.llt = llt;
         self.dofs = dofs;
@@ -262,6 +297,23 @@ impl Factorised {
                             force_n: r,
                         });
                     }
+                }
+                // An edge spring carries K_s u at its w dofs.
+                for (i, node, f) in edge_spring::nodal_forces(&self.springs, &u, 4) {
+                    let g = self
+                        .dofs
+                        .groups
+                        .iter()
+                        .position(|g| *g == self.springs[i].0.group)
+                        .expect("DofMap names every spring group");
+                    by_group[g] += f;
+                    let (ii, jj) = (node % (mesh.nx() + 1), node / (mesh.nx() + 1));
+                    nodal.push(NodalReaction {
+                        group: self.dofs.groups[g].clone(),
+                        x_um: mesh.x_um[ii],
+                        y_um: mesh.y_um[jj],
+                        force_n: f,
+                    });
                 }
                 let applied_force_n = forces[c].iter().step_by(4).sum();
                 let reactions = self

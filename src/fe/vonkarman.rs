@@ -34,7 +34,7 @@ use crate::fe::loads::load_vector;
 use crate::fe::material::PlateMaterial;
 use crate::fe::mesh::RectMesh;
 use crate::fe::ordering::node_dof_order;
-use crate::fe::problem::{Axis, Load, PlateProblem, SupportKind};
+use crate::fe::problem::{Axis, LineSupport, Load, PlateProblem, SupportKind};
 use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionContext};
 
 mod deflection_control;
@@ -337,6 +337,8 @@ pub struct VonKarman {
     kinds: Vec<ElementKind>,
     kind: Vec<u32>,
     ctx: Arc<SolutionContext>,
+    /// Edge springs (bending dofs only; their lines hold the in-plane dofs as a support does).
+    springs: Vec<crate::fe::solve::Springs>,
 }
 
 /// Global dofs (6 per node) of an element in the local order of [`ElementKind::evaluate`].
@@ -412,7 +414,16 @@ fn constraints(
     let group = |name: &str| bending.groups.iter().position(|g| g == name).unwrap_or(0);
     let mut sliding_anchor = None;
     let mut any_mirror_x = false;
-    for s in &problem.supports {
+    let spring_lines = problem.edge_springs.iter().map(|e| LineSupport {
+        group: e.group.clone(),
+        kind: SupportKind::Clamped,
+        along: e.along,
+        at_um: e.at_um,
+        from_um: e.from_um,
+        to_um: e.to_um,
+    });
+    for s in problem.supports.iter().cloned().chain(spring_lines) {
+        let s = &s;
         let (line_axis, span_axis) = match s.along {
             Axis::X => (&mesh.y_um, &mesh.x_um),
             Axis::Y => (&mesh.x_um, &mesh.y_um),
@@ -533,6 +544,7 @@ impl VonKarman {
                 material: problem.material,
                 groups: bending.groups,
             }),
+            springs: crate::fe::solve::springs_of(problem)?,
         })
     }
 
@@ -562,6 +574,16 @@ impl VonKarman {
                 self.pattern
                     .add_element(vals, &free, &CORNER, &NODE_DOF, &k);
             }
+        }
+        crate::fe::edge_spring::add_forces(&self.springs, u, M, &mut r);
+        if let Some(vals) = vals.as_mut() {
+            crate::fe::edge_spring::add_to_values(
+                &self.pattern,
+                vals,
+                &self.mesh,
+                &self.free_index,
+                &self.springs,
+            );
         }
         (r, vals)
     }
@@ -845,6 +867,20 @@ impl VonKarman {
                     force_n: r,
                 });
             }
+        }
+        for (i, node, force) in crate::fe::edge_spring::nodal_forces(&self.springs, &u, M) {
+            let g = self
+                .groups
+                .iter()
+                .position(|g| *g == self.springs[i].0.group)
+                .expect("DofMap names every spring group");
+            by_group[g] += force;
+            nodal.push(NodalReaction {
+                group: self.groups[g].clone(),
+                x_um: mesh.x_um[node % nxl],
+                y_um: mesh.y_um[node / nxl],
+                force_n: force,
+            });
         }
         let applied: f64 = f.iter().step_by(M).sum();
         let w: Vec<f64> = (0..mesh.n_nodes())

@@ -84,6 +84,9 @@ pub fn pvdf_density_g_per_cm3() -> f64 {
 pub fn base_kind() -> super::schema::BaseKind {
     super::schema::BaseKind::Plexiglas
 }
+pub fn support_model() -> super::schema::SupportModel {
+    super::schema::SupportModel::Clamped
+}
 pub fn base_thickness_um() -> f64 {
     2000.0
 }
@@ -313,6 +316,10 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "materials.base.kind",
         source: "reference/fe-validation.md: Plexiglas base 30 x 15 x 2 mm [paper 001]",
+    },
+    DefaultSource {
+        path: "materials.base.support_model",
+        source: "[choice] clamped; elastic_footing is closer to the solid on Plexiglas, not on a rigid base or at 1 N (README)",
     },
     DefaultSource {
         path: "materials.base.thickness_um",

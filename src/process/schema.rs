@@ -210,11 +210,25 @@ pub enum BaseKind {
     Rigid,
 }
 
+/// How the plate rungs hold the plate where the etched walls meet it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SupportModel {
+    /// An ideal clamp (w and the normal slope held).
+    Clamped,
+    /// Each support is a beam on the film (and the base) as a Winkler foundation: edge springs
+    /// from Hetenyi's end stiffness, and the support electrodes read the foundation pressure.
+    ElasticFooting,
+}
+
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BaseMaterial {
     #[serde(default = "d::base_kind")]
     pub kind: BaseKind,
+    /// How the plate rungs hold the plate at the supports (the solid rung models them).
+    #[serde(default = "d::support_model")]
+    pub support_model: SupportModel,
     #[serde(default = "d::base_thickness_um")]
     pub thickness_um: f64,
     #[serde(default = "d::base_e_gpa")]
@@ -227,6 +241,7 @@ impl Default for BaseMaterial {
     fn default() -> Self {
         BaseMaterial {
             kind: d::base_kind(),
+            support_model: d::support_model(),
             thickness_um: d::base_thickness_um(),
             e_gpa: d::base_e_gpa(),
             nu: d::base_nu(),

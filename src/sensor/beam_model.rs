@@ -25,9 +25,13 @@ pub struct BeamAnswer {
 }
 
 /// True when the strip model describes the scene: a line load across the whole length, strictly
-/// inside the span, on a plate without teeth (uniform D along the span).
+/// inside the span, on a plate without teeth (uniform D along the span), clamped at the walls.
 pub fn beam_applies(g: &SensorGeometry, y_um: f64) -> bool {
-    g.teeth.is_empty() && y_um > g.plate_y0_um && y_um < g.plate_y1_um
+    // The strip is clamped at both walls: no rung for the elastic footing.
+    g.teeth.is_empty()
+        && y_um > g.plate_y0_um
+        && y_um < g.plate_y1_um
+        && g.support_model == crate::process::SupportModel::Clamped
 }
 
 /// Estimated relative error of the strip readings against the plate.

@@ -1414,12 +1414,26 @@ pub(super) fn build_problem(
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();
     let (x0, x1, y0, y1) = sym.domain_um;
-    for (side, y) in [
-        (ElectrodeSide::Support1, g.plate_y0_um),
-        (ElectrodeSide::Support2, g.plate_y1_um),
+    let footing = (g.support_model == crate::process::SupportModel::ElasticFooting)
+        .then(|| super::footing::SupportFooting::new(g).edge_stiffness());
+    for (side, y, outward) in [
+        (ElectrodeSide::Support1, g.plate_y0_um, -1.0),
+        (ElectrodeSide::Support2, g.plate_y1_um, 1.0),
     ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();
+            if let Some(stiffness) = footing {
+                p.edge_springs.push(crate::fe::EdgeSpring {
+                    group,
+                    along: FeAxis::X,
+                    at_um: y,
+                    from_um: x0,
+                    to_um: x1,
+                    outward,
+                    stiffness,
+                });
+                continue;
+            }
             p.supports.push(LineSupport {
                 group,
                 kind: SupportKind::Clamped,

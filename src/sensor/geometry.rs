@@ -59,8 +59,11 @@ pub struct SensorGeometry {
     pub etched: EtchedShape,
     /// Silicon's elastic constants as the process gives them (the solid rung rotates them).
     pub silicon: SiliconStiffness,
-    /// What the sensor stands on (the solid rung models it; the plate rungs clamp the plate).
+    /// What the sensor stands on (the solid rung models it; the plate rungs clamp the plate or
+    /// put it on the supports' elastic footing, `support_model`).
     pub base: Base,
+    /// How the plate rungs hold the plate where the etched walls meet it.
+    pub support_model: crate::process::SupportModel,
 }
 
 /// What the etch leaves in 3D, in die coordinates (um).
@@ -193,6 +196,7 @@ impl SensorGeometry {
                     nu: p.materials.base.nu,
                 },
             },
+            support_model: p.materials.base.support_model,
         }
     }
 

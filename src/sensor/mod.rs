@@ -13,6 +13,7 @@ mod beam_model;
 mod check;
 mod convergence_plot;
 mod evaluate;
+pub mod footing;
 mod geometry;
 mod mesh_lines;
 mod modal;

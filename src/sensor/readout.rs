@@ -2,9 +2,11 @@
 
 use serde::Serialize;
 
-use crate::fe::{PlateSolution, RectUm};
-use crate::process::Axis;
+use crate::fe::edge_spring;
+use crate::fe::{Axis as FeAxis, EdgeSpring, PlateSolution, RectUm};
+use crate::process::{Axis, SupportModel};
 
+use super::footing::SupportFooting;
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::scene::DirectLoad;
 
@@ -71,6 +73,62 @@ fn edge_force(sol: &PlateSolution, side: ElectrodeSide, x0: f64, x1: f64) -> f64
     f
 }
 
+/// Force through an electrode's island on an elastic footing: the foundation pressure under the
+/// support (Hetenyi's w(s) times k for the plate's w and slope at the clamp line) integrated
+/// over the island's extent from the footing's edge and along the wall (4-point Gauss per mesh
+/// segment: w and the slope are cubic along the edge, the force linear in them).
+pub(super) fn footing_force(
+    g: &SensorGeometry,
+    ft: &SupportFooting,
+    sol: &PlateSolution,
+    side: ElectrodeSide,
+    e: &super::geometry::ElectrodeArea,
+) -> f64 {
+    let (y_line, outward, s0, s1) = match side {
+        ElectrodeSide::Support1 => {
+            let edge = g.etched.support_edge_y_um;
+            (g.plate_y0_um, -1.0, edge - e.y1_um, edge - e.y0_um)
+        }
+        _ => {
+            let edge = g.width_um - g.etched.support_edge_y_um;
+            (g.plate_y1_um, 1.0, e.y0_um - edge, e.y1_um - edge)
+        }
+    };
+    let mesh = sol.mesh();
+    let line = EdgeSpring {
+        group: String::new(),
+        along: FeAxis::X,
+        at_um: y_line,
+        from_um: mesh.x_um[0],
+        to_um: *mesh.x_um.last().unwrap_or(&0.0),
+        outward,
+        stiffness: [[0.0; 2]; 2],
+    };
+    let Ok(segs) = edge_spring::segments(mesh, &line) else {
+        return 0.0;
+    };
+    const G: [(f64, f64); 4] = [
+        (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+        (-0.339_981_043_584_856_26, 0.652_145_154_862_546_2),
+        (0.339_981_043_584_856_26, 0.652_145_154_862_546_2),
+        (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
+    ];
+    let mut f = 0.0;
+    for seg in &segs {
+        let (a, b) = (seg.t_um[0].max(e.x0_um), seg.t_um[1].min(e.x1_um));
+        if b <= a {
+            continue;
+        }
+        for (xi, wq) in G {
+            let x = 0.5 * (a + b) + 0.5 * (b - a) * xi;
+            if let Some((w, t)) = edge_spring::edge_state(&line, &segs, sol.dofs(), x) {
+                f += 0.5 * (b - a) * 1e-6 * wq * ft.force_per_length(w, t, s0, s1);
+            }
+        }
+    }
+    f
+}
+
 /// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
 /// extension mode Q = integral of (d31 s1 + d32 s2) dA over each middle electrode with s the
 /// plane-stress PVDF stress from the strain at the film's mid-plane, half a film thickness under
@@ -98,6 +156,7 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
         }
     }
     let ep = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu);
+    let footing = (g.support_model == SupportModel::ElasticFooting).then(|| SupportFooting::new(g));
     for e in &g.electrodes {
         let c_f = g.capacitance_f(e.area_um2);
         let (charge_pc, force_n) = match e.side {
@@ -126,7 +185,10 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
             }
             side => {
                 let mut f = sol
-                    .map(|s| edge_force(s, side, e.x0_um, e.x1_um))
+                    .map(|s| match &footing {
+                        Some(ft) => footing_force(g, ft, s, side, e),
+                        None => edge_force(s, side, e.x0_um, e.x1_um),
+                    })
                     .unwrap_or(0.0);
                 for d in direct.iter().filter(|d| d.side == side) {
                     let overlap = (d.x1_um.min(e.x1_um) - d.x0_um.max(e.x0_um)).max(0.0);

@@ -1,0 +1,196 @@
+//! Elastic edge supports ([`EdgeSpring`]): a distributed spring on w and the normal slope along a
+//! mesh line, integrated with the BFS element's own edge interpolation (along a line the BFS
+//! field is Hermite-cubic in w with the tangential slope, and in the normal slope with the twist;
+//! Bogner, Fox, Schmit 1965), so the springs add no dofs and fall inside the existing stencil.
+
+use crate::fe::dofs::find_line;
+use crate::fe::error::{FeError, FeResult};
+use crate::fe::mesh::RectMesh;
+use crate::fe::problem::{Axis, EdgeSpring};
+
+/// One segment of a spring's line: its two nodes (start, end) and its length (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpringSegment {
+    pub nodes: [usize; 2],
+    /// Tangential coordinates of the two nodes (um).
+    pub t_um: [f64; 2],
+}
+
+/// Segments of the spring's line within [from_um, to_um]; an error if the line is not a mesh line
+/// or holds no segment.
+pub fn segments(mesh: &RectMesh, s: &EdgeSpring) -> FeResult<Vec<SpringSegment>> {
+    let (line_axis, span_axis) = match s.along {
+        Axis::X => (&mesh.y_um, &mesh.x_um),
+        Axis::Y => (&mesh.x_um, &mesh.y_um),
+    };
+    let k = find_line(line_axis, s.at_um).ok_or_else(|| FeError::SupportNotOnMeshLine {
+        group: s.group.clone(),
+        at_um: s.at_um,
+        hint: "add the spring line's position to the required mesh lines",
+    })?;
+    let (lo, hi) = (s.from_um.min(s.to_um), s.from_um.max(s.to_um));
+    let tol = 1e-9 * (span_axis.last().unwrap() - span_axis[0]);
+    let node = |m: usize| match s.along {
+        Axis::X => mesh.node(m, k),
+        Axis::Y => mesh.node(k, m),
+    };
+    let out: Vec<SpringSegment> = span_axis
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| w[0] >= lo - tol && w[1] <= hi + tol)
+        .map(|(m, w)| SpringSegment {
+            nodes: [node(m), node(m + 1)],
+            t_um: [w[0], w[1]],
+        })
+        .collect();
+    if out.is_empty() {
+        return Err(FeError::EmptySupport {
+            group: s.group.clone(),
+            hint: "check the spring's from_um/to_um against the plate size",
+        });
+    }
+    Ok(out)
+}
+
+/// Hermite cubics on [0, 1] (values at the ends, slopes scaled by the length h).
+fn hermite(xi: f64, h: f64) -> [f64; 4] {
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        h * (xi - 2.0 * x2 + x3),
+        3.0 * x2 - 2.0 * x3,
+        h * (x3 - x2),
+    ]
+}
+
+/// Row vectors N_w and N_theta over the segment's 8 dofs (node a: w, w_x, w_y, w_xy; node b
+/// likewise) at xi.
+fn shape_rows(s: &EdgeSpring, xi: f64, h_m: f64) -> ([f64; 8], [f64; 8]) {
+    let hm = hermite(xi, h_m);
+    let (tang, normal, twist) = match s.along {
+        Axis::X => (1, 2, 3),
+        Axis::Y => (2, 1, 3),
+    };
+    let (mut nw, mut nt) = ([0.0; 8], [0.0; 8]);
+    for (node, (v, d)) in [(0, (hm[0], hm[1])), (1, (hm[2], hm[3]))] {
+        nw[4 * node] = v;
+        nw[4 * node + tang] = d;
+        nt[4 * node + normal] = s.outward * v;
+        nt[4 * node + twist] = s.outward * d;
+    }
+    (nw, nt)
+}
+
+const GAUSS4: [(f64, f64); 4] = [
+    (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
+    (0.330_009_478_207_571_87, 0.326_072_577_431_273_07),
+    (0.669_990_521_792_428_1, 0.326_072_577_431_273_07),
+    (0.930_568_155_797_026_3, 0.173_927_422_568_726_93),
+];
+
+/// Segment stiffness int (N^T K N) dt over the segment (8 x 8, row-major by the dofs of
+/// shape_rows); 4-point Gauss is exact for the products of cubics.
+pub fn segment_matrix(s: &EdgeSpring, seg: &SpringSegment) -> [[f64; 8]; 8] {
+    let h = (seg.t_um[1] - seg.t_um[0]) * 1e-6;
+    let k = s.stiffness;
+    let mut m = [[0.0; 8]; 8];
+    for (xi, wq) in GAUSS4 {
+        let (nw, nt) = shape_rows(s, xi, h);
+        for i in 0..8 {
+            let ai = k[0][0] * nw[i] + k[0][1] * nt[i];
+            let bi = k[1][0] * nw[i] + k[1][1] * nt[i];
+            for j in 0..8 {
+                m[i][j] += wq * h * (ai * nw[j] + bi * nt[j]);
+            }
+        }
+    }
+    m
+}
+
+/// (w, theta) of the spring's line at tangential coordinate t_um from the global dofs `u` (4
+/// bending dofs per node; theta pointing away from the plate, as the spring takes it); None off
+/// the line's segments.
+pub fn edge_state(
+    s: &EdgeSpring,
+    segs: &[SpringSegment],
+    u: &[f64],
+    t_um: f64,
+) -> Option<(f64, f64)> {
+    let seg = segs
+        .iter()
+        .find(|g| t_um >= g.t_um[0] && t_um <= g.t_um[1])?;
+    let h = (seg.t_um[1] - seg.t_um[0]) * 1e-6;
+    let xi = (t_um - seg.t_um[0]) / (seg.t_um[1] - seg.t_um[0]);
+    let (nw, nt) = shape_rows(s, xi, h);
+    let ue = segment_dofs(seg, 4).map(|d| u[d]);
+    let w = nw.iter().zip(&ue).map(|(a, b)| a * b).sum();
+    let t = nt.iter().zip(&ue).map(|(a, b)| a * b).sum();
+    Some((w, t))
+}
+
+/// Adds every spring's segment matrices to the assembled lower-triangle values of `pattern`.
+pub fn add_to_values(
+    pattern: &crate::fe::assemble::Pattern,
+    vals: &mut [f64],
+    mesh: &RectMesh,
+    free_index: &[usize],
+    springs: &[(EdgeSpring, Vec<SpringSegment>)],
+) {
+    for (s, segs) in springs {
+        for seg in segs {
+            let m = segment_matrix(s, seg);
+            let flat: Vec<f64> = m.iter().flatten().copied().collect();
+            pattern.add_node_block(vals, mesh, free_index, &seg.nodes, &flat);
+        }
+    }
+}
+
+/// Global dofs of a segment in [`segment_matrix`] order, `m` dofs per node (the 4 bending dofs
+/// first).
+pub fn segment_dofs(seg: &SpringSegment, m: usize) -> [usize; 8] {
+    std::array::from_fn(|i| m * seg.nodes[i / 4] + i % 4)
+}
+
+/// Adds the springs' forces K_s u to the internal force `r` (`m` dofs per node).
+pub fn add_forces(
+    springs: &[(EdgeSpring, Vec<SpringSegment>)],
+    u: &[f64],
+    m: usize,
+    r: &mut [f64],
+) {
+    for (s, segs) in springs {
+        for seg in segs {
+            let k = segment_matrix(s, seg);
+            let dofs = segment_dofs(seg, m);
+            for i in 0..8 {
+                r[dofs[i]] += (0..8).map(|j| k[i][j] * u[dofs[j]]).sum::<f64>();
+            }
+        }
+    }
+}
+
+/// Force each spring node takes in the load direction, (K_s u) at its w dof, per node of every
+/// spring: (spring index, node, force N); `m` dofs per node.
+pub fn nodal_forces(
+    springs: &[(EdgeSpring, Vec<SpringSegment>)],
+    u: &[f64],
+    m: usize,
+) -> Vec<(usize, usize, f64)> {
+    let mut out: Vec<(usize, usize, f64)> = Vec::new();
+    for (i, (s, segs)) in springs.iter().enumerate() {
+        for seg in segs {
+            let k = segment_matrix(s, seg);
+            let dofs = segment_dofs(seg, m);
+            for (a, row) in [(0usize, 0usize), (1, 4)] {
+                let f: f64 = (0..8).map(|j| k[row][j] * u[dofs[j]]).sum();
+                let node = seg.nodes[a];
+                // Segments run in order: a shared node is the last one pushed.
+                match out.last_mut() {
+                    Some(o) if o.0 == i && o.1 == node => o.2 += f,
+                    _ => out.push((i, node, f)),
+                }
+            }
+        }
+    }
+    out
+}

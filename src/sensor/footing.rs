@@ -1,0 +1,261 @@
+//! The supports' elastic footing for the plate rungs (`materials.base.support_model:
+//! elastic_footing`): each support, a strip of silicon of the support height plus the plate
+//! thickness from its etched footprint edge to the die edge, is a beam on the PVDF film and the
+//! base as a Winkler foundation ([`crate::fe::footing::FootingBeam`], Hetenyi 1946). Its end
+//! stiffness, carried to the clamp line, holds the plate there instead of the clamp; the support
+//! electrodes read the foundation pressure under their islands.
+
+use crate::fe::footing::{FootingBeam, FootingShape};
+
+use super::geometry::{Base, SensorGeometry};
+
+/// One support's footing, the same for both supports (they mirror).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupportFooting {
+    pub beam: FootingBeam,
+    /// Distance from the clamp line (where the etched wall meets the plate) out to the footing's
+    /// edge on the film (um): the {111} wall's run-out, taken as a rigid link \[choice\].
+    pub offset_um: f64,
+    /// The film's and the base's foundation moduli (N/m^3) in series make `beam.k_pa_per_m`.
+    pub film_k_pa_per_m: f64,
+    pub base_k_pa_per_m: f64,
+}
+
+/// Constrained (oedometric) modulus E (1 - nu) / ((1 + nu)(1 - 2 nu)): a layer thin against the
+/// load's length scale, bonded on both faces, compressed without lateral strain.
+fn constrained_modulus_pa(e_pa: f64, nu: f64) -> f64 {
+    e_pa * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))
+}
+
+impl SupportFooting {
+    /// The footing of the design's supports.
+    ///
+    /// - Beam: D = Q22 h^3 / 12 per unit length along the wall (cylindrical bending across the
+    ///   support, silicon's reduced stiffness in the die's y direction), h = support height +
+    ///   plate thickness; length from the footprint edge to the die edge, free there.
+    /// - Film: k_f = E_oed / t_f (the film is 25 um against a foundation length of tenths of a
+    ///   mm).
+    /// - Base (2 mm Plexiglas, held at its bottom), \[choice\]: Vesic's half-space modulus for a
+    ///   beam of width b (A. B. Vesic, "Beams on elastic subgrade and the Winkler's hypothesis",
+    ///   Proc. 5th ICSMFE, Paris 1961, vol. 1, 845-850): k = 0.65 (E_s b^4 / (E I))^(1/12)
+    ///   E_s / ((1 - nu_s^2) b) with b = 1 / lambda, the width over which the footing pressure
+    ///   acts (E I = D b), plus the layer's own Winkler stiffness E_oed / H so that the
+    ///   thinness of the layer (2 mm against a pressure wave 2 pi / lambda long) stiffens it;
+    ///   the sum bridges the half-space (short waves) and the thin layer (long waves). lambda
+    ///   and k are iterated to a fixed point. A rigid base adds nothing.
+    pub fn new(g: &SensorGeometry) -> Self {
+        let h_m = (g.etched.support_height_um + g.plate_thickness_um) * 1e-6;
+        let d_nm = g.material.bending_stiffness(h_m).d22_nm;
+        let film_k = constrained_modulus_pa(g.pvdf_e_pa, g.pvdf_nu) / (g.film_thickness_um * 1e-6);
+        let length_m = g.etched.support_edge_y_um.max(1.0) * 1e-6;
+        let offset_um = (g.plate_y0_um - g.etched.support_edge_y_um).max(0.0);
+        let base_k = |lambda: f64| match g.base {
+            Base::Rigid => f64::INFINITY,
+            Base::Elastic {
+                thickness_um,
+                e_pa,
+                nu,
+            } => {
+                let b = 1.0 / lambda;
+                let half_space = 0.65 * (e_pa * b.powi(3) / d_nm).powf(1.0 / 12.0) * e_pa
+                    / ((1.0 - nu * nu) * b);
+                half_space + constrained_modulus_pa(e_pa, nu) / (thickness_um * 1e-6)
+            }
+        };
+        let series = |kb: f64| 1.0 / (1.0 / film_k + 1.0 / kb);
+        // Fixed point on lambda: k grows with lambda as lambda^(3/4) at most, lambda with k^(1/4),
+        // so the map contracts (factor <= 3/16).
+        let mut k = film_k;
+        for _ in 0..60 {
+            let lambda = (k / (4.0 * d_nm)).powf(0.25);
+            let next = series(base_k(lambda));
+            let done = (next - k).abs() <= 1e-13 * k;
+            k = next;
+            if done {
+                break;
+            }
+        }
+        let lambda = (k / (4.0 * d_nm)).powf(0.25);
+        SupportFooting {
+            beam: FootingBeam {
+                d_nm,
+                k_pa_per_m: k,
+                length_m,
+            },
+            offset_um,
+            film_k_pa_per_m: film_k,
+            base_k_pa_per_m: base_k(lambda),
+        }
+    }
+
+    /// Characteristic length 1 / lambda (um).
+    pub fn length_scale_um(&self) -> f64 {
+        1e6 / self.beam.lambda_per_m()
+    }
+
+    /// The beam's end state from the plate's (w, theta) at the clamp line, theta pointing into
+    /// the support: the rigid wall link moves the end by the offset (w0 = w + theta d).
+    fn beam_end(&self, w_m: f64, theta: f64) -> (f64, f64) {
+        (w_m + theta * self.offset_um * 1e-6, theta)
+    }
+
+    /// Stiffness per unit length on the plate's (w, theta) at the clamp line: T^T K T with K the
+    /// footing beam's end stiffness and T the rigid link [[1, d], [0, 1]].
+    pub fn edge_stiffness(&self) -> [[f64; 2]; 2] {
+        let k = self.beam.end_stiffness();
+        let d = self.offset_um * 1e-6;
+        [
+            [k[0][0], k[0][1] + d * k[0][0]],
+            [
+                k[0][1] + d * k[0][0],
+                k[1][1] + 2.0 * d * k[0][1] + d * d * k[0][0],
+            ],
+        ]
+    }
+
+    /// Footing shape under the plate's edge state (w, theta at the clamp line).
+    pub fn shape(&self, w_m: f64, theta: f64) -> FootingShape {
+        let (w0, t0) = self.beam_end(w_m, theta);
+        self.beam.shape(w0, t0)
+    }
+
+    /// Foundation force per unit length along the wall (N/m, positive in compression) between
+    /// the distances s0 and s1 (um) from the footing's edge, for the plate's edge state.
+    pub fn force_per_length(&self, w_m: f64, theta: f64, s0_um: f64, s1_um: f64) -> f64 {
+        self.beam.k_pa_per_m
+            * self
+                .shape(w_m, theta)
+                .deflection_integral_m2(s0_um * 1e-6, s1_um * 1e-6)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::{Load, PlateSolution};
+    use crate::sensor::evaluate::build_problem;
+    use crate::sensor::geometry::{ElectrodeArea, ElectrodeSide};
+    use crate::sensor::mesh_lines::base_lines;
+    use crate::sensor::readout::footing_force;
+    use crate::sensor::symmetry::Symmetry;
+
+    fn geometry(sets: &[&str]) -> SensorGeometry {
+        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
+        let mut all = vec!["materials.base.support_model=elastic_footing".to_string()];
+        all.extend(sets.iter().map(|s| s.to_string()));
+        let p = crate::process::load_str(&text, "mis-grasper.yaml", &all)
+            .expect("valid process")
+            .process;
+        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
+    }
+
+    /// The whole plate at level 1 under a point load at (x, y) um.
+    fn solve(g: &SensorGeometry, x_um: f64, y_um: f64, force_n: f64) -> PlateSolution {
+        let sym = Symmetry::none(g);
+        let base = base_lines(g, &[], &sym, false);
+        let mut p = build_problem(g, &base, 1, &sym);
+        assert_eq!(p.edge_springs.len(), 2, "the footing replaces the clamps");
+        assert!(p.supports.is_empty());
+        p.load_cases.push(vec![Load::Point {
+            x_um,
+            y_um,
+            force_n,
+            radius_um: 0.0,
+        }]);
+        p.solve().unwrap().remove(0)
+    }
+
+    fn whole_footing(g: &SensorGeometry, side: ElectrodeSide) -> ElectrodeArea {
+        let (y0, y1) = match side {
+            ElectrodeSide::Support1 => (0.0, g.etched.support_edge_y_um),
+            _ => (g.width_um - g.etched.support_edge_y_um, g.width_um),
+        };
+        ElectrodeArea {
+            name: "all".into(),
+            side,
+            x0_um: 0.0,
+            y0_um: y0,
+            x1_um: g.length_um,
+            y1_um: y1,
+            area_um2: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_footing_pressure_carries_each_supports_reaction() {
+        for sets in [&[][..], &["materials.base.kind=rigid"][..]] {
+            let g = geometry(sets);
+            let s = solve(&g, 11_000.0, 6_000.0, 0.3);
+            for side in [ElectrodeSide::Support1, ElectrodeSide::Support2] {
+                let ft = SupportFooting::new(&g);
+                let f = footing_force(&g, &ft, &s, side, &whole_footing(&g, side));
+                let r = s
+                    .reaction_n(crate::sensor::readout::group_for(side))
+                    .unwrap();
+                assert!((f - r).abs() < 1e-9 * 0.3, "{sets:?} {side:?}: {f} vs {r}");
+            }
+            let total = s.reaction_n("support1").unwrap() + s.reaction_n("support2").unwrap();
+            assert!((total - 0.3).abs() < 1e-9 * 0.3, "{total}");
+        }
+    }
+
+    #[test]
+    fn mirrored_load_mirrors_the_island_forces_and_doubles_linearly() {
+        // No teeth: the plate is mirror-symmetric about the die's centre line y = W / 2.
+        let g = geometry(&["geometry.teeth.pattern=none"]);
+        let w = g.width_um;
+        let ft = SupportFooting::new(&g);
+        let a = solve(&g, 11_000.0, 6_000.0, 0.2);
+        let b = solve(&g, 11_000.0, w - 6_000.0, 0.2);
+        let c = solve(&g, 11_000.0, 6_000.0, 0.4);
+        // Islands from the footing's edge outwards, mirrored: the one near the edge is in
+        // compression, the far one in tension (the footing lifts off there).
+        let edge = g.etched.support_edge_y_um;
+        let mut sign = Vec::new();
+        for (s0, s1) in [(50.0, 900.0), (1200.0, 2400.0)] {
+            let island = |side, y0, y1| ElectrodeArea {
+                name: "i".into(),
+                side,
+                x0_um: 8_000.0,
+                y0_um: y0,
+                x1_um: 15_000.0,
+                y1_um: y1,
+                area_um2: 1.0,
+            };
+            let i1 = island(ElectrodeSide::Support1, edge - s1, edge - s0);
+            let i2 = island(ElectrodeSide::Support2, w - edge + s0, w - edge + s1);
+            let fa = footing_force(&g, &ft, &a, ElectrodeSide::Support1, &i1);
+            let fb = footing_force(&g, &ft, &b, ElectrodeSide::Support2, &i2);
+            let fc = footing_force(&g, &ft, &c, ElectrodeSide::Support1, &i1);
+            assert!((fa - fb).abs() < 1e-9 * fa.abs(), "{fa} vs {fb}");
+            assert!((fc - 2.0 * fa).abs() < 1e-9 * fa.abs(), "{fc} vs 2 x {fa}");
+            sign.push(fa.signum());
+        }
+        assert_eq!(sign, [1.0, -1.0], "compression at the edge, tension beyond");
+    }
+
+    #[test]
+    fn a_stiff_foundation_approaches_the_clamp() {
+        let mut g = geometry(&["materials.base.kind=rigid"]);
+        let soft = SupportFooting::new(&g);
+        g.pvdf_e_pa *= 1e6;
+        let stiff = SupportFooting::new(&g);
+        assert!(stiff.length_scale_um() < 0.05 * soft.length_scale_um());
+        let wc = {
+            let mut gc = g.clone();
+            gc.support_model = crate::process::SupportModel::Clamped;
+            let sym = Symmetry::none(&gc);
+            let base = base_lines(&gc, &[], &sym, false);
+            let mut p = build_problem(&gc, &base, 1, &sym);
+            p.load_cases.push(vec![Load::Point {
+                x_um: 15_000.0,
+                y_um: 7_500.0,
+                force_n: 0.1,
+                radius_um: 0.0,
+            }]);
+            p.solve().unwrap()[0].deflection_m(15_000.0, 7_500.0)
+        };
+        let ws = solve(&g, 15_000.0, 7_500.0, 0.1).deflection_m(15_000.0, 7_500.0);
+        assert!((ws - wc).abs() < 2e-3 * wc, "{ws} vs clamped {wc}");
+    }
+}
