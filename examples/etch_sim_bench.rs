@@ -15,6 +15,8 @@
 
 use std::time::Instant;
 
+use tactfab::spelling::yaml;
+
 mod support;
 use support::median;
 
@@ -73,8 +75,9 @@ fn main() -> anyhow::Result<()> {
             b.corners
                 .iter()
                 .map(|c| format!(
-                    "{:?} {:.1} um (extrapolated {:.1}, closed form {:.1})",
-                    c.at_um,
+                    "({:.1}, {:.1}) {:.1} um (extrapolated {:.1}, closed form {:.1})",
+                    c.at_um[0],
+                    c.at_um[1],
                     c.deviation_um.unwrap_or(f64::NAN),
                     c.error.map_or(f64::NAN, |e| e.extrapolated_um),
                     c.closed_form_um
@@ -95,26 +98,27 @@ fn main() -> anyhow::Result<()> {
         ts.iter().copied().fold(0.0, f64::max)
     );
     println!(
-        "corner deviation {:.1} um ({:?}), edge undercut {:.1} um, vs undercut square {:.1} um, \
-         compensator consumed at {:?} h, floor {:.1} um, residue {:.2} um over {:.0} um2",
+        "corner deviation {:.1} um ({}), edge undercut {:.1} um, vs undercut square {:.1} um, \
+         compensator consumed at {} h, floor {:.1} um, residue {:.2} um over {:.0} um2",
         sim.corner_deviation_um,
-        sim.corner_shape,
+        yaml(&sim.corner_shape),
         sim.edge_undercut_um,
         sim.corner_vs_undercut_square_um,
-        sim.compensator_consumed_h,
+        sim.compensator_consumed_h
+            .map_or("-".into(), |h| format!("{h:.2}")),
         sim.floor_depth_um,
         sim.floor_residue_height_um,
         sim.floor_residue_area_um2
     );
     if let Some(e) = &sim.corner_error {
         println!(
-            "corner on {:.2} um {:.1} um: error {:.1} um, extrapolated {:.1} um ({:?}; the \
+            "corner on {:.2} um {:.1} um: error {:.1} um, extrapolated {:.1} um ({}; the \
              timing includes this coarser run)",
             e.coarse_grid_um,
             e.coarse_corner_deviation_um,
             e.error_um,
             e.extrapolated_corner_deviation_um,
-            e.decision
+            yaml(&e.decision)
         );
     }
     if let Some(dir) = flag(&args, "--export").first() {
@@ -135,13 +139,13 @@ fn main() -> anyhow::Result<()> {
         );
         for g in &z.geometries {
             println!(
-                "  {:?}: a {:.1} um (ratio {:?}), corner {:.1} um, within {}; rule {:?}",
-                g.geometry,
+                "  {}: a {:.1} um (ratio {}), corner {:.1} um, within {}; rule {}",
+                yaml(&g.geometry),
                 g.sized_a_um,
-                g.sized_ratio,
+                g.sized_ratio.map_or("-".into(), |r| format!("{r:.3}")),
                 g.sized_corner_deviation_um,
                 g.within_tolerance,
-                g.rule
+                yaml(&g.rule)
             );
         }
     }

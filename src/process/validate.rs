@@ -92,10 +92,15 @@ impl V {
         let bad_lo = if lo_open { x <= lo } else { x < lo };
         if !x.is_finite() || bad_lo || x > hi {
             let l = if lo_open { "(" } else { "[" };
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
             self.push(
                 path,
-                format!("{x} {unit} is out of range"),
-                format!("a number in {l}{lo}, {hi}] {unit}"),
+                format!("{x}{unit} is out of range"),
+                format!("a number in {l}{lo}, {hi}]{unit}"),
             );
         }
     }
