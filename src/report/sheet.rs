@@ -69,11 +69,20 @@ pub fn document(t: &Traveler, fig: &Figures) -> Doc {
             match &t.fe_accuracy {
                 Some(a) => format!(
                     "FE checks on --model {} at --tol {} (at most {} mesh levels, supports \
-                         {} in-plane)",
+                         {} in-plane, `support_model: {}`: {})",
                     a.model.as_str(),
                     a.tol_rel,
                     a.max_levels,
-                    crate::spelling::yaml(&a.in_plane)
+                    crate::spelling::yaml(&a.in_plane),
+                    crate::spelling::yaml(&t.support_model),
+                    match t.support_model {
+                        crate::process::SupportModel::Clamped => {
+                            "the plate clamped where the etched walls meet it"
+                        }
+                        crate::process::SupportModel::ElasticFooting => {
+                            "each support a beam on the film and base as an elastic foundation"
+                        }
+                    }
                 ),
                 None => "FE checks not run".to_string(),
             }

@@ -258,6 +258,8 @@ pub struct Traveler {
     pub origin: super::Origin,
     /// How the FE checks were solved; None when skipped.
     pub fe_accuracy: Option<crate::sensor::Accuracy>,
+    /// How the plate rungs hold the plate at the etched walls (`materials.base.support_model`).
+    pub support_model: crate::process::SupportModel,
     /// Fields the fab fills in.
     pub header_fields: Vec<String>,
     /// Wafers on this traveler (`wafer.lot_wafers`): blanks per wafer at the hold points.
@@ -376,6 +378,7 @@ pub fn traveler(input: TravelerInput<'_>) -> Traveler {
         description: p.device.description.clone(),
         origin: input.origin.clone(),
         fe_accuracy: input.fe_accuracy,
+        support_model: p.materials.base.support_model,
         header_fields: header_fields(),
         lot_wafers: p.wafer.lot_wafers,
         material: material(p, plan),
