@@ -37,6 +37,59 @@ pub(crate) fn find_line(axis: &[f64], at: f64) -> Option<usize> {
     (k < axis.len() && (axis[k] - at).abs() <= tol).then_some(k)
 }
 
+/// A support's or spring's mesh line: line `k` across `along`, the nodes' coordinates along it
+/// (`span`), and the part of it that `[from, to]` covers (to a relative 1e-9).
+pub(crate) struct MeshLine<'a> {
+    along: Axis,
+    k: usize,
+    pub span: &'a [f64],
+    lo: f64,
+    hi: f64,
+}
+
+impl<'a> MeshLine<'a> {
+    /// The line at `at_um` across `along`, or the error that names `group` and `hint`.
+    pub fn find(
+        mesh: &'a RectMesh,
+        along: Axis,
+        at_um: f64,
+        (from_um, to_um): (f64, f64),
+        group: &str,
+        hint: &'static str,
+    ) -> FeResult<Self> {
+        let (line_axis, span) = match along {
+            Axis::X => (&mesh.y_um, &mesh.x_um),
+            Axis::Y => (&mesh.x_um, &mesh.y_um),
+        };
+        let k = find_line(line_axis, at_um).ok_or_else(|| FeError::SupportNotOnMeshLine {
+            group: group.to_string(),
+            at_um,
+            hint,
+        })?;
+        let tol = 1e-9 * (span.last().unwrap() - span[0]);
+        Ok(MeshLine {
+            along,
+            k,
+            span,
+            lo: from_um.min(to_um) - tol,
+            hi: from_um.max(to_um) + tol,
+        })
+    }
+
+    /// Whether the coordinate `c` along the line lies in the covered part.
+    pub fn covers(&self, c: f64) -> bool {
+        c >= self.lo && c <= self.hi
+    }
+
+    /// The mesh node `m` along the line.
+    pub fn node(&self, mesh: &RectMesh, m: usize) -> usize {
+        match self.along {
+            Axis::X => mesh.node(m, self.k),
+            Axis::Y => mesh.node(self.k, m),
+        }
+    }
+}
+
 impl DofMap {
     /// Build the dof map; a dof constrained by several supports belongs to the first one listed.
     pub fn new(problem: &PlateProblem) -> FeResult<Self> {
@@ -51,28 +104,22 @@ impl DofMap {
             })
         };
         for s in &problem.supports {
-            let (line_axis, span_axis) = match s.along {
-                Axis::X => (&mesh.y_um, &mesh.x_um),
-                Axis::Y => (&mesh.x_um, &mesh.y_um),
-            };
-            let k = find_line(line_axis, s.at_um).ok_or_else(|| FeError::SupportNotOnMeshLine {
-                group: s.group.clone(),
-                at_um: s.at_um,
-                hint: "add the support position to the required mesh lines",
-            })?;
-            let (lo, hi) = (s.from_um.min(s.to_um), s.from_um.max(s.to_um));
-            let tol = 1e-9 * (span_axis.last().unwrap() - span_axis[0]);
+            let line = MeshLine::find(
+                mesh,
+                s.along,
+                s.at_um,
+                (s.from_um, s.to_um),
+                &s.group,
+                "add the support position to the required mesh lines",
+            )?;
             let g = group_id(&s.group, &mut groups);
             let mut any = false;
-            for (m, &c) in span_axis.iter().enumerate() {
-                if c < lo - tol || c > hi + tol {
+            for (m, &c) in line.span.iter().enumerate() {
+                if !line.covers(c) {
                     continue;
                 }
                 any = true;
-                let node = match s.along {
-                    Axis::X => mesh.node(m, k),
-                    Axis::Y => mesh.node(k, m),
-                };
+                let node = line.node(mesh, m);
                 // Tangential slope dof is fixed with w; clamped also fixes the normal slope and the
                 // twist.
                 let tangential = match s.along {

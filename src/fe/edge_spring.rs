@@ -3,7 +3,7 @@
 //! field is Hermite-cubic in w with the tangential slope, and in the normal slope with the twist;
 //! Bogner, Fox, Schmit 1965), so the springs add no dofs and fall inside the existing stencil.
 
-use crate::fe::dofs::find_line;
+use crate::fe::dofs::MeshLine;
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::mesh::RectMesh;
 use crate::fe::problem::{Axis, EdgeSpring};
@@ -19,27 +19,21 @@ pub struct SpringSegment {
 /// Segments of the spring's line within [from_um, to_um]; an error if the line is not a mesh line
 /// or holds no segment.
 pub fn segments(mesh: &RectMesh, s: &EdgeSpring) -> FeResult<Vec<SpringSegment>> {
-    let (line_axis, span_axis) = match s.along {
-        Axis::X => (&mesh.y_um, &mesh.x_um),
-        Axis::Y => (&mesh.x_um, &mesh.y_um),
-    };
-    let k = find_line(line_axis, s.at_um).ok_or_else(|| FeError::SupportNotOnMeshLine {
-        group: s.group.clone(),
-        at_um: s.at_um,
-        hint: "add the spring line's position to the required mesh lines",
-    })?;
-    let (lo, hi) = (s.from_um.min(s.to_um), s.from_um.max(s.to_um));
-    let tol = 1e-9 * (span_axis.last().unwrap() - span_axis[0]);
-    let node = |m: usize| match s.along {
-        Axis::X => mesh.node(m, k),
-        Axis::Y => mesh.node(k, m),
-    };
-    let out: Vec<SpringSegment> = span_axis
+    let line = MeshLine::find(
+        mesh,
+        s.along,
+        s.at_um,
+        (s.from_um, s.to_um),
+        &s.group,
+        "add the spring line's position to the required mesh lines",
+    )?;
+    let out: Vec<SpringSegment> = line
+        .span
         .windows(2)
         .enumerate()
-        .filter(|(_, w)| w[0] >= lo - tol && w[1] <= hi + tol)
+        .filter(|(_, w)| line.covers(w[0]) && line.covers(w[1]))
         .map(|(m, w)| SpringSegment {
-            nodes: [node(m), node(m + 1)],
+            nodes: [line.node(mesh, m), line.node(mesh, m + 1)],
             t_um: [w[0], w[1]],
         })
         .collect();
