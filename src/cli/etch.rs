@@ -251,6 +251,19 @@ fn back_svg_path(front: &std::path::Path) -> std::path::PathBuf {
 }
 
 /// The back corner's lines of the text report.
+/// "; on the G um grid C, error E, extrapolated X" for a Richardson estimate, or nothing.
+fn richardson_clause(e: Option<tactfab::etch::sim::back::Extrapolated>) -> String {
+    e.map_or(String::new(), |e| {
+        format!(
+            "; on the {} um grid {}, error {}, extrapolated {}",
+            f(e.coarse_grid_um, 2),
+            f(e.coarse_um, 1),
+            f(e.error_um, 1),
+            f(e.extrapolated_um, 1)
+        )
+    })
+}
+
 fn back_text(b: &BackSimulation) -> String {
     let mut out = format!(
         "simulated back (U-channel) at support 1's corner, {} h ({}) on a {} um grid ({} nodes, \
@@ -271,13 +284,7 @@ fn back_text(b: &BackSimulation) -> String {
         f(b.floor_depth_um, 1),
         f(b.floor_edge_y_um, 1),
         f(b.plan_floor_edge_y_um, 1),
-        b.floor_edge_error.map_or(String::new(), |e| format!(
-            "; on the {} um grid {}, error {}, extrapolated {}",
-            f(e.coarse_grid_um, 2),
-            f(e.coarse_um, 1),
-            f(e.error_um, 1),
-            f(e.extrapolated_um, 1)
-        )),
+        richardson_clause(b.floor_edge_error),
         f(b.floor_width_um, 1),
         f(b.plan_floor_width_um, 1)
     ));
@@ -299,13 +306,7 @@ fn back_text(b: &BackSimulation) -> String {
             c.deviation_um
                 .map_or("beyond the cell".into(), |d| format!("{} um", f(d, 1))),
             f(c.closed_form_um, 1),
-            c.error.map_or(String::new(), |e| format!(
-                "; on the {} um grid {}, error {}, extrapolated {}",
-                f(e.coarse_grid_um, 2),
-                f(e.coarse_um, 1),
-                f(e.error_um, 1),
-                f(e.extrapolated_um, 1)
-            ))
+            richardson_clause(c.error)
         ));
     }
     out
