@@ -4,26 +4,13 @@
 
 use super::back_cell::{back_cell, reach_um};
 use super::run::simulate_back;
-
-fn design() -> (
-    crate::process::Process,
-    crate::etch::EtchPlan,
-    crate::layout::MaskSet,
-) {
-    let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
-    let p = crate::process::load_str(&text, "mis-grasper.yaml", &[])
-        .unwrap()
-        .process;
-    let plan = crate::etch::plan(&p);
-    let masks = crate::layout::build(&p, &plan).unwrap();
-    (p, plan, masks)
-}
+use super::tests_tooth::design;
 
 /// The cell starts on the streets' middle lines, holds support 1's two corners at the die
 /// origin (both convex, bisectors out of the island) and is masked exactly on the support.
 #[test]
 fn back_cell_is_the_drawn_support_corner() {
-    let (p, _, masks) = design();
+    let (p, _, masks) = design(&[]);
     let cell = back_cell(&masks, 300.0, 2500.0, 1300.0, 20.0).unwrap();
     let g = cell.grid;
     assert_eq!((g.x0_um, g.y0_um), (-150.0, -150.0));
@@ -56,7 +43,7 @@ fn back_cell_is_the_drawn_support_corner() {
 /// has them, the convex corners' recession against sqrt 2 R110 t.
 #[test]
 fn back_wall_floor_and_corners_against_closed_forms() {
-    let (p, plan, masks) = design();
+    let (p, plan, masks) = design(&[]);
     let b = simulate_back(&p, &plan, &masks, 10.0).unwrap().unwrap();
     eprintln!(
         "back: floor {:.3} um, run-out {:.3} (closed {:.3}), undercut {:.3} (closed {:.3}), \
@@ -128,7 +115,7 @@ fn back_wall_floor_and_corners_against_closed_forms() {
 /// has dx = dy and its origin on the diagonal).
 #[test]
 fn back_corner_is_symmetric_about_its_diagonal() {
-    let (p, plan, masks) = design();
+    let (p, plan, masks) = design(&[]);
     let steps = super::run::back_steps(&plan, &p.etchants);
     let r110_t: f64 = steps.iter().map(|s| s.rates.r110_um_per_h * s.time_h).sum();
     let cell = back_cell(

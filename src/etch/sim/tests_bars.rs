@@ -13,13 +13,8 @@ use crate::layout::{LayerKind, MaskSet};
 const GRID_UM: f64 = 20.0;
 
 fn design(sets: &[String]) -> (crate::process::Process, crate::etch::EtchPlan, MaskSet) {
-    let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
-    let p = crate::process::load_str(&text, "mis-grasper.yaml", sets)
-        .unwrap()
-        .process;
-    let plan = crate::etch::plan(&p);
-    let masks = crate::layout::build(&p, &plan).unwrap();
-    (p, plan, masks)
+    let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+    super::tests_tooth::design(&sets)
 }
 
 /// Bars of length `l_um` (ratio 200 / L), the default width.

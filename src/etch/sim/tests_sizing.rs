@@ -8,7 +8,8 @@ use crate::etch::sim::sizing::{size, RuleVerdict, GEOMETRIES, MAX_BISECTION_STEP
 use crate::finding::{Code, DrcCode};
 use crate::process::{Compensation, CompensationGeometry, Process, StepParams};
 
-fn load(sets: &[&str]) -> Process {
+/// The bundled process with `--set` overrides (the etch simulation tests' one loader).
+pub(super) fn load(sets: &[&str]) -> Process {
     let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     crate::process::load_str(&text, "mis-grasper.yaml", &sets)

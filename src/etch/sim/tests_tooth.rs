@@ -4,18 +4,15 @@
 use super::cell::tooth_cell;
 use super::run::simulate;
 
-fn design(
+/// The bundled design with `--set` overrides: process, etch plan and masks.
+pub(super) fn design(
     sets: &[&str],
 ) -> (
     crate::process::Process,
     crate::etch::EtchPlan,
     crate::layout::MaskSet,
 ) {
-    let text = std::fs::read_to_string("process/mis-grasper.yaml").unwrap();
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let p = crate::process::load_str(&text, "mis-grasper.yaml", &sets)
-        .unwrap()
-        .process;
+    let p = super::tests_sizing::load(sets);
     let plan = crate::etch::plan(&p);
     let masks = crate::layout::build(&p, &plan).unwrap();
     (p, plan, masks)
