@@ -135,6 +135,9 @@ codes! {
             "the probe is wider than the die: its force spreads over the part on the die",
         StressSingular = "STRESS_SINGULAR":
             "the peak point stress does not converge; the safety factor uses the averaged stress",
+        EdgeStress = "EDGE_STRESS":
+            "the solid rung's stress at the critical distance from a sharp re-entrant edge \
+             governs the safety factor",
         TouchDown = "TOUCH_DOWN":
             "the plate reaches the channel floor: readings beyond touch-down are not modelled",
     }

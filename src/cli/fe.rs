@@ -400,9 +400,37 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 q.plate_value.map_or_else(|| "-".into(), |p| f(sf(p), 2))
             );
         }
+        if let Some(last) = r.levels.last() {
+            for e in &last.readout.edge_stress {
+                println!(
+                    "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
+                     corner submodel of radius {} um, its own estimate {} MPa): safety factor {}",
+                    e.kind.as_str(),
+                    f(e.stress_mpa, 4),
+                    f(e.read_at_um * 1e3, 3),
+                    f(e.at_um[0] * 1e-3, 4),
+                    f(e.at_um[1] * 1e-3, 4),
+                    f(e.radius_um, 3),
+                    f(e.submodel_error_mpa, 3),
+                    f(g.fracture_strength_mpa / e.stress_mpa, 3)
+                );
+            }
+        }
+        if let Some((name, s)) = r.governing_stress() {
+            println!(
+                "  governing: {name}, {} MPa with its estimate: safety factor {} against the \
+                 required {} (L = (1/pi)(K_Ic/sigma_0)^2, K_Ic {} MPa m^1/2, theory of critical \
+                 distances)",
+                f(s, 4),
+                f(g.fracture_strength_mpa / s, 3),
+                f(g.safety_factor, 2),
+                f(g.fracture_toughness_mpa_sqrt_m, 3)
+            );
+        }
         println!(
             "  converged: {} (tol {:.0e}; the peak principal stress sits at a re-entrant corner \
-             and is reported, not required to converge); plate - solid is taken against the \
+             and is reported, not required to converge: the edges' stresses at the critical \
+             distance are); plate - solid is taken against the \
              extrapolated solid, which is known to within its disc.",
             if r.converged { "yes" } else { "no" },
             acc.tol_rel

@@ -48,6 +48,10 @@ pub fn si_nu() -> f64 {
 pub fn fracture_strength_mpa() -> f64 {
     4000.0
 }
+/// The lowest measured: {111} cleavage, the plane a crack from a {111} sidewall runs on.
+pub fn fracture_toughness_mpa_sqrt_m() -> f64 {
+    0.72
+}
 pub fn safety_factor() -> f64 {
     3.0
 }
@@ -291,6 +295,11 @@ pub const DEFAULTS: &[DefaultSource] = &[
     DefaultSource {
         path: "materials.silicon.fracture_strength_mpa",
         source: "[paper] 001, fracture 4 GPa",
+    },
+    DefaultSource {
+        path: "materials.silicon.fracture_toughness_mpa_sqrt_m",
+        source: "[lit] DelRio et al., Mater. Res. Lett. 10 (2022) 728, {111}: 0.72 +/- 0.07 \
+                 (NIST SRD 138: 0.79-0.95)",
     },
     DefaultSource {
         path: "materials.silicon.safety_factor",

@@ -276,6 +276,10 @@ pub struct Silicon {
     pub nu: f64,
     #[serde(default = "d::fracture_strength_mpa")]
     pub fracture_strength_mpa: f64,
+    /// K_Ic: with the strength, the critical distance at which the solid rung reads the stress
+    /// of the sharp re-entrant edges (theory of critical distances).
+    #[serde(default = "d::fracture_toughness_mpa_sqrt_m")]
+    pub fracture_toughness_mpa_sqrt_m: f64,
     #[serde(default = "d::safety_factor")]
     pub safety_factor: f64,
     /// Mass density of the plate and teeth (the natural frequencies).

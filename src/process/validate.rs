@@ -472,6 +472,14 @@ fn materials(v: &mut V, m: &Materials) {
         "MPa",
     );
     v.range(
+        "materials.silicon.fracture_toughness_mpa_sqrt_m",
+        si.fracture_toughness_mpa_sqrt_m,
+        0.01,
+        100.0,
+        false,
+        "MPa m^1/2",
+    );
+    v.range(
         "materials.silicon.safety_factor",
         si.safety_factor,
         1.0,

@@ -106,8 +106,8 @@ fn check_values(
 
 /// Every declared limit of `l` checked against the solid rung's answer `r` (`build
 /// --verify-solid`), each value taken on its unsafe side by the solid's own estimate: the
-/// averaged stress extrapolated and raised by its estimate (the safety factor from it against
-/// `fracture_mpa`), the largest deflection and the largest electrode voltage per newton of the
+/// averaged stress extrapolated and raised by its estimate (the safety factor from the worst of it
+/// and the sharp edges' stresses at the critical distance, against `fracture_mpa`), the largest deflection and the largest electrode voltage per newton of the
 /// finest mesh moved by the estimates of the deflection and of the charges.
 pub fn check_solid_limits(
     r: &crate::sensor::solid::SolidReport,
@@ -127,6 +127,9 @@ pub fn check_solid_limits(
     };
     let stress = q("max_stress_averaged").map_or(f64::NAN, |q| q.extrapolated)
         * (1.0 + disc("max_stress_averaged"));
+    // The safety factor is judged on the worst of that and the sharp edges' stresses at the
+    // critical distance, each on its unsafe side.
+    let governing = r.governing_stress().map_or(stress, |(_, s)| s.max(stress));
     let volts = finest
         .readout
         .voltage_mv
@@ -135,7 +138,7 @@ pub fn check_solid_limits(
     check_values(
         volts / r.force_n.abs() * (1.0 - charge_disc),
         stress,
-        fracture_mpa / stress,
+        fracture_mpa / governing,
         finest.readout.max_deflection_um.abs() * (1.0 + disc("deflection_at_load")),
         l,
     )

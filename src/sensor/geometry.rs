@@ -46,6 +46,8 @@ pub struct SensorGeometry {
     pub film_thickness_um: f64,
     pub drawn_axis: Axis,
     pub fracture_strength_mpa: f64,
+    /// K_Ic, with the strength the critical distance of the edge stresses.
+    pub fracture_toughness_mpa_sqrt_m: f64,
     pub safety_factor: f64,
     /// Mass densities (kg/m^3) of the silicon (plate and teeth) and of the PVDF film, which
     /// moves with the plate but adds no stiffness to the plate model (the natural frequencies).
@@ -182,6 +184,7 @@ impl SensorGeometry {
             film_thickness_um: f.thickness_um,
             drawn_axis: g.electrodes.drawn_axis,
             fracture_strength_mpa: si.fracture_strength_mpa,
+            fracture_toughness_mpa_sqrt_m: si.fracture_toughness_mpa_sqrt_m,
             safety_factor: si.safety_factor,
             si_density_kg_per_m3: si.density_g_per_cm3 * 1000.0,
             film_density_kg_per_m3: f.density_g_per_cm3 * 1000.0,

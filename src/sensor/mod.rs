@@ -12,6 +12,7 @@
 mod beam_model;
 mod check;
 mod convergence_plot;
+pub mod edge_stress;
 mod evaluate;
 pub mod footing;
 mod geometry;

@@ -281,6 +281,21 @@ fn quantity_table(
         r.stress_averaged_mpa,
         r.stress_averaged_mpa.abs(),
     ));
+    // The sharp edges' stress at the critical distance (`edge_stress`): what fracture is judged
+    // on there.
+    // Relative to the largest of them: an edge in compression reads near zero.
+    let edges = r
+        .edge_stress
+        .iter()
+        .fold(0.0f64, |m, e| m.max(e.stress_mpa.abs()));
+    for e in &r.edge_stress {
+        out.push((
+            format!("{}_stress", e.kind.as_str()),
+            "MPa",
+            e.stress_mpa,
+            edges,
+        ));
+    }
     out.push((
         "max_principal_stress".into(),
         "MPa",
@@ -288,6 +303,74 @@ fn quantity_table(
         r.max_principal_mpa.abs(),
     ));
     out
+}
+
+/// The stress names the solid's safety factor is judged on: the plate rungs' averaged stress and
+/// each sharp edge's stress at the critical distance.
+pub const SAFETY_STRESSES: [&str; 3] = [
+    "max_stress_averaged",
+    "tooth_base_stress",
+    "support_edge_stress",
+];
+
+impl super::SceneReport {
+    /// Where the solid's governing stress ([`SolidReport::governing_stress`]: a sharp edge's at
+    /// the critical distance, or the averaged one) gives a lower safety factor than this answer's
+    /// averaged stress, the answer takes it, and the permissible load with it (linear in the
+    /// load, as the plate rungs scale it), with an `EDGE_STRESS` warning naming the edge.
+    fn take_safety_from(&mut self, solid: &SolidReport) {
+        let Some((name, stress)) = solid.governing_stress() else {
+            return;
+        };
+        if !(stress > 0.0 && self.safety_factor.is_finite() && self.safety_factor > 0.0) {
+            return;
+        }
+        // The fracture strength is the one this answer's own safety factor was taken against.
+        let fracture = self.safety_factor * self.max_stress_mpa;
+        let sf = fracture / stress;
+        if sf < self.safety_factor {
+            use crate::finding::{Finding, SceneCode};
+            self.max_permissible_load_n *= sf / self.safety_factor;
+            self.warnings.push(Finding::warning(
+                SceneCode::EdgeStress,
+                format!(
+                    "the solid rung's {name} ({stress:.1} MPa with its estimate) gives safety \
+                     factor {sf:.2}, below the averaged stress's {:.2}: taken",
+                    self.safety_factor
+                ),
+            ));
+            self.safety_factor = sf;
+        }
+    }
+}
+
+impl SolidReport {
+    /// The stress the safety factor is judged on, on its unsafe side: the largest of
+    /// [`SAFETY_STRESSES`], each extrapolated and raised by its own estimate, with its name
+    /// (None if none was read).
+    pub fn governing_stress(&self) -> Option<(&str, f64)> {
+        let safety = || {
+            self.quantities
+                .iter()
+                .filter(|q| SAFETY_STRESSES.contains(&q.name.as_str()))
+        };
+        // The edges' estimates are relative to the largest edge stress (`quantity_table`).
+        let edges = safety()
+            .filter(|q| q.name != SAFETY_STRESSES[0])
+            .fold(0.0f64, |m, q| m.max(q.value.abs()));
+        safety()
+            .map(|q| {
+                let v = q.extrapolated.max(q.value);
+                let scale = if q.name == SAFETY_STRESSES[0] {
+                    v.abs()
+                } else {
+                    edges
+                };
+                (q.name.as_str(), v + q.discretisation.unwrap_or(0.0) * scale)
+            })
+            .filter(|(_, v)| v.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
 }
 
 /// How the solid rung is run.
@@ -347,7 +430,7 @@ pub fn evaluate_solid(
             }
             .map_err(SensorError::Fe)?;
             let answer = (
-                read(g, &solid, &sol, at, patch),
+                read(g, &solid, &sol, at, patch).map_err(SensorError::Fe)?,
                 model.n_free_dofs(),
                 model.factor_len(),
                 Some(sol.stats().iterations),
@@ -360,7 +443,7 @@ pub fn evaluate_solid(
                 .solve(&solid.problem.load_cases)
                 .map_err(SensorError::Fe)?;
             (
-                read(g, &solid, &sol[0], at, patch),
+                read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?,
                 model.n_free_dofs(),
                 model.factor_len(),
                 None,
@@ -384,18 +467,26 @@ pub fn evaluate_solid(
     let r = 2f64.sqrt();
     let quantities: Vec<SolidQuantity> = finest
         .iter()
-        .enumerate()
-        .map(|(i, (name, unit, value, scale))| {
-            let three = (tables.len() >= 3).then(|| {
-                let n = tables.len();
-                ThreeMesh::new(
-                    tables[n - 3][i].2,
-                    tables[n - 2][i].2,
-                    tables[n - 1][i].2,
-                    r,
-                    r,
-                )
-            });
+        .map(|(name, unit, value, scale)| {
+            // By name: a level may lack a quantity another has (an edge outside the part).
+            let at = |t: &Vec<(String, &'static str, f64, f64)>| {
+                t.iter().find(|q| q.0 == *name).map(|q| q.2)
+            };
+            let n = tables.len();
+            let three = (n >= 3)
+                .then(|| Some((at(&tables[n - 3])?, at(&tables[n - 2])?, *value)))
+                .flatten()
+                .map(|(a, b, c)| ThreeMesh::new(a, b, c, r, r));
+            // An edge stress adds its corner submodel's own estimate.
+            let submodel = out
+                .last()
+                .and_then(|l| {
+                    l.readout
+                        .edge_stress
+                        .iter()
+                        .find(|e| format!("{}_stress", e.kind.as_str()) == *name)
+                })
+                .map_or(0.0, |e| e.submodel_error_mpa / scale.max(f64::MIN_POSITIVE));
             let scale = scale.max(f64::MIN_POSITIVE);
             let extrapolated = three.map_or(*value, |t| t.richardson.extrapolated);
             let plate_value = plate.iter().find(|(n, _)| n == name).map(|p| p.1);
@@ -403,7 +494,7 @@ pub fn evaluate_solid(
                 name: name.clone(),
                 unit,
                 value: *value,
-                discretisation: three.map(|t| t.fine_error() / scale),
+                discretisation: three.map(|t| t.fine_error() / scale + submodel),
                 extrapolated,
                 plate_value,
                 plate_difference: plate_value.map(|p| (p - extrapolated).abs() / scale),
@@ -521,6 +612,7 @@ impl super::SceneReport {
     /// solid was compared with this report's rung; the singular peak stress is left as it is.
     /// Returns how many quantities took a model part from the solid.
     pub fn take_model_error_from(&mut self, solid: &SolidReport, tol: f64) -> usize {
+        self.take_safety_from(solid);
         if solid.plate_rung != self.model.kind.to_string() {
             return 0;
         }

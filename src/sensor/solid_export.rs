@@ -202,7 +202,7 @@ pub fn export_scene(
             .solve(&solid.problem.load_cases)
             .map_err(SensorError::Fe)?;
         let t3 = Instant::now();
-        let readout = read(g, &solid, &sol[0], at, patch);
+        let readout = read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?;
         let t4 = Instant::now();
         times.push((t4 - t0).as_secs_f64());
         let b = model.timings();

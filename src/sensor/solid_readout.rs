@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::fe::solid::{hex27, SolidField};
 
+use super::edge_stress::{critical_distance_um, edge_stresses, EdgeStress};
 use super::evaluate::STRESS_AVERAGING_THICKNESSES;
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::solid_mesh::{SensorSolid, PVDF, SILICON};
@@ -37,6 +38,10 @@ pub struct SolidReadout {
     /// averaged over a square of the plate rungs' averaging width (four plate thicknesses) on the
     /// plate's underside, centred in the contact patch (MPa); it converges with the mesh.
     pub stress_averaged_mpa: f64,
+    /// The largest principal stress at the critical distance from each kind of sharp
+    /// re-entrant edge (tooth bases, channel walls), from corner submodels
+    /// ([`super::edge_stress`]): what fracture is judged on there.
+    pub edge_stress: Vec<EdgeStress>,
 }
 
 /// In-plane principal stress of (s_xx, s_yy, s_xy): (sx + sy)/2 + sqrt(((sx - sy)/2)^2 + txy^2).
@@ -129,14 +134,15 @@ pub(crate) fn images(s: &SensorSolid, r: [f64; 4]) -> Vec<[f64; 4]> {
 }
 
 /// The readings of `sol` (a solution of `s`), with the load's reference point `at_um` (x, y) and
-/// its contact patch (x0, y0, x1, y1).
+/// its contact patch (x0, y0, x1, y1). An edge's corner submodel that cannot be solved is an
+/// error.
 pub fn read(
     g: &SensorGeometry,
     s: &SensorSolid,
     sol: &impl SolidField,
     at_um: (f64, f64),
     patch_um: [f64; 4],
-) -> SolidReadout {
+) -> crate::fe::FeResult<SolidReadout> {
     let grid = sol.grid();
     let pos = sol.node_positions_um();
     let lay = s.layers;
@@ -242,7 +248,9 @@ pub fn read(
         .fold(f64::NEG_INFINITY, f64::max);
     let silicon = (0..grid.element_count()).filter(|&e| grid.material(e) == Some(SILICON));
     let peak = sol.max_principal_stress(silicon);
-    SolidReadout {
+    let read_at_um =
+        0.5 * critical_distance_um(g.fracture_toughness_mpa_sqrt_m, g.fracture_strength_mpa);
+    Ok(SolidReadout {
         charge_pc: charge,
         voltage_mv: voltage,
         support1_n: s1,
@@ -252,7 +260,8 @@ pub fn read(
         max_principal_mpa: peak.as_ref().map_or(f64::NAN, |p| p.stress_pa * 1e-6),
         max_principal_at_um: peak.map_or([f64::NAN; 3], |p| p.position_um),
         stress_averaged_mpa: averaged_stress(s, sol, g, patch_um),
-    }
+        edge_stress: edge_stresses(g, s, sol, read_at_um)?,
+    })
 }
 
 /// Squared coupling factor of the film in the 31 mode, k31^2 = d31^2 / (s11^E eps33^T) with

@@ -104,6 +104,54 @@ fn supports_carry_the_load_and_each_scales_with_it() {
         assert!((2.0 * a - b).abs() <= 1e-9 * b.abs().max(1e-3), "{a} {b}");
     }
     assert!((2.0 * r1.deflection_at_load_um - r2.deflection_at_load_um).abs() < 1e-9);
+    // The sharp edges' stresses too (the corner submodels are linear in their driver).
+    assert_eq!(r1.edge_stress.len(), 2, "{:?}", r1.edge_stress);
+    for (a, b) in r1.edge_stress.iter().zip(&r2.edge_stress) {
+        assert_eq!((a.kind, a.at_um), (b.kind, b.at_um));
+        assert!(
+            (2.0 * a.stress_mpa - b.stress_mpa).abs() <= 1e-9 * b.stress_mpa,
+            "{a:?} {b:?}"
+        );
+    }
+}
+
+#[test]
+fn edge_stress_follows_the_wedge_singularity_with_the_critical_distance() {
+    // Four times the critical distance (twice K_Ic): the stress falls as r^(lambda - 1), lambda
+    // = 0.634 for an isotropic wedge of 234.74 deg (lambda sin 2a + sin 2 lambda a = 0, Williams
+    // 1952): 4^-0.366 = 0.602; silicon's anisotropy and the regular part of the field move it
+    // by a few per cent. Both kinds are tensile somewhere along their edges and resolved by
+    // their submodels to better than 1 %.
+    let g = geometry(&SHORT);
+    let tough = geometry(
+        &[
+            SHORT.as_slice(),
+            &["materials.silicon.fracture_toughness_mpa_sqrt_m=1.44"],
+        ]
+        .concat(),
+    );
+    let scene = point(4500.0, 5000.0, 1.0);
+    let a = evaluate_solid(&g, &scene, run(1, true), &[]).unwrap();
+    let b = evaluate_solid(&tough, &scene, run(1, true), &[]).unwrap();
+    let (ra, rb) = (&a.levels[0].readout, &b.levels[0].readout);
+    for (x, y) in ra.edge_stress.iter().zip(&rb.edge_stress) {
+        assert_eq!(x.kind, y.kind);
+        assert!((y.read_at_um / x.read_at_um - 4.0).abs() < 1e-12);
+        let ratio = y.stress_mpa / x.stress_mpa;
+        assert!((ratio - 0.602).abs() < 0.03, "{:?}: {ratio}", x.kind);
+        assert!(x.submodel_error_mpa < 0.01 * x.stress_mpa.abs(), "{x:?}");
+    }
+    // The peak a Gauss point of the solid sees lies far below the stress at L / 2.
+    let worst = ra
+        .edge_stress
+        .iter()
+        .map(|e| e.stress_mpa)
+        .fold(0.0, f64::max);
+    assert!(
+        worst > 3.0 * ra.max_principal_mpa,
+        "{worst} {}",
+        ra.max_principal_mpa
+    );
 }
 
 #[test]
@@ -184,6 +232,16 @@ fn mirrored_parts_read_as_the_whole_die() {
     assert!(close(q.support1_n, w.support1_n, 1.0) && close(q.support2_n, w.support2_n, 1.0));
     // The left and right units read alike by symmetry, in the whole model too.
     assert!(close(w.charge_pc[0], w.charge_pc[2], qmax));
+    // The sharp edges: the quarter's stations are the whole die's in that quarter, and the
+    // worst section of each kind has the same stress (its image, or itself on a mirror plane).
+    assert_eq!(q.edge_stress.len(), w.edge_stress.len());
+    for (a, b) in q.edge_stress.iter().zip(&w.edge_stress) {
+        assert_eq!(a.kind, b.kind);
+        assert!(
+            close(a.stress_mpa, b.stress_mpa, b.stress_mpa.abs()),
+            "{a:?} {b:?}"
+        );
+    }
 }
 
 #[test]
@@ -229,7 +287,9 @@ fn fe_model_solid_through_the_binary() {
     let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     let r: &serde_json::Value = &v["scenes"][0];
     let q = r["quantities"].as_array().unwrap();
-    assert_eq!(q.len(), 1 + 9 + 2 + 2, "{q:?}");
+    // Deflection, nine charges, two reactions, the averaged and peak stresses and the two kinds
+    // of sharp edge.
+    assert_eq!(q.len(), 1 + 9 + 2 + 2 + 2, "{q:?}");
     let get = |n: &str| {
         q.iter().find(|x| x["name"] == n).unwrap()["value"]
             .as_f64()
@@ -237,10 +297,21 @@ fn fe_model_solid_through_the_binary() {
     };
     assert!((get("reaction_support1") + get("reaction_support2") - 1.0).abs() < 1e-9);
     // Every compared quantity carries the linear plate's value.
+    // Every compared quantity carries the linear plate's value; the solid's own stresses (the
+    // peak and the edges' at the critical distance) have none to compare with.
+    let own = [
+        "max_principal_stress",
+        "tooth_base_stress",
+        "support_edge_stress",
+    ];
     assert!(q
         .iter()
-        .filter(|x| x["name"] != "max_principal_stress")
+        .filter(|x| !own.contains(&x["name"].as_str().unwrap()))
         .all(|x| x["plate_value"].is_number()));
+    assert!(q
+        .iter()
+        .filter(|x| own.contains(&x["name"].as_str().unwrap()))
+        .all(|x| x["plate_value"].is_null()));
     // The studies refuse it with a usage-level error.
     let bad = tactfab(&[
         "orient",
@@ -327,6 +398,19 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         factor > 0.0 && factor * stress <= 4000.0 * (1.0 + 1e-12),
         "{factor} {stress}"
     );
+    // ... and against the teeth's base edges' stress at the critical distance, which governs.
+    let edge = v["scenes"][0]["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|q| q["name"] == "tooth_base_stress")
+        .unwrap()["value"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        edge > stress && factor * edge <= 4000.0 * (1.0 + 1e-12),
+        "{factor} {edge}"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("build.json")).unwrap()).unwrap();
     assert_eq!(summary["passed"], false);
@@ -403,6 +487,28 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
     assert!(worst > 0.5, "{worst}");
     assert_eq!(plate["converged"], false);
     assert!(plate["error"]["model"].as_f64().unwrap() >= worst);
+    // The answer's safety factor is the solid's where the solid's governing stress (a sharp
+    // edge's at the critical distance) is worse than the plate's averaged stress.
+    let governing = [
+        "max_stress_averaged",
+        "tooth_base_stress",
+        "support_edge_stress",
+    ]
+    .iter()
+    .map(|n| {
+        solid["quantities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|q| q["name"] == *n)
+            .unwrap_or_else(|| panic!("{n}"))["value"]
+            .as_f64()
+            .unwrap()
+    })
+    .fold(0.0f64, f64::max);
+    let sf = plate["safety_factor"].as_f64().unwrap();
+    assert!(sf * governing <= 4000.0 * (1.0 + 1e-9), "{sf} {governing}");
+    assert!(run.stdout.contains("EDGE_STRESS"), "{}", run.stdout);
     // The solid checks a plate answer: with --model solid there is nothing to check.
     let run = tactfab(&[
         "fe",

@@ -2,6 +2,7 @@
 //! displacement field, and the stress the read-outs use. The sensor's electrode charges, reactions
 //! and stress checks are written once against this trait.
 
+use crate::fe::solid::corner::DriverKinematics;
 use crate::fe::solid::grid::HexGrid;
 use crate::fe::solid::hex27;
 use crate::fe::solid::nonlinear::TlSolution;
@@ -31,6 +32,12 @@ pub trait SolidField {
     fn traction_z_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 3]> {
         let s = self.stress_at(element, xi)?;
         Some([s[4], s[3], s[2]])
+    }
+
+    /// How a corner submodel reads this field ([`crate::fe::solid::corner`]): as it is, or with
+    /// its local rigid rotation taken out (a geometrically nonlinear field).
+    fn kinematics(&self) -> DriverKinematics {
+        DriverKinematics::Linear
     }
 
     /// Displacement (m) of the material point at undeformed position `p_um`.
@@ -115,6 +122,9 @@ impl SolidField for TlSolution {
     }
     fn stress_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
         self.second_piola_kirchhoff_at(element, xi)
+    }
+    fn kinematics(&self) -> DriverKinematics {
+        DriverKinematics::Corotated
     }
     fn traction_z_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 3]> {
         let p = self.first_piola_kirchhoff_at(element, xi)?;

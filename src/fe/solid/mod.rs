@@ -27,6 +27,7 @@
 //! ```
 
 pub mod assemble;
+pub mod corner;
 pub mod dofs;
 pub mod elasticity;
 pub mod field;
@@ -43,6 +44,8 @@ pub mod tl;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_corner;
 #[cfg(test)]
 mod tests_tl;
 
