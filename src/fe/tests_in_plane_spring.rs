@@ -132,6 +132,9 @@ fn a_stiff_in_plane_spring_holds_the_edge_and_a_soft_one_lets_it_slide() {
         (soft - slid).abs() < 1e-6 * slid,
         "{soft} vs sliding {slid}"
     );
+    // Sliding asked for: the in-plane springs are not applied.
+    let slid_sprung = centre(&solve(&strip(32, q, Some(k_strip)), sliding));
+    assert_eq!(slid_sprung, slid, "sliding ignores the in-plane springs");
     assert!(slid > 1.2 * held, "the limits differ: {slid} vs {held}");
 }
 

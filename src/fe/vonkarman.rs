@@ -65,10 +65,12 @@ const NE: usize = 24;
 #[serde(rename_all = "snake_case")]
 pub enum InPlane {
     /// u = v = 0 on every support line: the support holds the plate (bonded to the support
-    /// post); the plate must stretch to deflect (membrane stiffening).
+    /// post); the plate must stretch to deflect (membrane stiffening). On an edge spring with an
+    /// in-plane stiffness the normal displacement is held by that spring instead.
     Immovable,
     /// Only the displacement along the support line is held; the plate may pull in across it
-    /// (one node is held across as well, to remove the rigid translation).
+    /// (one node is held across as well, to remove the rigid translation). Edge springs' in-plane
+    /// stiffnesses are not applied.
     Sliding,
 }
 
@@ -514,7 +516,10 @@ impl VonKarman {
                 Some((v, g)) => constrained.push((d, *v, *g)),
             }
         }
-        let in_plane_springs = in_plane_spring::in_plane_segments(problem, M)?;
+        let in_plane_springs = match opts.in_plane {
+            InPlane::Immovable => in_plane_spring::in_plane_segments(problem, M)?,
+            InPlane::Sliding => Vec::new(),
+        };
         let in_plane_free = free_in_plane_modes(mesh, &constrained, &in_plane_springs);
         if in_plane_free > 0 {
             return Err(FeError::Underconstrained {
