@@ -194,6 +194,40 @@ impl Pattern {
         }
     }
 
+    /// Adds a block over the global dofs `dofs` (`m` per node, their nodes neighbours in the
+    /// stencil; `ke` row-major, n x n) to the values; constrained rows and columns are skipped.
+    #[track_caller]
+    pub fn add_dof_block(
+        &self,
+        vals: &mut [f64],
+        mesh: &RectMesh,
+        free_index: &[usize],
+        dofs: &[usize],
+        ke: &[f64],
+    ) {
+        let (m, nxl, n) = (self.m, mesh.x_um.len(), dofs.len());
+        assert_eq!(ke.len(), n * n, "one row per dof");
+        for (j, &dj) in dofs.iter().enumerate() {
+            let c = free_index[dj];
+            if c == CONSTRAINED {
+                continue;
+            }
+            let (ic, jc) = ((dj / m) % nxl, (dj / m) / nxl);
+            for (i, &di) in dofs.iter().enumerate() {
+                let (ir, jr) = ((di / m) % nxl, (di / m) / nxl);
+                assert!(
+                    ir.abs_diff(ic) <= 1 && jr.abs_diff(jc) <= 1,
+                    "stencil neighbours"
+                );
+                let k = (jr + 1 - jc) * 3 + (ir + 1 - ic);
+                let s = self.slot[9 * m * c + m * k + di % m];
+                if s != NO_SLOT {
+                    vals[s as usize] += ke[i * n + j];
+                }
+            }
+        }
+    }
+
     /// Adds a block coupling the 4 bending dofs of each of `nodes` (neighbours in the stencil;
     /// `ke` row-major, 4 n x 4 n, node by node) to the values; constrained rows and columns are
     /// skipped.

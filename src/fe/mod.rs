@@ -50,6 +50,8 @@ mod tests;
 #[cfg(test)]
 mod tests_footing;
 #[cfg(test)]
+mod tests_in_plane_spring;
+#[cfg(test)]
 mod tests_leissa;
 #[cfg(test)]
 mod tests_modal;

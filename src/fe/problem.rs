@@ -66,6 +66,12 @@ pub struct EdgeSpring {
     /// Stiffness per unit length on (w, theta): [[N/m^2, N/m], [N/m, N]] (symmetric, positive
     /// definite).
     pub stiffness: [[f64; 2]; 2],
+    /// For the large-deflection plate: stiffness per unit length (N/m^2) of a spring on the
+    /// in-plane displacement normal to the line (the footing's in-plane give,
+    /// [`crate::fe::vonkarman`]); `None` holds that displacement, as a clamp does. The
+    /// displacement along the line is held either way. The linear plate has no in-plane dofs and
+    /// ignores it.
+    pub normal_in_plane_pa: Option<f64>,
 }
 
 /// Nodal degree of freedom of the BFS element.

@@ -47,6 +47,7 @@ fn strip(k: [[f64; 2]; 2], turned: bool, ny: usize) -> PlateProblem {
             to_um: B_UM,
             outward: out,
             stiffness: k,
+            normal_in_plane_pa: None,
         });
     }
     for at in [0.0, B_UM] {

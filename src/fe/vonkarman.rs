@@ -12,7 +12,10 @@
 //!
 //! The sparsity pattern, the elimination order and the symbolic Cholesky analysis are built once
 //! per mesh and constraint set and reused by every Newton iteration of every load step and scene.
-//! Loads are dead loads (they do not follow the deformation).
+//! Loads are dead loads (they do not follow the deformation). A support line holds u and v
+//! (immovable) or only the displacement along it (sliding); an edge spring's line is held the
+//! same way unless it has an in-plane stiffness, which then takes the normal displacement
+//! (`in_plane_spring`: the footing's in-plane give).
 
 // Index loops mirror the matrix formulas.
 #![allow(clippy::needless_range_loop)]
@@ -38,7 +41,9 @@ use crate::fe::problem::{Axis, LineSupport, Load, PlateProblem, SupportKind};
 use crate::fe::solution::{GroupReaction, NodalReaction, PlateSolution, SolutionContext};
 
 mod deflection_control;
+mod in_plane_spring;
 pub use deflection_control::{AtDeflection, PEAK_TOL};
+use in_plane_spring::InPlaneSegment;
 
 /// Energy-norm ratio below which a correction that stops shrinking is round-off: the displacement
 /// correction is then ~1e-4 of the first, under any discretisation error the ladder reports
@@ -60,10 +65,12 @@ const NE: usize = 24;
 #[serde(rename_all = "snake_case")]
 pub enum InPlane {
     /// u = v = 0 on every support line: the support holds the plate (bonded to the support
-    /// post); the plate must stretch to deflect (membrane stiffening).
+    /// post); the plate must stretch to deflect (membrane stiffening). On an edge spring with an
+    /// in-plane stiffness the normal displacement is held by that spring instead.
     Immovable,
     /// Only the displacement along the support line is held; the plate may pull in across it
-    /// (one node is held across as well, to remove the rigid translation).
+    /// (one node is held across as well, to remove the rigid translation). Edge springs' in-plane
+    /// stiffnesses are not applied.
     Sliding,
 }
 
@@ -337,8 +344,10 @@ pub struct VonKarman {
     kinds: Vec<ElementKind>,
     kind: Vec<u32>,
     ctx: Arc<SolutionContext>,
-    /// Edge springs (bending dofs only; their lines hold the in-plane dofs as a support does).
+    /// Edge springs (bending dofs only; their lines hold the in-plane dofs as a support does,
+    /// or leave the normal one to `in_plane_springs`).
     springs: Vec<crate::fe::solve::Springs>,
+    in_plane_springs: Vec<InPlaneSegment>,
 }
 
 /// Global dofs (6 per node) of an element in the local order of [`ElementKind::evaluate`].
@@ -374,13 +383,20 @@ const NODE_DOF: [usize; NE] = {
     t
 };
 
-/// Rigid in-plane modes (u = 1, v = 1, rotation) the in-plane constraints leave free.
-fn free_in_plane_modes(mesh: &RectMesh, constrained: &[(usize, f64, usize)]) -> usize {
+/// Rigid in-plane modes (u = 1, v = 1, rotation) the in-plane constraints and springs leave
+/// free.
+fn free_in_plane_modes(
+    mesh: &RectMesh,
+    constrained: &[(usize, f64, usize)],
+    springs: &[InPlaneSegment],
+) -> usize {
     let (x0, y0, x1, y1) = mesh.bounds_um();
     let (xc, yc, l) = (0.5 * (x0 + x1), 0.5 * (y0 + y1), (x1 - x0).max(y1 - y0));
     let nxl = mesh.x_um.len();
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 3];
-    for &(d, _, _) in constrained.iter().filter(|c| c.0 % M >= 4) {
+    let sprung = springs.iter().flat_map(|s| s.dofs);
+    let held = constrained.iter().map(|c| c.0).filter(|d| d % M >= 4);
+    for d in held.chain(sprung) {
         let node = d / M;
         let (x, y) = (
             (mesh.x_um[node % nxl] - xc) / l,
@@ -400,7 +416,8 @@ fn free_in_plane_modes(mesh: &RectMesh, constrained: &[(usize, f64, usize)]) -> 
 
 /// The constrained dofs (6 per node): the bending constraints of the linear problem, plus the
 /// in-plane ones of each support line by `in_plane` and the normal in-plane displacement on
-/// every symmetry line.
+/// every symmetry line. An edge spring's line is held as a support's, except that with an
+/// in-plane stiffness its normal displacement is left to that spring ([`in_plane_spring`]).
 fn constraints(
     problem: &PlateProblem,
     bending: &DofMap,
@@ -414,15 +431,19 @@ fn constraints(
     let group = |name: &str| bending.groups.iter().position(|g| g == name).unwrap_or(0);
     let mut sliding_anchor = None;
     let mut any_mirror_x = false;
-    let spring_lines = problem.edge_springs.iter().map(|e| LineSupport {
-        group: e.group.clone(),
-        kind: SupportKind::Clamped,
-        along: e.along,
-        at_um: e.at_um,
-        from_um: e.from_um,
-        to_um: e.to_um,
+    let spring_lines = problem.edge_springs.iter().map(|e| {
+        let line = LineSupport {
+            group: e.group.clone(),
+            kind: SupportKind::Clamped,
+            along: e.along,
+            at_um: e.at_um,
+            from_um: e.from_um,
+            to_um: e.to_um,
+        };
+        (line, e.normal_in_plane_pa.is_some())
     });
-    for s in problem.supports.iter().cloned().chain(spring_lines) {
+    let lines = problem.supports.iter().map(|s| (s.clone(), false));
+    for (s, normal_sprung) in lines.chain(spring_lines) {
         let s = &s;
         let (line_axis, span_axis) = match s.along {
             Axis::X => (&mesh.y_um, &mesh.x_um),
@@ -440,8 +461,8 @@ fn constraints(
         };
         let held: &[usize] = match (s.kind, in_plane) {
             (SupportKind::Symmetry, _) => &[across],
-            (_, InPlane::Immovable) => &[4, 5],
-            (_, InPlane::Sliding) => &[along],
+            (_, InPlane::Immovable) if !normal_sprung => &[4, 5],
+            (_, InPlane::Immovable | InPlane::Sliding) => &[along],
         };
         if s.kind == SupportKind::Symmetry && s.along == Axis::X {
             any_mirror_x = true;
@@ -495,7 +516,11 @@ impl VonKarman {
                 Some((v, g)) => constrained.push((d, *v, *g)),
             }
         }
-        let in_plane_free = free_in_plane_modes(mesh, &constrained);
+        let in_plane_springs = match opts.in_plane {
+            InPlane::Immovable => in_plane_spring::in_plane_segments(problem, M)?,
+            InPlane::Sliding => Vec::new(),
+        };
+        let in_plane_free = free_in_plane_modes(mesh, &constrained, &in_plane_springs);
         if in_plane_free > 0 {
             return Err(FeError::Underconstrained {
                 free_modes: in_plane_free,
@@ -545,6 +570,7 @@ impl VonKarman {
                 groups: bending.groups,
             }),
             springs: crate::fe::solve::springs_of(problem)?,
+            in_plane_springs,
         })
     }
 
@@ -576,6 +602,7 @@ impl VonKarman {
             }
         }
         crate::fe::edge_spring::add_forces(&self.springs, u, M, &mut r);
+        in_plane_spring::add_forces(&self.in_plane_springs, u, &mut r);
         if let Some(vals) = vals.as_mut() {
             crate::fe::edge_spring::add_to_values(
                 &self.pattern,
@@ -583,6 +610,13 @@ impl VonKarman {
                 &self.mesh,
                 &self.free_index,
                 &self.springs,
+            );
+            in_plane_spring::add_to_values(
+                &self.pattern,
+                vals,
+                &self.mesh,
+                &self.free_index,
+                &self.in_plane_springs,
             );
         }
         (r, vals)

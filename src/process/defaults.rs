@@ -328,7 +328,7 @@ pub const DEFAULTS: &[DefaultSource] = &[
     },
     DefaultSource {
         path: "materials.base.support_model",
-        source: "[choice] clamped; elastic_footing is closer to the solid on Plexiglas, not on a rigid base or at 1 N (README)",
+        source: "[choice] clamped; elastic_footing is closer to the solid on Plexiglas, not on a rigid base (README)",
     },
     DefaultSource {
         path: "materials.base.thickness_um",

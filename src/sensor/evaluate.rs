@@ -1415,14 +1415,14 @@ pub(super) fn build_problem(
         .collect();
     let (x0, x1, y0, y1) = sym.domain_um;
     let footing = (g.support_model == crate::process::SupportModel::ElasticFooting)
-        .then(|| super::footing::SupportFooting::new(g).edge_stiffness());
+        .then(|| super::footing::SupportFooting::new(g));
     for (side, y, outward) in [
         (ElectrodeSide::Support1, g.plate_y0_um, -1.0),
         (ElectrodeSide::Support2, g.plate_y1_um, 1.0),
     ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();
-            if let Some(stiffness) = footing {
+            if let Some(ft) = &footing {
                 p.edge_springs.push(crate::fe::EdgeSpring {
                     group,
                     along: FeAxis::X,
@@ -1430,7 +1430,8 @@ pub(super) fn build_problem(
                     from_um: x0,
                     to_um: x1,
                     outward,
-                    stiffness,
+                    stiffness: ft.edge_stiffness(),
+                    normal_in_plane_pa: Some(ft.in_plane_pa),
                 });
                 continue;
             }

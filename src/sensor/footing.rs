@@ -19,6 +19,47 @@ pub struct SupportFooting {
     /// The film's and the base's foundation moduli (N/m^3) in series make `beam.k_pa_per_m`.
     pub film_k_pa_per_m: f64,
     pub base_k_pa_per_m: f64,
+    /// The support's in-plane give across the wall, per unit length along it (N/m^2): the
+    /// film's shear lag and the base's shear in series ([`in_plane_stiffness_pa`]).
+    pub in_plane_pa: f64,
+}
+
+/// In-plane stiffness across the wall, per unit length along it (N/m^2), of a support pulled
+/// towards the span at its edge (the plate's membrane force), in series:
+///
+/// - the film's shear lag (Volkersen 1938, "Die Nietkraftverteilung in zugbeanspruchten
+///   Nietverbindungen mit konstanten Laschenquerschnitten", Luftfahrtforschung 15, 41-47: the
+///   shear-lag model of a bonded lap): the support strip (in-plane stiffness `ea_n_per_m`,
+///   length `length_m` from the pulled edge to its free end at the die edge) on a film of shear
+///   stiffness G_f / t_f per area over a rigid substrate, EA u'' = (G_f / t_f) u with
+///   EA u'(0) = -F and u'(L) = 0, gives F / u(0) = EA beta tanh(beta L),
+///   beta = sqrt(G_f / (t_f EA));
+/// - the base (a layer of thickness H held on its bottom face) in simple shear under the
+///   support's footprint, which the support (far stiffer in-plane than the layer) drags as a
+///   whole, the loaded width taken as the footprint plus H / 2 on the channel side (a 45 degree
+///   spread of half the layer; the die edge bounds the other side), G_b (L + H / 2) / H
+///   \[choice\]: not checked against the layer's elastic solution. A rigid base adds nothing.
+pub fn in_plane_stiffness_pa(
+    ea_n_per_m: f64,
+    length_m: f64,
+    film_g_pa: f64,
+    film_thickness_m: f64,
+    base: Base,
+) -> f64 {
+    let beta = (film_g_pa / (film_thickness_m * ea_n_per_m)).sqrt();
+    let film = ea_n_per_m * beta * (beta * length_m).tanh();
+    match base {
+        Base::Rigid => film,
+        Base::Elastic {
+            thickness_um,
+            e_pa,
+            nu,
+        } => {
+            let h = thickness_um * 1e-6;
+            let base = e_pa / (2.0 * (1.0 + nu)) * (length_m + 0.5 * h) / h;
+            1.0 / (1.0 / film + 1.0 / base)
+        }
+    }
 }
 
 /// Constrained (oedometric) modulus E (1 - nu) / ((1 + nu)(1 - 2 nu)): a layer thin against the
@@ -85,6 +126,13 @@ impl SupportFooting {
             offset_um,
             film_k_pa_per_m: film_k,
             base_k_pa_per_m: base_k(lambda),
+            in_plane_pa: in_plane_stiffness_pa(
+                g.material.q22_pa * h_m,
+                length_m,
+                g.pvdf_e_pa / (2.0 * (1.0 + g.pvdf_nu)),
+                g.film_thickness_um * 1e-6,
+                g.base,
+            ),
         }
     }
 
@@ -232,6 +280,53 @@ mod tests {
             sign.push(fa.signum());
         }
         assert_eq!(sign, [1.0, -1.0], "compression at the edge, tension beyond");
+    }
+
+    /// The film's shear lag against a finite-difference solution of EA u'' = (G / t) u on the
+    /// strip (u'(L) = 0, EA u'(0) = -F), and the base in series, the rigid base its limit.
+    #[test]
+    fn in_plane_stiffness_is_the_shear_lag_in_series_with_the_base() {
+        let (ea, l, g, t) = (5e7, 2.5e-3, 1.1e9, 25e-6);
+        let k = in_plane_stiffness_pa(ea, l, g, t, Base::Rigid);
+        let n = 4000;
+        let h = l / n as f64;
+        let c = g / t * h * h / ea;
+        // Rows i = 0..=n of -u_{i-1} + (2 + c) u_i - u_{i+1} = 0 with mirrored ghosts:
+        // u_{-1} = u_1 + 2 h F / EA (F = 1) and u_{n+1} = u_{n-1}; halves at the ends so the
+        // matrix is symmetric; Thomas algorithm.
+        let mut diag = vec![2.0 + c; n + 1];
+        let (lo, mut rhs) = (vec![-1.0; n + 1], vec![0.0; n + 1]);
+        diag[0] = 1.0 + 0.5 * c;
+        diag[n] = 1.0 + 0.5 * c;
+        rhs[0] = h / ea;
+        for i in 1..=n {
+            let f = lo[i] / diag[i - 1];
+            diag[i] -= f * lo[i];
+            rhs[i] -= f * rhs[i - 1];
+        }
+        let mut u = vec![0.0; n + 1];
+        u[n] = rhs[n] / diag[n];
+        for i in (0..n).rev() {
+            u[i] = (rhs[i] - lo[i + 1] * u[i + 1]) / diag[i];
+        }
+        let k_fd = 1.0 / u[0];
+        assert!(
+            (k - k_fd).abs() < 1e-4 * k,
+            "{k} vs finite differences {k_fd}"
+        );
+        // A long strip: sqrt(EA G / t).
+        let long = in_plane_stiffness_pa(ea, 1.0, g, t, Base::Rigid);
+        assert!((long - (ea * g / t).sqrt()).abs() < 1e-12 * long);
+        let base = |e_pa: f64| Base::Elastic {
+            thickness_um: 2000.0,
+            e_pa,
+            nu: 0.37,
+        };
+        let kb = 3e9 / 2.74 * (l + 1e-3) / 2e-3;
+        let series = in_plane_stiffness_pa(ea, l, g, t, base(3e9));
+        assert!((1.0 / series - 1.0 / k - 1.0 / kb).abs() < 1e-12 / series);
+        let stiff = in_plane_stiffness_pa(ea, l, g, t, base(3e19));
+        assert!((stiff - k).abs() < 1e-8 * k, "{stiff} vs rigid {k}");
     }
 
     #[test]

@@ -103,6 +103,7 @@ pub(super) fn footing_force(
         to_um: *mesh.x_um.last().unwrap_or(&0.0),
         outward,
         stiffness: [[0.0; 2]; 2],
+        normal_in_plane_pa: None,
     };
     let Ok(segs) = edge_spring::segments(mesh, &line) else {
         return 0.0;

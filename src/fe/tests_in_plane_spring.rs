@@ -1,0 +1,210 @@
+//! The large-deflection plate on edge springs with an in-plane give
+//! ([`EdgeSpring::normal_in_plane_pa`]): a clamped strip whose edges give in-plane against the
+//! closed form (Timoshenko & Woinowsky-Krieger sec. 3 with the springs in series with the
+//! strip's stretch), the stiff and soft limits (held and sliding edges), equilibrium and
+//! symmetry.
+
+use super::vonkarman::{clamped_strip_reference, NonlinearOptions};
+use super::*;
+
+const SPAN_UM: f64 = 2000.0;
+const WIDTH_UM: f64 = 500.0;
+const T_UM: f64 = 100.0;
+
+fn mat() -> PlateMaterial {
+    PlateMaterial::silicon(DieEdge::Along110)
+}
+
+/// A strip spanning y in [0, SPAN] with mirror lines on both x edges (cylindrical bending), its
+/// ends on edge springs stiff enough in w and the slope to be clamps (their finite stiffness
+/// moves the answers by ~1e-6), with the in-plane spring `k_pa` (or held).
+fn strip(n: usize, pressure_pa: f64, k_pa: Option<f64>) -> PlateProblem {
+    let mesh = RectMesh {
+        x_um: vec![0.0, 0.5 * WIDTH_UM, WIDTH_UM],
+        y_um: (0..=n).map(|k| SPAN_UM * k as f64 / n as f64).collect(),
+    };
+    let mut p = PlateProblem::new(mesh, T_UM, mat());
+    for (g, at, out) in [("y0", 0.0, -1.0), ("y1", SPAN_UM, 1.0)] {
+        p.edge_springs.push(EdgeSpring {
+            group: g.into(),
+            along: Axis::X,
+            at_um: at,
+            from_um: 0.0,
+            to_um: WIDTH_UM,
+            outward: out,
+            stiffness: [[1e20, 0.0], [0.0, 1e10]],
+            normal_in_plane_pa: k_pa,
+        });
+    }
+    for at in [0.0, WIDTH_UM] {
+        p.supports.push(LineSupport {
+            group: "symmetry".into(),
+            kind: SupportKind::Symmetry,
+            along: Axis::Y,
+            at_um: at,
+            from_um: 0.0,
+            to_um: SPAN_UM,
+        });
+    }
+    p.load_cases.push(vec![Load::Pressure {
+        region: None,
+        total_force_n: pressure_pa * SPAN_UM * WIDTH_UM * 1e-12,
+    }]);
+    p
+}
+
+fn solve(p: &PlateProblem, opts: NonlinearOptions) -> PlateSolution {
+    VonKarman::new(p, opts)
+        .unwrap()
+        .solve(&p.load_cases[0])
+        .unwrap()
+        .0
+}
+
+/// (A, D) of the strip in plane strain across it.
+fn strip_stiffness() -> (f64, f64) {
+    let t = T_UM * 1e-6;
+    (mat().q22_pa * t, mat().q22_pa * t.powi(3) / 12.0)
+}
+
+/// Pressure with a linear centre deflection of 1.6 thicknesses: the membrane force matters.
+fn pressure() -> f64 {
+    let (_, d) = strip_stiffness();
+    1.6 * T_UM * 1e-6 * 384.0 * d / (SPAN_UM * 1e-6).powi(4)
+}
+
+/// Hand derivation: the strip's membrane force N is constant, N L / A = u(L) - u(0) +
+/// 1/2 int w'^2, and each end gives N / k towards the span, so N = A_eff / (2 L) int w'^2 with
+/// A_eff = A / (1 + 2 A / (k L)): the clamped strip's closed form with A_eff.
+#[test]
+fn a_strip_on_in_plane_springs_is_the_clamped_strip_with_the_springs_in_series() {
+    let (a, d) = strip_stiffness();
+    let l = SPAN_UM * 1e-6;
+    // Springs as soft as the strip's own stretch: A_eff = A / 2.
+    let k = 2.0 * a / l;
+    let q = pressure();
+    let (w_ref, n_ref) = clamped_strip_reference(q, l, d, 0.5 * a);
+    let (w_held, _) = clamped_strip_reference(q, l, d, a);
+    assert!(
+        w_ref > 1.05 * w_held,
+        "the give matters: {w_ref} vs {w_held}"
+    );
+    let s = solve(&strip(64, q, Some(k)), NonlinearOptions::default());
+    let w = s.deflection_m(0.5 * WIDTH_UM, 0.5 * SPAN_UM);
+    let ny = s.membrane_forces(0.5 * WIDTH_UM, 0.5 * SPAN_UM)[1];
+    assert!((w - w_ref).abs() < 2e-3 * w_ref, "{w} vs {w_ref}");
+    // N sampled at the centre carries the bilinear in-plane field's error (0.4 % on the held
+    // strip at this mesh, 0.9 % here); the springs' own force, k v at the ends, is the line's N.
+    assert!((ny - n_ref).abs() < 1e-2 * n_ref, "{ny} vs {n_ref} N/m");
+    // Each end gives N / k towards the span (v = +N/k at y = 0, -N/k at y = L).
+    for (y, sign) in [(0.0, 1.0), (SPAN_UM, -1.0)] {
+        let v = s.node_values(0.5 * WIDTH_UM, y)[5];
+        assert!(
+            (sign * v * k - n_ref).abs() < 2e-3 * n_ref,
+            "k v({y}) {} vs N {n_ref}",
+            v * k
+        );
+    }
+}
+
+#[test]
+fn a_stiff_in_plane_spring_holds_the_edge_and_a_soft_one_lets_it_slide() {
+    let q = pressure();
+    let (a, _) = strip_stiffness();
+    let k_strip = a / (SPAN_UM * 1e-6);
+    let centre = |s: &PlateSolution| s.deflection_m(0.5 * WIDTH_UM, 0.5 * SPAN_UM);
+    let held = centre(&solve(&strip(32, q, None), NonlinearOptions::default()));
+    let stiff = centre(&solve(
+        &strip(32, q, Some(1e7 * k_strip)),
+        NonlinearOptions::default(),
+    ));
+    assert!((stiff - held).abs() < 1e-6 * held, "{stiff} vs held {held}");
+    let sliding = NonlinearOptions {
+        in_plane: InPlane::Sliding,
+        ..Default::default()
+    };
+    let slid = centre(&solve(&strip(32, q, None), sliding));
+    let soft = centre(&solve(
+        &strip(32, q, Some(1e-7 * k_strip)),
+        NonlinearOptions::default(),
+    ));
+    assert!(
+        (soft - slid).abs() < 1e-6 * slid,
+        "{soft} vs sliding {slid}"
+    );
+    // Sliding asked for: the in-plane springs are not applied.
+    let slid_sprung = centre(&solve(&strip(32, q, Some(k_strip)), sliding));
+    assert_eq!(slid_sprung, slid, "sliding ignores the in-plane springs");
+    assert!(slid > 1.2 * held, "the limits differ: {slid} vs {held}");
+}
+
+/// A whole 4 x 3 mm plate on footing-like springs along y = 0 and y = 3 mm (free x edges) under
+/// an off-centre point load: the springs carry the load; the in-plane springs' forces cancel
+/// (nothing else holds the plate across); mirroring the load about y = 1.5 mm mirrors w and v.
+#[test]
+fn in_plane_springs_balance_and_mirror() {
+    let k_bend = crate::fe::footing::FootingBeam {
+        d_nm: mat().bending_stiffness(300e-6).d22_nm,
+        k_pa_per_m: 2e12,
+        length_m: 2.5e-3,
+    }
+    .end_stiffness();
+    let k_u = 2e9;
+    let plate = |y_load: f64| {
+        let mut p = PlateProblem::new(RectMesh::uniform(4000.0, 3000.0, 16, 12), 50.0, mat());
+        for (g, at, out) in [("a", 0.0, -1.0), ("b", 3000.0, 1.0)] {
+            p.edge_springs.push(EdgeSpring {
+                group: g.into(),
+                along: Axis::X,
+                at_um: at,
+                from_um: 0.0,
+                to_um: 4000.0,
+                outward: out,
+                stiffness: k_bend,
+                normal_in_plane_pa: Some(k_u),
+            });
+        }
+        let load = vec![Load::Point {
+            x_um: 1500.0,
+            y_um: y_load,
+            force_n: 1.5,
+            radius_um: 0.0,
+        }];
+        p.load_cases.push(load);
+        solve(&p, NonlinearOptions::default())
+    };
+    let (s, m) = (plate(1000.0), plate(2000.0));
+    let w_max = s.deflection_m(1500.0, 1000.0);
+    assert!(w_max > 25e-6, "membrane forces matter: {w_max}");
+    let total: f64 = s.reactions().iter().map(|r| r.force_n).sum();
+    assert!((total - 1.5).abs() < 1e-9, "reactions {total}");
+    // Consistent spring forces k h (v_a + v_b) / 2 per segment, summed over both lines.
+    let xs = &s.mesh().x_um;
+    let mut fy = [0.0; 2];
+    for (i, y) in [0.0, 3000.0].into_iter().enumerate() {
+        for w in xs.windows(2) {
+            let h = (w[1] - w[0]) * 1e-6;
+            let (va, vb) = (s.node_values(w[0], y)[5], s.node_values(w[1], y)[5]);
+            fy[i] += k_u * h * 0.5 * (va + vb);
+        }
+    }
+    assert!(fy[0] > 0.0 && fy[1] < 0.0, "both edges pulled in: {fy:?}");
+    assert!(
+        (fy[0] + fy[1]).abs() < 1e-9 * fy[0],
+        "in-plane balance {fy:?}"
+    );
+    for (x, y) in [
+        (700.0, 1100.0),
+        (3100.0, 600.0),
+        (1500.0, 0.0),
+        (2500.0, 2900.0),
+    ] {
+        let (a, b) = (s.node_values(x, y), m.node_values(x, 3000.0 - y));
+        assert!((a[0] - b[0]).abs() <= 1e-9 * w_max, "w ({x}, {y})");
+        let v_scale = fy[0].abs() / (k_u * 4000e-6);
+        assert!(
+            (a[5] + b[5]).abs() <= 1e-7 * v_scale,
+            "v ({x}, {y}): {a:?} {b:?}"
+        );
+    }
+}
