@@ -72,6 +72,10 @@ pub struct CornerMesh {
     pub octaves_inside: usize,
 }
 
+/// Inside this fraction of the radius du/dt is the edge's own (most of the graded rings: it
+/// saves most of the driver's reads).
+const CONSTANT_DT_FRACTION: f64 = 1.0 / 64.0;
+
 /// Most elements a corner submodel may have (bounds the work before allocating).
 pub const MAX_CORNER_ELEMENTS: usize = 200_000;
 
@@ -188,9 +192,30 @@ struct Driver<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> {
     rt: [[f64; 3]; 3],
     u0: [f64; 3],
     dt_um: f64,
+    /// du/dt on the edge itself (corotated).
+    g_edge: [f64; 3],
 }
 
-impl<D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'_, D> {
+impl<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'a, D> {
+    /// The driver of a submodel of radius `radius_um` with the local `rotation` taken out.
+    fn new(
+        field: &'a D,
+        frame: CornerFrame,
+        rotation: &[[f64; 3]; 3],
+        radius_um: f64,
+    ) -> FeResult<Self> {
+        let mut d = Driver {
+            field,
+            frame,
+            rt: transpose(rotation),
+            u0: field(frame.origin_um).ok_or_else(|| outside(frame.origin_um))?,
+            dt_um: (radius_um * 0.05).max(1e-3),
+            g_edge: [0.0; 3],
+        };
+        d.g_edge = d.along_edge(frame.origin_um)?;
+        Ok(d)
+    }
+
     fn displacement(&self, p_um: [f64; 3]) -> FeResult<[f64; 3]> {
         let u = (self.field)(p_um).ok_or_else(|| outside(p_um))?;
         let d = [0, 1, 2].map(|i| (p_um[i] - self.frame.origin_um[i]) * 1e-6);
@@ -198,6 +223,18 @@ impl<D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'_, D> {
         let y = matvec(&self.rt, x);
         Ok([0, 1, 2].map(|i| y[i] - d[i]))
     }
+    /// du/dt at the section's point (s, z) (m): within [`CONSTANT_DT_FRACTION`] of the radius
+    /// the edge's own (the solid's du/dt is continuous there: its element faces through the
+    /// edge contain t, and it varies on the solid's element scale, not the submodel's inner
+    /// rings'), else read at the point.
+    fn along_edge_at(&self, s_m: f64, z_m: f64, radius_m: f64) -> FeResult<[f64; 3]> {
+        if s_m.hypot(z_m) < CONSTANT_DT_FRACTION * radius_m {
+            Ok(self.g_edge)
+        } else {
+            self.along_edge(self.frame.point_um(s_m, z_m))
+        }
+    }
+
     /// Central difference; one-sided where the solid ends on one side (a mirror plane).
     fn along_edge(&self, p_um: [f64; 3]) -> FeResult<[f64; 3]> {
         let h = self.dt_um;
@@ -390,7 +427,6 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
 
     // The driver's frame: the local rigid rotation, read where the material around the edge is
     // widest (on the bisector of the widest sector, at R / 2), by central differences of R / 8.
-    let u0 = field(frame.origin_um).ok_or_else(|| outside(frame.origin_um))?;
     let rotation = match kinematics {
         DriverKinematics::Linear => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         DriverKinematics::Corotated => {
@@ -419,13 +455,7 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
             polar_rotation(f)
         }
     };
-    let driver = Driver {
-        field,
-        frame,
-        rt: transpose(&rotation),
-        u0,
-        dt_um: (mesh.radius_um * 0.05).max(1e-3),
-    };
+    let driver = Driver::new(field, frame, &rotation, mesh.radius_um)?;
 
     // Dofs: the arc's nodes are prescribed.
     let mut free = vec![usize::MAX; n_nodes];
@@ -472,7 +502,7 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
                         continue;
                     };
                     let w = wx * wy * det.abs();
-                    let g = driver.along_edge(frame.point_um(p[0], p[1]))?;
+                    let g = driver.along_edge_at(p[0], p[1], rings[n_rings])?;
                     let eps0 = sym_voigt(g, frame.e_t);
                     let s0 = mul6(c, &eps0);
                     let b: Vec<[f64; 6]> = (0..27)
@@ -619,13 +649,8 @@ impl CornerSolution {
             ring >= 1 && ring + 1 < self.rings_m.len(),
             "the ring must have elements on both sides"
         );
-        let driver = Driver {
-            field,
-            frame: self.frame,
-            rt: transpose(&self.rotation),
-            u0: field(self.frame.origin_um).ok_or_else(|| outside(self.frame.origin_um))?,
-            dt_um: (self.rings_m.last().copied().unwrap_or(0.0) * 1e6 * 0.05).max(1e-3),
-        };
+        let radius_um = self.rings_m.last().copied().unwrap_or(0.0) * 1e6;
+        let driver = Driver::new(field, self.frame, &self.rotation, radius_um)?;
         let r = self.rings_m[ring];
         let mut best = (f64::NEG_INFINITY, 0.0);
         for (m, &(t0, t1, sector)) in self.angles.iter().enumerate() {
@@ -634,7 +659,8 @@ impl CornerSolution {
             }
             for xi in [-1.0, -0.5, 0.0, 0.5, 1.0] {
                 let th = t0 + 0.5 * (xi + 1.0) * (t1 - t0);
-                let g = driver.along_edge(self.frame.point_um(r * th.cos(), r * th.sin()))?;
+                let radius = self.rings_m.last().copied().unwrap_or(0.0);
+                let g = driver.along_edge_at(r * th.cos(), r * th.sin(), radius)?;
                 let (Some(a), Some(b)) = (
                     self.stress(ring - 1, m, xi, 1.0, g),
                     self.stress(ring, m, xi, -1.0, g),
