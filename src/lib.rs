@@ -42,7 +42,8 @@
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
 //!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si),
 //!    linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
-//!    St. Venant-Kirchhoff, Newton on the same symbolic analysis).
+//!    St. Venant-Kirchhoff, Newton on the same symbolic analysis); [`fe::solid::corner`] resolves
+//!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the
 //!    supports' elastic footing, [`sensor::footing`]), and reads the electrodes: thickness mode
@@ -56,7 +57,9 @@
 //!    ([`sensor::TouchDown`]). [`sensor::solid`] is the top rung: the etched shape as a 3-D solid
 //!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
 //!    their own film's stresses, solved linear or geometrically nonlinear as the ladder's plate
-//!    rung for the scene is, and compared quantity by quantity with that rung.
+//!    rung for the scene is, and compared quantity by quantity with that rung; the sharp {111}
+//!    edges' stress at the critical distance ([`sensor::edge_stress`]) feeds its safety factor.
+//!    The footing's in-plane give holds the large-deflection plate's edges on the footing.
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown

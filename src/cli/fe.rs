@@ -401,6 +401,18 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             );
         }
         if let Some(last) = r.levels.last() {
+            if last.readout.edge_stress.is_empty() {
+                let l = tactfab::sensor::edge_stress::critical_distance_um(
+                    g.fracture_toughness_mpa_sqrt_m,
+                    g.fracture_strength_mpa,
+                );
+                println!(
+                    "  no sharp edge's stress read: none in the part solved, or the critical \
+                     distance L / 2 = {} um is not small against the corner submodels' radius \
+                     (the theory of critical distances' point method needs it so)",
+                    f(0.5 * l, 4)
+                );
+            }
             for e in &last.readout.edge_stress {
                 println!(
                     "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \

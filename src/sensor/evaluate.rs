@@ -1245,7 +1245,9 @@ fn scene_report(
                     "the peak point stress {:.1} MPa at ({:.0}, {:.0}) um on the {} surface does \
                      not converge with the mesh (estimated change {}): plate theory makes it \
                      singular at a thickness step or a point-like load; the safety factor uses \
-                     the stress averaged over a {:.0} um square, {:.1} MPa",
+                     the stress averaged over a {:.0} um square, {:.1} MPa (the sharp {{111}} \
+                     edges' stress at the critical distance is the solid rung's: \
+                     --verify-solid)",
                     p.sigma_pa * 1e-6,
                     p.x_um,
                     p.y_um,
