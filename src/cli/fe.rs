@@ -416,7 +416,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             for e in &last.readout.edge_stress {
                 println!(
                     "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
-                     corner submodel of radius {} um, its own estimate {} MPa): safety factor {}",
+                     corner submodel of radius {} um, its own estimate {} MPa; the levels' \
+                     estimate leaves out the bricks through the thickness, which raise it: \
+                     README): safety factor {}",
                     e.kind.as_str(),
                     f(e.stress_mpa, 4),
                     f(e.read_at_um * 1e3, 3),
