@@ -416,9 +416,8 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             for e in &last.readout.edge_stress {
                 println!(
                     "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
-                     corner submodel of radius {} um, its own estimate {} MPa; the levels' \
-                     estimate leaves out the bricks through the thickness, which raise it: \
-                     README): safety factor {}",
+                     corner submodel of radius {} um, its own estimate {} MPa): safety factor \
+                     {}",
                     e.kind.as_str(),
                     f(e.stress_mpa, 4),
                     f(e.read_at_um * 1e3, 3),
@@ -429,6 +428,17 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     f(g.fracture_strength_mpa / e.stress_mpa, 3)
                 );
             }
+        }
+        for c in &r.edge_thickness {
+            println!(
+                "  {} through the thickness (level 0, 2 against 4 bricks through the plate): {} \
+                 against {} MPa, taken as an error of {} MPa in its disc. (the difference over 1 \
+                 - 2^-lambda, the corner's rate)",
+                c.kind.as_str(),
+                f(c.two_bricks_mpa, 4),
+                f(c.four_bricks_mpa, 4),
+                f(c.error_mpa, 3)
+            );
         }
         if let Some((name, s)) = r.governing_stress() {
             println!(

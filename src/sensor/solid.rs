@@ -11,6 +11,7 @@ use crate::fe::ThreeMesh;
 use crate::process::{Scene, SceneLoad};
 
 use super::check::{check_scene, SensorError};
+use super::edge_stress::{thickness_checks, EdgeKind, EdgeThicknessCheck};
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::solid_mesh::{build, Base, SolidMeshOptions, TopLoad};
 use super::solid_readout::{read, SolidReadout};
@@ -75,6 +76,9 @@ pub struct SolidReport {
     /// The plate rung compared with: "plate" or "large_deflection_plate".
     pub plate_rung: String,
     pub levels: Vec<SolidLevel>,
+    /// The edges' stresses at level 0 against twice the bricks through the thickness, whose
+    /// error estimate their quantities' `discretisation` includes.
+    pub edge_thickness: Vec<EdgeThicknessCheck>,
     pub quantities: Vec<SolidQuantity>,
     /// Every quantity's discretisation estimate under the tolerance.
     pub converged: bool,
@@ -413,52 +417,77 @@ pub fn evaluate_solid(
         .sum();
     let mut out = Vec::new();
     let mut contact = 1.0f64;
+    // One mesh solved and read; the nonlinear solve starts from a coarser field where there is
+    // one.
+    let solve =
+        |opts: SolidMeshOptions,
+         coarser: Option<&crate::fe::solid::TlSolution>|
+         -> Result<(SolidLevel, f64, Option<crate::fe::solid::TlSolution>), SensorError> {
+            let start = Instant::now();
+            let solid = build(g, std::slice::from_ref(&loads), base, opts, mx, my)
+                .map_err(SensorError::Fe)?;
+            let (readout, dofs, factor_entries, newton_iterations, field) = if run.nonlinear {
+                let model =
+                    TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
+                let loads = &solid.problem.load_cases[0];
+                let sol = match coarser {
+                    Some(c) => model.solve_from(loads, |p| c.displacement_m(p)),
+                    None => model.solve(loads),
+                }
+                .map_err(SensorError::Fe)?;
+                (
+                    read(g, &solid, &sol, at, patch).map_err(SensorError::Fe)?,
+                    model.n_free_dofs(),
+                    model.factor_len(),
+                    Some(sol.stats().iterations),
+                    Some(sol),
+                )
+            } else {
+                let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
+                let sol = model
+                    .solve(&solid.problem.load_cases)
+                    .map_err(SensorError::Fe)?;
+                (
+                    read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?,
+                    model.n_free_dofs(),
+                    model.factor_len(),
+                    None,
+                    None,
+                )
+            };
+            let level = SolidLevel {
+                element_um: opts.element_um,
+                dofs,
+                newton_iterations,
+                factor_entries,
+                seconds: start.elapsed().as_secs_f64(),
+                readout,
+            };
+            Ok((level, solid.loaded_fraction[0], field))
+        };
     // The nonlinear solve of each level starts from the coarser level's field.
     let mut coarser: Option<crate::fe::solid::TlSolution> = None;
     for level in 0..levels {
-        let start = Instant::now();
         let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
-        let solid =
-            build(g, std::slice::from_ref(&loads), base, opts, mx, my).map_err(SensorError::Fe)?;
-        let (readout, dofs, factor_entries, newton_iterations) = if run.nonlinear {
-            let model =
-                TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
-            let loads = &solid.problem.load_cases[0];
-            let sol = match &coarser {
-                Some(c) => model.solve_from(loads, |p| c.displacement_m(p)),
-                None => model.solve(loads),
-            }
-            .map_err(SensorError::Fe)?;
-            let answer = (
-                read(g, &solid, &sol, at, patch).map_err(SensorError::Fe)?,
-                model.n_free_dofs(),
-                model.factor_len(),
-                Some(sol.stats().iterations),
-            );
-            coarser = Some(sol);
-            answer
-        } else {
-            let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
-            let sol = model
-                .solve(&solid.problem.load_cases)
-                .map_err(SensorError::Fe)?;
-            (
-                read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?,
-                model.n_free_dofs(),
-                model.factor_len(),
-                None,
-            )
-        };
-        contact = contact.min(solid.loaded_fraction[0]);
-        out.push(SolidLevel {
-            element_um: opts.element_um,
-            dofs,
-            newton_iterations,
-            factor_entries,
-            seconds: start.elapsed().as_secs_f64(),
-            readout,
-        });
+        let (answer, loaded, field) = solve(opts, coarser.as_ref())?;
+        contact = contact.min(loaded);
+        coarser = field;
+        out.push(answer);
     }
+    // The levels refine in plane only; the edges' stresses also move with the bricks through
+    // the thickness (their submodels sit inside the first one): level 0 again with twice the
+    // bricks through the plate and the teeth measures it, where there is an estimate to add it
+    // to (three levels).
+    let edge_thickness = match out.first() {
+        Some(first) if levels >= 3 && !first.readout.edge_stress.is_empty() => {
+            let mut opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, 0);
+            opts.plate_layers *= 2;
+            opts.teeth_layers *= 2;
+            let (doubled, _, _) = solve(opts, coarser.as_ref())?;
+            thickness_checks(&first.readout.edge_stress, &doubled.readout.edge_stress)
+        }
+        _ => Vec::new(),
+    };
     let tables: Vec<Vec<(String, &'static str, f64, f64)>> = out
         .iter()
         .map(|l| quantity_table(g, &l.readout, force_n))
@@ -477,16 +506,17 @@ pub fn evaluate_solid(
                 .then(|| Some((at(&tables[n - 3])?, at(&tables[n - 2])?, *value)))
                 .flatten()
                 .map(|(a, b, c)| ThreeMesh::new(a, b, c, r, r));
-            // An edge stress adds its corner submodel's own estimate.
+            // An edge stress adds its corner submodel's own estimate and the thickness check's.
+            let is = |kind: EdgeKind| format!("{}_stress", kind.as_str()) == *name;
             let submodel = out
                 .last()
-                .and_then(|l| {
-                    l.readout
-                        .edge_stress
-                        .iter()
-                        .find(|e| format!("{}_stress", e.kind.as_str()) == *name)
-                })
-                .map_or(0.0, |e| e.submodel_error_mpa / scale.max(f64::MIN_POSITIVE));
+                .and_then(|l| l.readout.edge_stress.iter().find(|e| is(e.kind)))
+                .map_or(0.0, |e| e.submodel_error_mpa)
+                + edge_thickness
+                    .iter()
+                    .find(|c| is(c.kind))
+                    .map_or(0.0, |c| c.error_mpa);
+            let submodel = submodel / scale.max(f64::MIN_POSITIVE);
             let scale = scale.max(f64::MIN_POSITIVE);
             let extrapolated = three.map_or(*value, |t| t.richardson.extrapolated);
             let plate_value = plate.iter().find(|(n, _)| n == name).map(|p| p.1);
@@ -530,6 +560,7 @@ pub fn evaluate_solid(
         nonlinear: run.nonlinear,
         plate_rung: String::new(),
         levels: out,
+        edge_thickness,
         quantities,
         converged,
         contact_on_top_faces: contact,

@@ -198,6 +198,49 @@ fn the_nonlinear_solid_stiffens_and_keeps_equilibrium_in_the_deformed_state() {
 }
 
 #[test]
+fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
+    // Three levels refine in plane only; level 0 again with twice the bricks through the plate
+    // measures what the thickness does to the edges' stresses, and their estimate includes it.
+    let g = geometry(&SHORT);
+    let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[]).unwrap();
+    assert_eq!(r.edge_thickness.len(), 2, "{:?}", r.edge_thickness);
+    let lambda = tactfab::sensor::edge_stress::williams_exponent(
+        std::f64::consts::PI + 54.7356f64.to_radians(),
+    );
+    let scale = r.levels[2]
+        .readout
+        .edge_stress
+        .iter()
+        .fold(0.0f64, |m, e| m.max(e.stress_mpa.abs()));
+    for c in &r.edge_thickness {
+        let level0 = r.levels[0]
+            .readout
+            .edge_stress
+            .iter()
+            .find(|e| e.kind == c.kind)
+            .unwrap();
+        assert_eq!(c.two_bricks_mpa, level0.stress_mpa);
+        let d = (c.four_bricks_mpa - c.two_bricks_mpa).abs();
+        assert!(d > 0.0 && (c.error_mpa - d / (1.0 - 2f64.powf(-lambda))).abs() < 1e-9 * d);
+        let q = r
+            .quantities
+            .iter()
+            .find(|q| q.name == format!("{}_stress", c.kind.as_str()))
+            .unwrap();
+        let disc = q.discretisation.expect("three levels");
+        assert!(disc * scale >= c.error_mpa * (1.0 - 1e-9), "{disc} {c:?}");
+    }
+    // A tooth's base edge: more bricks through the plate raise it (the corner's field resolved
+    // closer in), as on the bundled design.
+    let tooth = r
+        .edge_thickness
+        .iter()
+        .find(|c| c.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
+        .unwrap();
+    assert!(tooth.four_bricks_mpa > tooth.two_bricks_mpa, "{tooth:?}");
+}
+
+#[test]
 fn mirrored_parts_read_as_the_whole_die() {
     // A matrix of teeth on a 12 mm die and a centre load: symmetric about both centre lines, so
     // a quarter is solved; the whole die on the same lines must read the same.
