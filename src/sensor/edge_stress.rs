@@ -24,7 +24,7 @@
 use serde::Serialize;
 
 use crate::fe::solid::corner::{
-    solve_corner, CornerFrame, CornerMesh, CornerSector, CornerSolution,
+    solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
 };
 use crate::fe::solid::{principal_stresses_pa, Elasticity, SolidField};
 use crate::fe::FeResult;
@@ -316,28 +316,6 @@ pub fn edge_stresses(
     Ok(out)
 }
 
-/// The symmetric (mode I) exponent lambda of a re-entrant wedge of material angle `angle_rad`
-/// (pi to 2 pi) with free faces, isotropic: the root in (1/2, 1) of lambda sin(2 a) + sin(2
-/// lambda a) = 0, a = angle / 2 (Williams 1952, J. Appl. Mech. 19: 526, Eq. 8); 0.634 for the
-/// {111} corners' 234.74 deg.
-pub fn williams_exponent(angle_rad: f64) -> f64 {
-    let a = 0.5 * angle_rad.clamp(std::f64::consts::PI + 1e-9, std::f64::consts::TAU);
-    let f = |l: f64| l * (2.0 * a).sin() + (2.0 * l * a).sin();
-    let (mut lo, mut hi) = (0.5, 1.0 - 1e-12);
-    if f(lo) * f(hi) > 0.0 {
-        return 0.5;
-    }
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if f(lo) * f(mid) <= 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// One kind of edge's stress at level 0 with two and with four bricks through the plate, and
 /// the error estimate of the two-brick value taken from them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -372,19 +350,6 @@ pub fn thickness_checks(two: &[EdgeStress], four: &[EdgeStress]) -> Vec<EdgeThic
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn williams_exponents_of_known_wedges() {
-        // The crack (360 deg) is 1/2, the right-angle re-entrant corner (270 deg) 0.5445
-        // (Williams 1952, Fig. 5; Seweryn & Molski 1996, Table 1: 0.5445).
-        let deg = |d: f64| d.to_radians();
-        assert!((williams_exponent(deg(360.0)) - 0.5).abs() < 1e-9);
-        assert!((williams_exponent(deg(270.0)) - 0.544_483_7).abs() < 1e-6);
-        let l = williams_exponent(deg(234.7356));
-        assert!((l - 0.634_008).abs() < 1e-5, "{l}");
-        // Nearly a flat face (180 deg): nearly no singularity.
-        assert!(williams_exponent(deg(181.0)) > 0.98);
-    }
 
     #[test]
     fn thickness_check_scales_the_difference_by_the_corner_rate() {

@@ -204,7 +204,7 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     let g = geometry(&SHORT);
     let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[]).unwrap();
     assert_eq!(r.edge_thickness.len(), 2, "{:?}", r.edge_thickness);
-    let lambda = tactfab::sensor::edge_stress::williams_exponent(
+    let lambda = tactfab::fe::solid::corner::williams_exponent(
         std::f64::consts::PI + 54.7356f64.to_radians(),
     );
     let scale = r.levels[2]

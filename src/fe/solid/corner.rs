@@ -125,6 +125,28 @@ fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[j][i]))
 }
 
+/// The symmetric (mode I) exponent lambda of a re-entrant wedge of material angle `angle_rad`
+/// (pi to 2 pi) with free faces, isotropic: the root in (1/2, 1) of lambda sin(2 a) + sin(2
+/// lambda a) = 0, a = angle / 2 (Williams 1952, J. Appl. Mech. 19: 526, Eq. 8); 0.634 for the
+/// {111} corners' 234.74 deg.
+pub fn williams_exponent(angle_rad: f64) -> f64 {
+    let a = 0.5 * angle_rad.clamp(std::f64::consts::PI + 1e-9, std::f64::consts::TAU);
+    let f = |l: f64| l * (2.0 * a).sin() + (2.0 * l * a).sin();
+    let (mut lo, mut hi) = (0.5, 1.0 - 1e-12);
+    if f(lo) * f(hi) > 0.0 {
+        return 0.5;
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if f(lo) * f(mid) <= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Rotation of the polar decomposition F = R U by Higham's iteration R <- (R + R^-T) / 2
 /// (Higham 1986, SIAM J. Sci. Stat. Comput. 7: 1160), which converges quadratically.
 pub fn polar_rotation(f: [[f64; 3]; 3]) -> [[f64; 3]; 3] {

@@ -173,18 +173,7 @@ struct Williams {
 
 impl Williams {
     fn new(alpha: f64, e: f64, nu: f64) -> Self {
-        let f = |l: f64| l * (2.0 * alpha).sin() + (2.0 * l * alpha).sin();
-        let (mut lo, mut hi) = (0.5, 0.999_999);
-        assert!(f(lo) * f(hi) < 0.0);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if f(lo) * f(mid) <= 0.0 {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        let lambda = 0.5 * (lo + hi);
+        let lambda = williams_exponent(2.0 * alpha);
         let a = 1e6;
         let b = -a * ((lambda + 1.0) * alpha).cos() / ((lambda - 1.0) * alpha).cos();
         Williams {
@@ -265,6 +254,19 @@ fn williams_reference_is_consistent() {
     assert!(
         spp.abs() < 1e-9 * w.stress(1e-6, 0.0)[1].abs() && srp.abs() < 1e-9 * spp.abs().max(1.0)
     );
+}
+
+#[test]
+fn williams_exponents_of_known_wedges() {
+    // The crack (360 deg) is 1/2, the right-angle re-entrant corner (270 deg) 0.5445
+    // (Williams 1952, Fig. 5; Seweryn & Molski 1996, Table 1: 0.5445).
+    let deg = |d: f64| d.to_radians();
+    assert!((williams_exponent(deg(360.0)) - 0.5).abs() < 1e-9);
+    assert!((williams_exponent(deg(270.0)) - 0.544_483_7).abs() < 1e-6);
+    let l = williams_exponent(deg(234.7356));
+    assert!((l - 0.634_008).abs() < 1e-5, "{l}");
+    // Nearly a flat face (180 deg): nearly no singularity.
+    assert!(williams_exponent(deg(181.0)) > 0.98);
 }
 
 /// The submodel reproduces the singular field on the ring it reads, and refining it (more rings
