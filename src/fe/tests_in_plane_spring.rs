@@ -4,12 +4,9 @@
 //! strip's stretch), the stiff and soft limits (held and sliding edges), equilibrium and
 //! symmetry.
 
+use super::tests_vonkarman::{mesh, mirror_sides_and_pressure, SPAN_UM, T_UM, WIDTH_UM};
 use super::vonkarman::{clamped_strip_reference, NonlinearOptions};
 use super::*;
-
-const SPAN_UM: f64 = 2000.0;
-const WIDTH_UM: f64 = 500.0;
-const T_UM: f64 = 100.0;
 
 fn mat() -> PlateMaterial {
     PlateMaterial::silicon(DieEdge::Along110)
@@ -19,11 +16,7 @@ fn mat() -> PlateMaterial {
 /// ends on edge springs stiff enough in w and the slope to be clamps (their finite stiffness
 /// moves the answers by ~1e-6), with the in-plane spring `k_pa` (or held).
 fn strip(n: usize, pressure_pa: f64, k_pa: Option<f64>) -> PlateProblem {
-    let mesh = RectMesh {
-        x_um: vec![0.0, 0.5 * WIDTH_UM, WIDTH_UM],
-        y_um: (0..=n).map(|k| SPAN_UM * k as f64 / n as f64).collect(),
-    };
-    let mut p = PlateProblem::new(mesh, T_UM, mat());
+    let mut p = PlateProblem::new(mesh(n), T_UM, mat());
     for (g, at, out) in [("y0", 0.0, -1.0), ("y1", SPAN_UM, 1.0)] {
         p.edge_springs.push(EdgeSpring {
             group: g.into(),
@@ -36,20 +29,7 @@ fn strip(n: usize, pressure_pa: f64, k_pa: Option<f64>) -> PlateProblem {
             normal_in_plane_pa: k_pa,
         });
     }
-    for at in [0.0, WIDTH_UM] {
-        p.supports.push(LineSupport {
-            group: "symmetry".into(),
-            kind: SupportKind::Symmetry,
-            along: Axis::Y,
-            at_um: at,
-            from_um: 0.0,
-            to_um: SPAN_UM,
-        });
-    }
-    p.load_cases.push(vec![Load::Pressure {
-        region: None,
-        total_force_n: pressure_pa * SPAN_UM * WIDTH_UM * 1e-12,
-    }]);
+    mirror_sides_and_pressure(&mut p, pressure_pa);
     p
 }
 

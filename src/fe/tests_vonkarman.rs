@@ -5,11 +5,11 @@
 
 use super::*;
 
-const SPAN_UM: f64 = 2000.0;
-const WIDTH_UM: f64 = 500.0;
-const T_UM: f64 = 100.0;
+pub(super) const SPAN_UM: f64 = 2000.0;
+pub(super) const WIDTH_UM: f64 = 500.0;
+pub(super) const T_UM: f64 = 100.0;
 
-fn mesh(n_span: usize) -> RectMesh {
+pub(super) fn mesh(n_span: usize) -> RectMesh {
     RectMesh {
         x_um: vec![0.0, 0.5 * WIDTH_UM, WIDTH_UM],
         y_um: (0..=n_span)
@@ -38,6 +38,13 @@ fn strip_with(n_span: usize, pressure_pa: f64, kind: SupportKind) -> PlateProble
             to_um: WIDTH_UM,
         });
     }
+    mirror_sides_and_pressure(&mut p, pressure_pa);
+    p
+}
+
+/// The strip's mirror lines at both x ends and its uniform pressure (shared with
+/// `tests_in_plane_spring`, whose strip stands on edge springs instead).
+pub(super) fn mirror_sides_and_pressure(p: &mut PlateProblem, pressure_pa: f64) {
     for at in [0.0, WIDTH_UM] {
         p.supports.push(LineSupport {
             group: "symmetry".into(),
@@ -52,7 +59,6 @@ fn strip_with(n_span: usize, pressure_pa: f64, kind: SupportKind) -> PlateProble
         region: None,
         total_force_n: pressure_pa * SPAN_UM * WIDTH_UM * 1e-12,
     }]);
-    p
 }
 
 use super::vonkarman::clamped_strip_reference as strip_reference;
