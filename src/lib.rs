@@ -59,6 +59,8 @@
 //!    their own film's stresses, solved linear or geometrically nonlinear as the ladder's plate
 //!    rung for the scene is, and compared quantity by quantity with that rung; the sharp {111}
 //!    edges' stress at the critical distance ([`sensor::edge_stress`]) feeds its safety factor.
+//!    The plate rungs answer the teeth's base edges from a section of the edge solved once per
+//!    design ([`sensor::edge_section`]) driven by their resultants there.
 //!    The footing's in-plane give holds the large-deflection plate's edges on the footing.
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the

@@ -249,11 +249,12 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         s.push_str(&format!("  graded mesh: {grading}\n"));
     }
     s.push_str(&format!(
-        "  deflection {} um at the load, {} um max; stress {} MPa over the contact; safety factor \
-         {}; max load {} N\n",
+        "  deflection {} um at the load, {} um max; stress {} MPa {}; safety factor {}; max load \
+         {} N\n",
         f(r.deflection_at_load_um, 2),
         f(r.max_deflection_um, 2),
         f(r.max_stress_mpa, 1),
+        r.stress_from.describe(),
         f(r.safety_factor, 2),
         f(r.max_permissible_load_n, 2)
     ));

@@ -71,7 +71,7 @@ pub use problem::{
 };
 pub use quarter_square::quarter_square;
 pub use solution::{
-    DeflectionPeak, GroupReaction, PlateSolution, SolutionSummary, StressPeak, Surface,
+    DeflectionPeak, GroupReaction, PlateSolution, Resultants, SolutionSummary, StressPeak, Surface,
 };
 pub use solve::Factorised;
 pub use vonkarman::{AtDeflection, InPlane, NewtonStats, NonlinearOptions, VonKarman};

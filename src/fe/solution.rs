@@ -56,6 +56,17 @@ pub struct StressPeak {
     pub surface: Surface,
 }
 
+/// The plate's resultants at a point ([`PlateSolution::resultants`]), in the mesh's axes: M = D
+/// kappa (N m/m, sagging positive), N = Q t eps0 (N/m), kappa = (-w_xx, -w_yy, -2 w_xy) (1/m),
+/// eps0 the mid-plane strain (zero on a linear solution).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Resultants {
+    pub moments: [f64; 3],
+    pub membrane_forces: [f64; 3],
+    pub curvature: [f64; 3],
+    pub membrane_strain: [f64; 3],
+}
+
 /// Serializable summary of one load case.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolutionSummary {
@@ -212,6 +223,28 @@ impl PlateSolution {
                 m[1] + sign * h * k[1],
                 m[2] + sign * h * k[2],
             )
+        })
+    }
+    /// The plate's resultants at a point, from one element evaluation (None outside the
+    /// plate): what a section of the structure there is driven by.
+    pub fn resultants(&self, x_um: f64, y_um: f64) -> Option<Resultants> {
+        let (e, lx, ly) = self.ctx.mesh.locate(x_um, y_um)?;
+        let (a, b) = self.element_size_m(e);
+        let u = self.element_u(e);
+        let s = bfs::shape(lx, ly, a, b);
+        let dot = |row: &[f64; 16]| row.iter().zip(&u).map(|(p, q)| p * q).sum::<f64>();
+        let curvature = [-dot(&s[3]), -dot(&s[4]), -2.0 * dot(&s[5])];
+        let membrane_strain = self.membrane_strain_with(e, lx, ly, &s, &u);
+        let t = self.ctx.thickness_um[e] * 1e-6;
+        Some(Resultants {
+            moments: bfs::moments(curvature, &self.ctx.material.bending_stiffness(t)),
+            membrane_forces: self
+                .ctx
+                .material
+                .stress(membrane_strain[0], membrane_strain[1], membrane_strain[2])
+                .map(|v| v * t),
+            curvature,
+            membrane_strain,
         })
     }
     /// In-plane force resultants (N_x, N_y, N_xy) in N/m at a point, N = Q t eps0; zero on a

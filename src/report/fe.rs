@@ -43,6 +43,8 @@ pub struct FeScene {
     pub deflection_at_load_um: f64,
     pub max_deflection_um: f64,
     pub max_stress_mpa: f64,
+    /// Which stress the safety factor is judged on.
+    pub stress_from: crate::sensor::StressFrom,
     pub safety_factor: f64,
     pub max_permissible_load_n: f64,
     pub sensitivity_mv_per_n: f64,
@@ -204,6 +206,7 @@ pub fn summarise(
             deflection_at_load_um: r.deflection_at_load_um,
             max_deflection_um: r.max_deflection_um,
             max_stress_mpa: r.max_stress_mpa,
+            stress_from: r.stress_from,
             safety_factor: r.safety_factor,
             max_permissible_load_n: r.max_permissible_load_n,
             sensitivity_mv_per_n: r.sensitivity_mv_per_n,

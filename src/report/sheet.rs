@@ -569,7 +569,7 @@ fn scene_table(fe: &FeSummary) -> Table {
             .into(),
             err_text(sc.error_estimate, sc.converged).into(),
             format!("{:.2}", sc.deflection_at_load_um).into(),
-            format!("{:.1}", sc.max_stress_mpa).into(),
+            format!("{:.1} ({})", sc.max_stress_mpa, sc.stress_from.short()).into(),
             format!("{:.2}", sc.safety_factor).into(),
             format!("{:.3} ({})", sc.sensitivity_mv_per_n, sc.most_sensitive).into(),
             limits,

@@ -102,6 +102,28 @@ fn axis(i: usize, sign: f64) -> [f64; 3] {
     a
 }
 
+/// A tooth base's corner in the frame of an edge whose s axis points into the tooth: the plate
+/// below (-pi to 0) and the tooth up to its {111} sidewall, one silicon sector; and the submodel
+/// radius, inside the plate's thickness and the tooth, clear of the opposite faces. None without
+/// teeth.
+pub(crate) fn tooth_base_corner(g: &SensorGeometry) -> Option<(Vec<CornerSector>, f64)> {
+    let et = &g.etched;
+    let (t, h, ro) = (
+        g.plate_thickness_um,
+        et.tooth_height_um,
+        et.tooth_run_out_um,
+    );
+    if et.tooth_tops_um.is_empty() || h <= 0.0 || ro <= 0.0 || t <= 0.0 {
+        return None;
+    }
+    let sectors = vec![CornerSector {
+        from_rad: -std::f64::consts::PI,
+        to_rad: h.atan2(ro),
+        material: silicon_elasticity(g.silicon),
+    }];
+    Some((sectors, 0.4 * t.min(h).min(ro.max(h))))
+}
+
 /// Every re-entrant edge of the design (whole die; the part solved is chosen per station).
 fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
     let lay = s.layers;
@@ -109,21 +131,8 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
     let pvdf = Elasticity::isotropic(g.pvdf_e_pa, g.pvdf_nu);
     let et = &g.etched;
     let mut out = Vec::new();
-    let (t, h, ro) = (
-        g.plate_thickness_um,
-        et.tooth_height_um,
-        et.tooth_run_out_um,
-    );
-    if !et.tooth_tops_um.is_empty() && h > 0.0 && ro > 0.0 {
-        // The plate below (-pi to 0) and the tooth up to its sidewall: one silicon sector.
-        let side = h.atan2(ro);
-        let sectors = vec![CornerSector {
-            from_rad: -std::f64::consts::PI,
-            to_rad: side,
-            material: si,
-        }];
-        // Inside the plate's thickness and the tooth, clear of the opposite faces.
-        let radius = 0.4 * t.min(h).min(ro.max(h));
+    let ro = et.tooth_run_out_um;
+    if let Some((sectors, radius)) = tooth_base_corner(g) {
         for tt in &et.tooth_tops_um {
             let (bx0, by0, bx1, by1) = (tt[0] - ro, tt[1] - ro, tt[2] + ro, tt[3] + ro);
             let inside = |v: f64, hi: f64| v >= 0.0 && v <= hi;
@@ -175,7 +184,7 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
                 material: pvdf,
             },
         ];
-        let radius = 0.8 * g.film_thickness_um.min(t);
+        let radius = 0.8 * g.film_thickness_um.min(g.plate_thickness_um);
         for (y, sign) in [(g.plate_y0_um, -1.0), (g.plate_y1_um, 1.0)] {
             out.push(Edge {
                 kind: EdgeKind::SupportEdge,

@@ -17,6 +17,7 @@ use crate::process::{Scene, SceneLoad};
 
 use super::beam_model::{beam_answer, beam_applies, beam_error_estimate};
 use super::check::{check_scene, overhang, SensorError, MAX_SOLUTION_VALUES};
+use super::edge_section::plate_tooth_base_stress;
 
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::mesh_lines::{
@@ -24,8 +25,8 @@ use super::mesh_lines::{
 };
 use super::readout::{group_for, read, ElectrodeReading, Readout};
 use super::rung::{
-    discretisation, linear_model_error, quantities, worst, ErrorParts, ModelChoice, QuantityError,
-    STRESS_PEAK,
+    discretisation, linear_model_error, quantities, quantity_names, worst, ErrorParts, ModelChoice,
+    QuantityError, STRESS_PEAK, TOOTH_BASE_STRESS,
 };
 use super::scene::{split, SceneLoads};
 use super::symmetry::Symmetry;
@@ -176,9 +177,13 @@ pub struct SceneReport {
     pub converged: bool,
     pub deflection_at_load_um: f64,
     pub max_deflection_um: f64,
-    /// Largest principal stress over the contact patch, averaged over a square a plate thickness
-    /// wide (the point peak is in [`SceneReport::quantities`] with its convergence).
+    /// The stress the safety factor is judged on ([`SceneReport::stress_from`]): the larger of
+    /// the largest principal stress over the contact patch averaged over a square a few plate
+    /// thicknesses wide and the teeth's base-edge stress at the critical distance (the point
+    /// peak is in [`SceneReport::quantities`] with its convergence).
     pub max_stress_mpa: f64,
+    /// Which stress that is.
+    pub stress_from: StressFrom,
     pub safety_factor: f64,
     /// Load at which the stress reaches fracture / safety factor (linear scaling).
     pub max_permissible_load_n: f64,
@@ -385,6 +390,7 @@ fn beam_report(
         deflection_at_load_um: b.deflection_at_load_m * 1e6,
         max_deflection_um: b.max_deflection_m * 1e6,
         max_stress_mpa: stress * 1e-6,
+        stress_from: StressFrom::StripAtLoad,
         safety_factor: safety_factor(g, stress),
         max_permissible_load_n: permissible_load_n(g, stress, force_n),
         sensitivity_mv_per_n: sens,
@@ -464,6 +470,39 @@ fn touch_down(
 }
 
 /// Fracture strength over the stress (infinite when unstressed).
+/// The stress a scene's safety factor is judged on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StressFrom {
+    /// The plate's largest principal stress over the contact, averaged over a square
+    /// four plate thicknesses wide (`max_stress_averaged`).
+    AveragedOverContact,
+    /// The teeth's base-edge stress at the critical distance (`tooth_base_stress`).
+    ToothBase,
+    /// The strip's bending stress at the load line.
+    StripAtLoad,
+}
+
+impl StressFrom {
+    /// What the text output says.
+    pub fn describe(self) -> &'static str {
+        match self {
+            StressFrom::AveragedOverContact => "averaged over the contact",
+            StressFrom::ToothBase => "at a tooth's base edge, at the critical distance",
+            StressFrom::StripAtLoad => "the strip's, at the load",
+        }
+    }
+
+    /// The traveler's table label.
+    pub fn short(self) -> &'static str {
+        match self {
+            StressFrom::AveragedOverContact => "contact",
+            StressFrom::ToothBase => "tooth base",
+            StressFrom::StripAtLoad => "strip",
+        }
+    }
+}
+
 fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
     if stress_pa > 0.0 {
         g.fracture_strength_mpa * 1e6 / stress_pa
@@ -721,6 +760,10 @@ struct Levels {
     readouts: Vec<Option<Readout>>,
     /// Per scene, the large-deflection plate's touch-down on the coarsest mesh, when found.
     touch: Vec<Option<CoarseTouch>>,
+    /// The design's tooth-base section, when the plate was solved and it has teeth, and per
+    /// scene the last level's worst tooth-base station.
+    section: Option<super::edge_section::EdgeSection>,
+    edges: Vec<Option<super::edge_section::EdgeReading>>,
 }
 
 /// The touch-down found on the coarsest mesh: that mesh's largest deflection at the scene's
@@ -789,7 +832,12 @@ fn solve_levels(
         info: vec![ModelInfo::direct(); n],
         readouts: vec![None; n],
         touch: vec![None; n],
+        section: None,
+        edges: vec![None; n],
     };
+    if needs_plate {
+        out.section = super::edge_section::tooth_base_section(g)?;
+    }
     let levels = if needs_plate {
         max_levels.min(SUBDIVISIONS.len())
     } else {
@@ -873,9 +921,16 @@ fn solve_levels(
                     let mut q = vec![w];
                     q.extend(r.electrodes.iter().map(|e| e.charge_pc));
                     q.extend([r.support1_n, r.support2_n]);
-                    q.extend(
-                        stresses(g, sols[k].as_ref(), l).map(|p| p.map_or(0.0, |p| p.sigma_pa)),
-                    );
+                    let [averaged, peak] =
+                        stresses(g, sols[k].as_ref(), l).map(|p| p.map_or(0.0, |p| p.sigma_pa));
+                    q.push(averaged);
+                    if let Some(section) = &out.section {
+                        out.edges[k] = sols[k]
+                            .as_ref()
+                            .and_then(|s| plate_tooth_base_stress(g, s, section));
+                        q.push(out.edges[k].map_or(0.0, |r| r.stress_pa));
+                    }
+                    q.push(peak);
                     out.history[k].push(q);
                     let (errs, order) = discretisation(g, &out.history[k], l.total_force_n);
                     // The peak point stress (last) may never converge: it does not hold the loop.
@@ -1210,7 +1265,16 @@ fn scene_report(
     }
     let history = &levels.history[k];
     let f = l.total_force_n;
-    let (disc, _) = discretisation(g, history, f);
+    let (mut disc, _) = discretisation(g, history, f);
+    // The section's own estimate adds to the tooth-base stress's.
+    if let Some(sec) = &levels.section {
+        let i = quantity_names(g)
+            .iter()
+            .position(|(n, ..)| n == TOOTH_BASE_STRESS);
+        if let Some(Some(d)) = i.and_then(|i| disc.get_mut(i)) {
+            *d += sec.error_rel;
+        }
+    }
     let values = history.last().cloned().unwrap_or_default();
     let quantities = if sol.is_some() {
         quantities(g, &values, &disc, model, tol)
@@ -1222,8 +1286,11 @@ fn scene_report(
     let peak = sol.map(|s| s.max_deflection());
     let w_max = peak.map_or(0.0, |p| p.w_m);
     let [averaged, peak_stress] = stresses(g, sol, l);
-    // The safety factor is judged on the averaged stress, which converges.
-    let stress_pa = averaged.map_or(0.0, |p| p.sigma_pa);
+    // The safety factor is judged on the larger of the averaged stress and the teeth's
+    // base-edge stress at the critical distance: both converge.
+    let edge = levels.edges[k];
+    let averaged_pa = averaged.map_or(0.0, |p| p.sigma_pa);
+    let stress_pa = averaged_pa.max(edge.map_or(0.0, |e| e.stress_pa));
     let (best, sens) = most_sensitive(&r, f);
     let ratio = sol
         .zip(peak.as_ref())
@@ -1245,9 +1312,8 @@ fn scene_report(
                     "the peak point stress {:.1} MPa at ({:.0}, {:.0}) um on the {} surface does \
                      not converge with the mesh (estimated change {}): plate theory makes it \
                      singular at a thickness step or a point-like load; the safety factor uses \
-                     the stress averaged over a {:.0} um square, {:.1} MPa (the sharp {{111}} \
-                     edges' stress at the critical distance is the solid rung's: \
-                     --verify-solid)",
+                     the larger of the stress averaged over a {:.0} um square, {:.1} MPa, and {} \
+                     (the solid rung answers every sharp edge: --verify-solid)",
                     p.sigma_pa * 1e-6,
                     p.x_um,
                     p.y_um,
@@ -1259,11 +1325,22 @@ fn scene_report(
                         .discretisation
                         .map_or_else(|| "unknown".to_string(), |d| format!("{:.0} %", d * 100.0)),
                     STRESS_AVERAGING_THICKNESSES * g.plate_thickness_um,
-                    stress_pa * 1e-6
+                    averaged_pa * 1e-6,
+                    match edge {
+                        Some(e) => format!(
+                            "the teeth's base-edge stress at the critical distance, {:.1} MPa at \
+                             ({:.0}, {:.0}) um (tooth_base_stress, from the edge section)",
+                            e.stress_pa * 1e-6,
+                            e.at_um[0],
+                            e.at_um[1]
+                        ),
+                        None => "no tooth base edge (the design has no teeth)".to_string(),
+                    }
                 ),
             ));
         }
     }
+
     warnings.extend(overhang(scene, g));
     SceneReport {
         scene: scene.name.clone(),
@@ -1279,6 +1356,11 @@ fn scene_report(
         deflection_at_load_um: w_load * 1e6,
         max_deflection_um: w_max * 1e6,
         max_stress_mpa: stress_pa * 1e-6,
+        stress_from: if edge.is_some_and(|e| e.stress_pa > averaged_pa) {
+            StressFrom::ToothBase
+        } else {
+            StressFrom::AveragedOverContact
+        },
         safety_factor: safety_factor(g, stress_pa),
         max_permissible_load_n: permissible_load_n(g, stress_pa, f),
         sensitivity_mv_per_n: sens,

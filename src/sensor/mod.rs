@@ -12,6 +12,7 @@
 mod beam_model;
 mod check;
 mod convergence_plot;
+pub mod edge_section;
 pub mod edge_stress;
 mod evaluate;
 pub mod footing;
@@ -35,7 +36,7 @@ pub use check::{check_scene, SensorError, MAX_PATCHES, MAX_SOLUTION_VALUES};
 pub use convergence_plot::convergence_svg;
 pub use evaluate::{
     evaluate, evaluate_many, evaluate_many_with, Accuracy, LevelRecord, ModelInfo, ModelKind,
-    SceneReport,
+    SceneReport, StressFrom,
 };
 pub use geometry::{silicon_material, ElectrodeArea, ElectrodeSide, SensorGeometry};
 pub use mesh_lines::{level_ratios, MeshOptions, SUBDIVISIONS};

@@ -92,9 +92,17 @@ pub(super) fn quantity_names(g: &SensorGeometry) -> Vec<(String, &'static str, f
     out.push(("reaction_support1".into(), "N", 1.0));
     out.push(("reaction_support2".into(), "N", 1.0));
     out.push((STRESS_AVERAGED.into(), "MPa", 1e-6));
+    if super::edge_section::applies(g) {
+        out.push((TOOTH_BASE_STRESS.into(), "MPa", 1e-6));
+    }
     out.push((STRESS_PEAK.into(), "MPa", 1e-6));
     out
 }
+
+/// The teeth's base-edge stress at the critical distance, from the plate's resultants there and
+/// the design's edge section ([`super::edge_section`]): where the plate's safety factor is
+/// judged beside the averaged stress.
+pub const TOOTH_BASE_STRESS: &str = "tooth_base_stress";
 
 /// The largest principal stress averaged over a square a plate thickness wide: converges, and
 /// the safety factor is judged on it.
@@ -104,7 +112,7 @@ pub const STRESS_AVERAGED: &str = "max_stress_averaged";
 pub const STRESS_PEAK: &str = "max_stress_peak";
 
 /// Kind of history entry `i` (the normalisation group): 0 deflection, 1 middle charges, 2
-/// support charges, 3 reactions, 4 averaged stress, 5 peak stress.
+/// support charges, 3 reactions, 4 averaged stress, 5 tooth-base stress, 6 peak stress (last).
 fn kind(g: &SensorGeometry, i: usize) -> usize {
     let n_el = g.electrodes.len();
     if i == 0 {
@@ -116,15 +124,19 @@ fn kind(g: &SensorGeometry, i: usize) -> usize {
         }
     } else if i <= n_el + 2 {
         3
+    } else if i == n_el + 3 {
+        4
+    } else if i == n_el + 4 && super::edge_section::applies(g) {
+        5
     } else {
-        4 + (i - n_el - 3).min(1)
+        6
     }
 }
 
 /// Per-kind scale: the largest magnitude of the kind on `values`; the reactions' scale is the
 /// applied force.
-fn scales(g: &SensorGeometry, values: &[f64], force_n: f64) -> [f64; 6] {
-    let mut scale = [0f64; 6];
+fn scales(g: &SensorGeometry, values: &[f64], force_n: f64) -> [f64; 7] {
+    let mut scale = [0f64; 7];
     for (i, v) in values.iter().enumerate() {
         scale[kind(g, i)] = scale[kind(g, i)].max(v.abs());
     }

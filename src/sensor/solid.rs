@@ -339,7 +339,7 @@ impl super::SceneReport {
                 SceneCode::EdgeStress,
                 format!(
                     "the solid rung's {name} ({stress:.1} MPa with its estimate) gives safety \
-                     factor {sf:.2}, below the averaged stress's {:.2}: taken",
+                     factor {sf:.2}, below the plate answer's {:.2}: taken",
                     self.safety_factor
                 ),
             ));

@@ -339,14 +339,10 @@ fn fe_model_solid_through_the_binary() {
             .unwrap()
     };
     assert!((get("reaction_support1") + get("reaction_support2") - 1.0).abs() < 1e-9);
-    // Every compared quantity carries the linear plate's value.
-    // Every compared quantity carries the linear plate's value; the solid's own stresses (the
-    // peak and the edges' at the critical distance) have none to compare with.
-    let own = [
-        "max_principal_stress",
-        "tooth_base_stress",
-        "support_edge_stress",
-    ];
+    // Every compared quantity carries the linear plate's value (the tooth base's from its edge
+    // section); the solid's own stresses (the peak and the walls' at the critical distance) have
+    // none to compare with.
+    let own = ["max_principal_stress", "support_edge_stress"];
     assert!(q
         .iter()
         .filter(|x| !own.contains(&x["name"].as_str().unwrap()))
@@ -551,7 +547,22 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
     .fold(0.0f64, f64::max);
     let sf = plate["safety_factor"].as_f64().unwrap();
     assert!(sf * governing <= 4000.0 * (1.0 + 1e-9), "{sf} {governing}");
-    assert!(run.stdout.contains("EDGE_STRESS"), "{}", run.stdout);
+    // The plate answer judges the tooth base itself (its edge section); it takes the solid's
+    // safety factor, with EDGE_STRESS, only where that is lower.
+    assert_eq!(plate["stress_from"], "tooth_base");
+    let own = 4000.0 / plate["max_stress_mpa"].as_f64().unwrap();
+    assert!(sf <= own * (1.0 + 1e-12), "{sf} {own}");
+    assert_eq!(
+        run.stdout.contains("EDGE_STRESS"),
+        sf < own * (1.0 - 1e-12),
+        "{}",
+        run.stdout
+    );
+    // The plate's tooth base against the solid's, an independent model of the same edge: within
+    // 35 % (measured 24 %: the plate reads higher; this solid has two levels and two bricks
+    // through the plate, which read the edge about 20 % low on the bundled design, README).
+    let d = by_name("tooth_base_stress");
+    assert!(d > 0.0 && d < 0.35, "{d}");
     // The solid checks a plate answer: with --model solid there is nothing to check.
     let run = tactfab(&[
         "fe",

@@ -657,16 +657,17 @@ impl CornerSolution {
         Some(mul6(&self.sectors[self.angles[m].2].material.c_pa, &eps))
     }
 
-    /// The largest principal stress (Pa) on ring `ring` (an index into [`Self::rings_um`], not
-    /// the centre or the arc) in the sectors `which` selects, and its angle: the stresses of the
-    /// elements inside and outside the ring averaged at five points per element edge.
+    /// The stresses (Voigt, Pa, solid axes) on ring `ring` (an index into [`Self::rings_um`],
+    /// not the centre or the arc) in the sectors `which` selects, with their angles: the
+    /// stresses of the elements inside and outside the ring averaged at five points per element
+    /// edge.
     #[track_caller]
-    pub fn max_principal_on_ring<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
+    pub fn stresses_on_ring<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
         &self,
         ring: usize,
         which: impl Fn(usize) -> bool,
         field: &D,
-    ) -> FeResult<(f64, f64)> {
+    ) -> FeResult<Vec<(f64, [f64; 6])>> {
         assert!(
             ring >= 1 && ring + 1 < self.rings_m.len(),
             "the ring must have elements on both sides"
@@ -674,7 +675,7 @@ impl CornerSolution {
         let radius_um = self.rings_m.last().copied().unwrap_or(0.0) * 1e6;
         let driver = Driver::new(field, self.frame, &self.rotation, radius_um)?;
         let r = self.rings_m[ring];
-        let mut best = (f64::NEG_INFINITY, 0.0);
+        let mut out = Vec::new();
         for (m, &(t0, t1, sector)) in self.angles.iter().enumerate() {
             if !which(sector) {
                 continue;
@@ -683,17 +684,31 @@ impl CornerSolution {
                 let th = t0 + 0.5 * (xi + 1.0) * (t1 - t0);
                 let radius = self.rings_m.last().copied().unwrap_or(0.0);
                 let g = driver.along_edge_at(r * th.cos(), r * th.sin(), radius)?;
-                let (Some(a), Some(b)) = (
+                if let (Some(a), Some(b)) = (
                     self.stress(ring - 1, m, xi, 1.0, g),
                     self.stress(ring, m, xi, -1.0, g),
-                ) else {
-                    continue;
-                };
-                let s = [0, 1, 2, 3, 4, 5].map(|i| 0.5 * (a[i] + b[i]));
-                let p = principal_stresses_pa(&s)[0];
-                if p > best.0 {
-                    best = (p, th);
+                ) {
+                    out.push((th, [0, 1, 2, 3, 4, 5].map(|i| 0.5 * (a[i] + b[i]))));
                 }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The largest principal stress (Pa) on ring `ring` in the sectors `which` selects, and its
+    /// angle ([`Self::stresses_on_ring`]).
+    #[track_caller]
+    pub fn max_principal_on_ring<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
+        &self,
+        ring: usize,
+        which: impl Fn(usize) -> bool,
+        field: &D,
+    ) -> FeResult<(f64, f64)> {
+        let mut best = (f64::NEG_INFINITY, 0.0);
+        for (th, s) in self.stresses_on_ring(ring, which, field)? {
+            let p = principal_stresses_pa(&s)[0];
+            if p > best.0 {
+                best = (p, th);
             }
         }
         Ok(best)
