@@ -469,7 +469,6 @@ fn touch_down(
     }))
 }
 
-/// Fracture strength over the stress (infinite when unstressed).
 /// The stress a scene's safety factor is judged on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -503,6 +502,7 @@ impl StressFrom {
     }
 }
 
+/// Fracture strength over the stress (infinite when unstressed).
 fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
     if stress_pa > 0.0 {
         g.fracture_strength_mpa * 1e6 / stress_pa
@@ -932,7 +932,8 @@ fn solve_levels(
                     }
                     q.push(peak);
                     out.history[k].push(q);
-                    let (errs, order) = discretisation(g, &out.history[k], l.total_force_n);
+                    let (errs, order) =
+                        estimates(g, &out.history[k], l.total_force_n, out.section.as_ref());
                     // The peak point stress (last) may never converge: it does not hold the loop.
                     let worst = errs[..errs.len() - 1]
                         .iter()
@@ -1236,6 +1237,27 @@ fn stresses(
     ]
 }
 
+/// Each quantity's discretisation estimate from the levels' `history` ([`discretisation`]), the
+/// edge section's own estimate added to the tooth-base stress's: the level loop stops on these,
+/// and the report states them.
+fn estimates(
+    g: &SensorGeometry,
+    history: &[Vec<f64>],
+    force_n: f64,
+    section: Option<&super::edge_section::EdgeSection>,
+) -> (Vec<Option<f64>>, Option<f64>) {
+    let (mut errs, order) = discretisation(g, history, force_n);
+    if let Some(sec) = section {
+        let i = quantity_names(g)
+            .iter()
+            .position(|(n, ..)| n == TOOTH_BASE_STRESS);
+        if let Some(Some(d)) = i.and_then(|i| errs.get_mut(i)) {
+            *d += sec.error_rel;
+        }
+    }
+    (errs, order)
+}
+
 /// The report of scene `k` from the level loop; `model` is the rung's model error per quantity
 /// (None where no finer rung was compared).
 #[allow(clippy::too_many_arguments)]
@@ -1265,16 +1287,7 @@ fn scene_report(
     }
     let history = &levels.history[k];
     let f = l.total_force_n;
-    let (mut disc, _) = discretisation(g, history, f);
-    // The section's own estimate adds to the tooth-base stress's.
-    if let Some(sec) = &levels.section {
-        let i = quantity_names(g)
-            .iter()
-            .position(|(n, ..)| n == TOOTH_BASE_STRESS);
-        if let Some(Some(d)) = i.and_then(|i| disc.get_mut(i)) {
-            *d += sec.error_rel;
-        }
-    }
+    let (disc, _) = estimates(g, history, f, levels.section.as_ref());
     let values = history.last().cloned().unwrap_or_default();
     let quantities = if sol.is_some() {
         quantities(g, &values, &disc, model, tol)
