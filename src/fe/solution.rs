@@ -251,15 +251,7 @@ impl PlateSolution {
     /// linear solution.
     #[track_caller]
     pub fn membrane_forces(&self, x_um: f64, y_um: f64) -> [f64; 3] {
-        let Some((e, lx, ly)) = self.ctx.mesh.locate(x_um, y_um) else {
-            panic!("point ({x_um}, {y_um}) um is outside the plate");
-        };
-        let eps = self.membrane_strain(e, lx, ly);
-        let t = self.ctx.thickness_um[e] * 1e-6;
-        self.ctx
-            .material
-            .stress(eps[0], eps[1], eps[2])
-            .map(|s| s * t)
+        self.resultants_or_panic(x_um, y_um).membrane_forces
     }
     pub(crate) fn context(&self) -> &SolutionContext {
         &self.ctx
@@ -312,20 +304,19 @@ impl PlateSolution {
     /// mesh lines).
     #[track_caller]
     pub fn curvature(&self, x_um: f64, y_um: f64) -> [f64; 3] {
-        self.at(x_um, y_um).2
+        self.resultants_or_panic(x_um, y_um).curvature
     }
 
     /// Bending moments per unit length (Mx, My, Mxy) in N, M = D kappa (sagging positive).
     #[track_caller]
     pub fn moments(&self, x_um: f64, y_um: f64) -> [f64; 3] {
-        let (e, _, k) = self.at(x_um, y_um);
-        bfs::moments(
-            k,
-            &self
-                .ctx
-                .material
-                .bending_stiffness(self.ctx.thickness_um[e] * 1e-6),
-        )
+        self.resultants_or_panic(x_um, y_um).moments
+    }
+
+    #[track_caller]
+    fn resultants_or_panic(&self, x_um: f64, y_um: f64) -> Resultants {
+        self.resultants(x_um, y_um)
+            .unwrap_or_else(|| panic!("point ({x_um}, {y_um}) um is outside the plate"))
     }
 
     /// Bottom-surface strain (eps_x, eps_y, gamma_xy) = (t/2) kappa (Kirchhoff kinematics eps = z

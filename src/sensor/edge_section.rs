@@ -189,16 +189,15 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
     let mut slices = geo.solve(CORNER_ELEMENT_FINE, material, true)?;
     slices.extend(geo.solve(CORNER_ELEMENT_COARSE, material, false)?);
     // The four drives, the moment at half the rings, the moment on the coarser section.
-    let jobs = [
+    let jobs = vec![
         (0, RINGS_FINE),
         (1, RINGS_FINE),
         (2, RINGS_FINE),
         (3, RINGS_FINE),
-    ]
-    .into_iter()
-    .chain([(0, RINGS_COARSE), (4, RINGS_FINE)]);
+        (0, RINGS_COARSE),
+        (4, RINGS_FINE),
+    ];
     let mut rings = jobs
-        .collect::<Vec<_>>()
         .into_par_iter()
         .map(|(k, n)| corner(&slices[k], n))
         .collect::<FeResult<Vec<_>>>()?;
@@ -220,11 +219,11 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
             -down
         }
     };
-    let m_fine = opening(&fine[0]);
+    let unit_pa: [f64; 4] = std::array::from_fn(|k| opening(&fine[k]));
+    let m_fine = unit_pa[0];
     let error_rel = ((m_fine - opening(&coarse_slice)).abs()
         + (m_fine - opening(&coarse_rings)).abs())
         / m_fine.abs().max(f64::MIN_POSITIVE);
-    let unit_mpa = std::array::from_fn(|k| opening(&fine[k]) * 1e-6);
     if !(m_fine.is_finite() && error_rel.is_finite()) {
         return Err(FeError::SolidInput {
             detail: "the tooth-base section gave a non-finite stress".into(),
@@ -235,17 +234,10 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
         read_at_um: read,
         radius_um: radius,
         tooth_half_base_um: b,
-        unit_mpa,
+        unit_mpa: unit_pa.map(|v| v * 1e-6),
         error_rel,
-        norm_pa: std::array::from_fn(|d| {
-            fine[d]
-                .iter()
-                .map(|s| {
-                    let p = principal_stresses_pa(s);
-                    p[0].abs().max(p[2].abs())
-                })
-                .fold(0.0, f64::max)
-        }),
+        // max(|s1|, |s3|) = max(s1, -s3): the larger of the drive's and its opposite's peak.
+        norm_pa: unit_pa.map(f64::abs),
         ring: fine.try_into().expect("four drives"),
     };
     if let Ok(mut v) = SECTIONS.lock() {

@@ -111,9 +111,10 @@ pub const STRESS_AVERAGED: &str = "max_stress_averaged";
 /// loads, reported with its convergence but never counted as converged.
 pub const STRESS_PEAK: &str = "max_stress_peak";
 
-/// Kind of history entry `i` (the normalisation group): 0 deflection, 1 middle charges, 2
-/// support charges, 3 reactions, 4 averaged stress, 5 tooth-base stress, 6 peak stress (last).
-fn kind(g: &SensorGeometry, i: usize) -> usize {
+/// Kind of entry `i` of a history row of `n` entries (the normalisation group): 0 deflection, 1
+/// middle charges, 2 support charges, 3 reactions, 4 averaged stress, 5 tooth-base stress (where
+/// [`quantity_names`] has it, between the two), 6 peak stress (last).
+fn kind(g: &SensorGeometry, i: usize, n: usize) -> usize {
     let n_el = g.electrodes.len();
     if i == 0 {
         0
@@ -126,10 +127,10 @@ fn kind(g: &SensorGeometry, i: usize) -> usize {
         3
     } else if i == n_el + 3 {
         4
-    } else if i == n_el + 4 && super::edge_section::applies(g) {
-        5
-    } else {
+    } else if i + 1 == n {
         6
+    } else {
+        5
     }
 }
 
@@ -138,7 +139,8 @@ fn kind(g: &SensorGeometry, i: usize) -> usize {
 fn scales(g: &SensorGeometry, values: &[f64], force_n: f64) -> [f64; 7] {
     let mut scale = [0f64; 7];
     for (i, v) in values.iter().enumerate() {
-        scale[kind(g, i)] = scale[kind(g, i)].max(v.abs());
+        let k = kind(g, i, values.len());
+        scale[k] = scale[k].max(v.abs());
     }
     scale[3] = scale[3].max(force_n.abs());
     scale
@@ -163,7 +165,7 @@ pub(super) fn discretisation(
     let scale = scales(g, f1, force_n);
     let errs = (0..f1.len())
         .map(|i| {
-            let s = scale[kind(g, i)];
+            let s = scale[kind(g, i, f1.len())];
             Some(if s > 0.0 {
                 ThreeMesh::new(f3[i], f2[i], f1[i], r32, r21).fine_error() / s
             } else {
@@ -191,7 +193,7 @@ pub(super) fn linear_model_error(
         .zip(nonlinear)
         .enumerate()
         .map(|(i, (a, b))| {
-            let s = scale[kind(g, i)];
+            let s = scale[kind(g, i, nonlinear.len())];
             if s > 0.0 {
                 (a - b).abs() / s
             } else {

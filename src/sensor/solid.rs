@@ -516,8 +516,8 @@ pub fn evaluate_solid(
                     .iter()
                     .find(|c| is(c.kind))
                     .map_or(0.0, |c| c.error_mpa);
-            let submodel = submodel / scale.max(f64::MIN_POSITIVE);
             let scale = scale.max(f64::MIN_POSITIVE);
+            let submodel = submodel / scale;
             let extrapolated = three.map_or(*value, |t| t.richardson.extrapolated);
             let plate_value = plate.iter().find(|(n, _)| n == name).map(|p| p.1);
             SolidQuantity {

@@ -214,8 +214,10 @@ struct Driver<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> {
     rt: [[f64; 3]; 3],
     u0: [f64; 3],
     dt_um: f64,
-    /// du/dt on the edge itself (corotated).
+    /// du/dt on the edge itself (corotated), and the radius (m) inside which it stands for the
+    /// section's.
     g_edge: [f64; 3],
+    constant_dt_m: f64,
 }
 
 impl<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'a, D> {
@@ -233,6 +235,7 @@ impl<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'a, D> {
             u0: field(frame.origin_um).ok_or_else(|| outside(frame.origin_um))?,
             dt_um: (radius_um * 0.05).max(1e-3),
             g_edge: [0.0; 3],
+            constant_dt_m: CONSTANT_DT_FRACTION * radius_um * 1e-6,
         };
         d.g_edge = d.along_edge(frame.origin_um)?;
         Ok(d)
@@ -249,8 +252,8 @@ impl<'a, D: Fn([f64; 3]) -> Option<[f64; 3]>> Driver<'a, D> {
     /// the edge's own (the solid's du/dt is continuous there: its element faces through the
     /// edge contain t, and it varies on the solid's element scale, not the submodel's inner
     /// rings'), else read at the point.
-    fn along_edge_at(&self, s_m: f64, z_m: f64, radius_m: f64) -> FeResult<[f64; 3]> {
-        if s_m.hypot(z_m) < CONSTANT_DT_FRACTION * radius_m {
+    fn along_edge_at(&self, s_m: f64, z_m: f64) -> FeResult<[f64; 3]> {
+        if s_m.hypot(z_m) < self.constant_dt_m {
             Ok(self.g_edge)
         } else {
             self.along_edge(self.frame.point_um(s_m, z_m))
@@ -524,7 +527,7 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
                         continue;
                     };
                     let w = wx * wy * det.abs();
-                    let g = driver.along_edge_at(p[0], p[1], rings[n_rings])?;
+                    let g = driver.along_edge_at(p[0], p[1])?;
                     let eps0 = sym_voigt(g, frame.e_t);
                     let s0 = mul6(c, &eps0);
                     let b: Vec<[f64; 6]> = (0..27)
@@ -682,8 +685,7 @@ impl CornerSolution {
             }
             for xi in [-1.0, -0.5, 0.0, 0.5, 1.0] {
                 let th = t0 + 0.5 * (xi + 1.0) * (t1 - t0);
-                let radius = self.rings_m.last().copied().unwrap_or(0.0);
-                let g = driver.along_edge_at(r * th.cos(), r * th.sin(), radius)?;
+                let g = driver.along_edge_at(r * th.cos(), r * th.sin())?;
                 if let (Some(a), Some(b)) = (
                     self.stress(ring - 1, m, xi, 1.0, g),
                     self.stress(ring, m, xi, -1.0, g),
