@@ -3,7 +3,10 @@
 //!
 //! Two scenes, each the median over `runs` (3) of the whole solve (analysis once, then Newton
 //! with load stepping from the undeformed state), with the Newton statistics and the time per
-//! iteration (one tangent assembly, one numeric factorisation, one solve, one force evaluation):
+//! iteration (one tangent assembly, one numeric factorisation or a few conjugate-gradient steps
+//! on the last factor, one force evaluation), full Newton (a factorisation every iteration)
+//! against lagged-tangent corrections (`TlOptions::krylov_iterations` = 40; by default only
+//! where the factor is large, as on the sensor):
 //! - the cantilever of the elastica test, 100 x 100 um x 10 mm, 50 x 1 x 1 bricks, end load
 //!   P L^2 / EI = 5 (tip rotation ~ 70 deg);
 //! - a quarter of the clamped Si plate of the solid tests (10 x 10 mm x 100 um, x edges clamped,
@@ -71,16 +74,27 @@ fn quarter_plate(n: usize) -> SolidProblem {
 }
 
 fn run(name: &str, p: &SolidProblem, probe_um: [f64; 3], runs: usize) {
+    for krylov in [0, 40] {
+        let opts = TlOptions {
+            krylov_iterations: Some(krylov),
+            ..TlOptions::default()
+        };
+        let mode = if krylov > 0 { "lagged" } else { "full Newton" };
+        run_with(&format!("{name}, {mode}"), p, opts, probe_um, runs);
+    }
+}
+
+fn run_with(name: &str, p: &SolidProblem, opts: TlOptions, probe_um: [f64; 3], runs: usize) {
     let mut times = Vec::new();
     let mut last = None;
     for _ in 0..runs {
         let t = Instant::now();
-        let model = TlSolid::new(p, TlOptions::default()).expect("model");
+        let model = TlSolid::new(p, opts).expect("model");
         let s = model.solve(&p.load_cases[0]).expect("solve");
         times.push(t.elapsed().as_secs_f64());
-        last = Some((model.n_free_dofs(), s));
+        last = Some(((model.n_free_dofs(), model.factor_len()), s));
     }
-    let (dofs, s) = last.expect("at least one run");
+    let ((dofs, factor), s) = last.expect("at least one run");
     let st = s.stats();
     let w = -s.displacement_m(probe_um).expect("probe")[2];
     let lin = -p.solve().expect("linear")[0]
@@ -88,7 +102,7 @@ fn run(name: &str, p: &SolidProblem, probe_um: [f64; 3], runs: usize) {
         .expect("probe")[2];
     let total = median(times);
     println!(
-        "{name}: {dofs} free dofs, {} steps, {} iterations, {} factorisations; median {total:.3} s \
+        "{name}: {dofs} free dofs, {factor} factor entries, {} steps, {} iterations, {} factorisations; median {total:.3} s \
          ({:.1} ms per iteration); w = {:.3} um (linear {:.3} um)",
         st.load_steps,
         st.iterations,

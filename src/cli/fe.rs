@@ -417,8 +417,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             for e in &last.readout.edge_stress {
                 println!(
                     "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
-                     corner submodel of radius {} um, its own estimate {} MPa): safety factor \
-                     {}",
+                     corner submodel of radius {} um, its own estimate {} MPa): {}",
                     e.kind.as_str(),
                     f(e.stress_mpa, 4),
                     f(e.read_at_um * 1e3, 3),
@@ -426,7 +425,15 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     f(e.at_um[1] * 1e-3, 4),
                     f(e.radius_um, 3),
                     f(e.submodel_error_mpa, 3),
-                    f(g.fracture_strength_mpa / e.stress_mpa, 3)
+                    // A corner in compression at L / 2 does not open: no factor to state.
+                    if e.stress_mpa > 0.0 {
+                        format!(
+                            "safety factor {}",
+                            f(g.fracture_strength_mpa / e.stress_mpa, 3)
+                        )
+                    } else {
+                        "in compression there, no crack to open".to_string()
+                    }
                 );
             }
         }

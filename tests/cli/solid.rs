@@ -351,6 +351,22 @@ fn fe_model_solid_through_the_binary() {
         .iter()
         .filter(|x| own.contains(&x["name"].as_str().unwrap()))
         .all(|x| x["plate_value"].is_null()));
+    // The text states a safety factor only for an edge in tension at L / 2: the line load hogs
+    // the plate over the walls, which closes their corners under the plate.
+    assert!(get("support_edge_stress") < 0.0, "{q:?}");
+    let without_json: Vec<&str> = args.iter().copied().filter(|a| *a != "--json").collect();
+    let text = tactfab(&without_json);
+    text.expect_code(0);
+    let wall = text
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("support_edge stress"))
+        .expect("the wall's line");
+    assert!(
+        wall.ends_with("in compression there, no crack to open"),
+        "{wall}"
+    );
+    assert!(!text.stdout.contains("safety factor -"), "{}", text.stdout);
     // The studies refuse it with a usage-level error.
     let bad = tactfab(&[
         "orient",

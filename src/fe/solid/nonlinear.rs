@@ -13,7 +13,7 @@ use faer::sparse::SparseColMat;
 use faer::Mat;
 use rayon::prelude::*;
 
-use crate::fe::cholesky::SymbolicFactor;
+use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::solid::assemble::{
     check_materials, element_nodes_m, ElementMatrices, SolidPattern, VOID,
@@ -38,6 +38,36 @@ const ROUND_OFF_RATIO: f64 = 1e-8;
 /// residual with).
 const ROUND_OFF_DISPLACEMENT: f64 = 1e-12;
 
+/// Relative residual (2-norm) to which a lagged-tangent correction is solved \[choice\]: each
+/// Newton iteration then reduces the residual at least this much, so from a coarser level's
+/// field the 1e-10 tolerance takes about as many iterations as exact corrections do.
+const KRYLOV_TOL: f64 = 1e-5;
+
+/// Conjugate-gradient iterations a correction may take, at most.
+const KRYLOV_MAX: usize = 40;
+
+/// Factor entries per free dof and per conjugate-gradient iteration that one numeric
+/// factorisation costs \[choice, measured\]: a factorisation takes ~(entries / n)^2 flops per
+/// dof at dense-kernel speed, a CG step ~4 entries / n at memory speed. On the sensor's half die
+/// (166k dofs, 902 entries per dof) one factorisation took 5.2 s and one CG step 0.2 s (26 steps,
+/// 902 / 35: 50 leaves a margin); on a 14.5k-dof plate (298 per dof) CG lost to refactorising
+/// (`examples/solid_tl_bench.rs`).
+const ENTRIES_PER_DOF_PER_STEP: usize = 50;
+
+/// Fewest CG iterations worth trying: a correction to [`KRYLOV_TOL`] takes about 7 on the
+/// sensor \[choice\].
+const KRYLOV_MIN: usize = 8;
+
+/// x = A^-1 b with a Cholesky factor of A.
+fn solve_with(llt: &CholeskyFactor, b: &[f64]) -> Vec<f64> {
+    let mut rhs = Mat::<f64>::zeros(b.len(), 1);
+    for (i, v) in b.iter().enumerate() {
+        rhs[(i, 0)] = *v;
+    }
+    llt.solve_in_place(rhs.as_mut());
+    (0..b.len()).map(|i| rhs[(i, 0)]).collect()
+}
+
 /// Smallest load step (fraction of the load) before the solve gives up \[choice\].
 const MIN_STEP: f64 = 1e-4;
 
@@ -61,6 +91,12 @@ pub struct TlOptions {
     pub max_load_steps: usize,
     /// First load step as a fraction of the load (doubled after fast steps, halved on failure).
     pub first_step: f64,
+    /// Conjugate-gradient iterations a Newton correction may take on the current tangent,
+    /// preconditioned by an earlier iteration's factor, before the tangent is refactorised:
+    /// `Some(0)` is full Newton (a factorisation every iteration: quadratic convergence); None
+    /// sets it from the factor's size, where a factorisation costs more than that many CG
+    /// steps (large 3-D meshes: one factorisation per solve), else full Newton.
+    pub krylov_iterations: Option<usize>,
 }
 
 impl Default for TlOptions {
@@ -71,6 +107,7 @@ impl Default for TlOptions {
             max_iterations: 20,
             max_load_steps: 64,
             first_step: 1.0,
+            krylov_iterations: None,
         }
     }
 }
@@ -297,7 +334,7 @@ impl TlSolid {
             iterations: 0,
             factorisations: 0,
         };
-        match self.newton(&mut u, &f, 1.0, &mut stats) {
+        match self.newton(&mut u, &f, 1.0, &mut None, &mut stats) {
             Ok(history) => {
                 stats.load_steps = 1;
                 self.solution(u, &f, stats, history)
@@ -328,6 +365,8 @@ impl TlSolid {
         let mut history = Vec::new();
         let (mut lambda, mut step) = (0.0f64, self.opts.first_step);
         let mut previous: Option<(f64, Vec<f64>)> = None;
+        // The last factorised tangent, carried across load steps as the preconditioner.
+        let mut lagged: Option<CholeskyFactor> = None;
         let mut tries = 0;
         let mut why = String::new();
         let prescribed = c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0);
@@ -350,7 +389,7 @@ impl TlSolid {
             // state, which carries their increment into the interior (a prescribed rigid
             // rotation lands on the rigid field); else extrapolation along the last step.
             let predicted = if prescribed {
-                self.tangent_predictor(&u, &f, lambda, target, &mut stats)
+                self.tangent_predictor(&u, &f, lambda, target, &mut lagged, &mut stats)
             } else {
                 let mut trial = u.clone();
                 if let Some((l0, u0)) = &previous {
@@ -362,7 +401,7 @@ impl TlSolid {
                 Ok(trial)
             };
             let step_result = predicted.and_then(|mut trial| {
-                self.newton(&mut trial, &f, target, &mut stats)
+                self.newton(&mut trial, &f, target, &mut lagged, &mut stats)
                     .map(|h| (trial, h))
             });
             match step_result {
@@ -407,6 +446,7 @@ impl TlSolid {
         f: &[f64],
         lambda: f64,
         target: f64,
+        lagged: &mut Option<CholeskyFactor>,
         stats: &mut NewtonStats,
     ) -> Result<Vec<f64>, StepFailure> {
         let dofs = &self.ctx.dofs;
@@ -416,6 +456,7 @@ impl TlSolid {
         }
         let at = self.internal(u, true, Some(&dc))?;
         let product = at.product.unwrap_or_default();
+        *lagged = None;
         let llt = self
             .symbolic
             .factor(
@@ -442,6 +483,7 @@ impl TlSolid {
         if trial.iter().any(|v| !v.is_finite()) {
             return Err("non-finite predictor".into());
         }
+        *lagged = Some(llt);
         Ok(trial)
     }
 
@@ -458,10 +500,10 @@ impl TlSolid {
         u: &mut [f64],
         f: &[f64],
         lambda: f64,
+        lagged: &mut Option<CholeskyFactor>,
         stats: &mut NewtonStats,
     ) -> Result<Vec<NewtonIterate>, StepFailure> {
         let dofs = &self.ctx.dofs;
-        let n = dofs.n_free();
         let residual = |r_int: &[f64]| -> Vec<f64> {
             dofs.free_dofs
                 .iter()
@@ -487,22 +529,11 @@ impl TlSolid {
                 Some(v) => v,
                 None => self.internal(u, true, None)?.tangent.unwrap_or_default(),
             };
-            let llt = self
-                .symbolic
-                .factor(
-                    SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref(),
-                )
-                .map_err(|e| format!("tangent not positive definite at iteration {it}: {e}"))?;
-            stats.factorisations += 1;
+            let correction = self.correction(values, &r, lagged, it, stats)?;
             stats.iterations += 1;
-            let mut rhs = Mat::<f64>::zeros(n, 1);
-            for (i, v) in r.iter().enumerate() {
-                rhs[(i, 0)] = *v;
-            }
-            llt.solve_in_place(rhs.as_mut());
             let mut energy = 0.0;
             for (i, &d) in dofs.free_dofs.iter().enumerate() {
-                let du = rhs[(i, 0)];
+                let du = correction[i];
                 if !du.is_finite() {
                     return Err(format!("non-finite correction at iteration {it}"));
                 }
@@ -523,7 +554,7 @@ impl TlSolid {
             }
             // Round-off: the correction is at the field's last digits, or it stopped shrinking
             // once already small.
-            let du_inf = (0..n).map(|i| rhs[(i, 0)].abs()).fold(0.0, f64::max);
+            let du_inf = correction.iter().map(|v| v.abs()).fold(0.0, f64::max);
             let u_inf = u.iter().map(|v| v.abs()).fold(0.0, f64::max);
             let stalled = energy > 1e-2 * last_energy && ratio <= ROUND_OFF_RATIO;
             last_energy = energy;
@@ -548,6 +579,121 @@ impl TlSolid {
             self.opts.max_iterations,
             inf(&r)
         ))
+    }
+
+    /// The Newton correction du of K_T du = r (free dofs). With the factor of an earlier
+    /// tangent at hand (`lagged`: this step's or an earlier one's), conjugate gradients on the
+    /// current tangent preconditioned by it: an inexact Newton step (Dembo, Eisenstat &
+    /// Steihaug, SIAM J. Numer. Anal. 19 (1982) 400), whose outer iteration converges to the
+    /// same residual tolerance. A fresh factorisation (replacing `lagged`) when there is none,
+    /// when full Newton is cheaper or asked for ([`TlOptions::krylov_iterations`]), or when CG
+    /// does not reach [`KRYLOV_TOL`] within its budget (the old tangent is too far from the new
+    /// one).
+    fn correction(
+        &self,
+        values: Vec<f64>,
+        r: &[f64],
+        lagged: &mut Option<CholeskyFactor>,
+        it: usize,
+        stats: &mut NewtonStats,
+    ) -> Result<Vec<f64>, StepFailure> {
+        let budget = self.opts.krylov_iterations.unwrap_or_else(|| {
+            let steps = self.symbolic.factor_len() / (ENTRIES_PER_DOF_PER_STEP * r.len().max(1));
+            if steps >= KRYLOV_MIN {
+                steps
+            } else {
+                0
+            }
+        });
+        if budget > 0 {
+            if let Some(pre) = lagged.as_ref() {
+                if let Some(du) = self.preconditioned_cg(&values, pre, r, budget.min(KRYLOV_MAX)) {
+                    return Ok(du);
+                }
+            }
+        }
+        // Free the old factor before the new one is built (each can take gigabytes).
+        *lagged = None;
+        let llt = self
+            .symbolic
+            .factor(SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref())
+            .map_err(|e| format!("tangent not positive definite at iteration {it}: {e}"))?;
+        stats.factorisations += 1;
+        let du = solve_with(&llt, r);
+        *lagged = Some(llt);
+        Ok(du)
+    }
+
+    /// Preconditioned conjugate gradients (Saad, Iterative Methods for Sparse Linear Systems,
+    /// 2nd ed., Alg. 9.1) on the tangent `values` (lower triangle of the pattern) with the
+    /// factor `pre` of an earlier tangent; None when it does not converge in `max_it`
+    /// iterations or the tangent is not positive definite along a search direction.
+    fn preconditioned_cg(
+        &self,
+        values: &[f64],
+        pre: &CholeskyFactor,
+        r: &[f64],
+        max_it: usize,
+    ) -> Option<Vec<f64>> {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let r0 = dot(r, r).sqrt();
+        let mut x = vec![0.0; r.len()];
+        if r0 == 0.0 {
+            return Some(x);
+        }
+        let mut res = r.to_vec();
+        let mut z = solve_with(pre, &res);
+        let mut p = z.clone();
+        let mut rz = dot(&res, &z);
+        for k in 0..max_it {
+            // A quarter of the budget gone without a quarter of the reduction (in orders of
+            // magnitude): the old factor is too stale, refactorising is cheaper.
+            if k == max_it / 4 && k > 0 && dot(&res, &res).sqrt() > KRYLOV_TOL.powf(0.25) * r0 {
+                return None;
+            }
+            let q = self.tangent_times(values, &p);
+            let pq = dot(&p, &q);
+            if !(pq > 0.0 && rz.is_finite()) {
+                return None;
+            }
+            let alpha = rz / pq;
+            for i in 0..x.len() {
+                x[i] += alpha * p[i];
+                res[i] -= alpha * q[i];
+            }
+            if dot(&res, &res).sqrt() <= KRYLOV_TOL * r0 {
+                return x.iter().all(|v| v.is_finite()).then_some(x);
+            }
+            z = solve_with(pre, &res);
+            let rz_new = dot(&res, &z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for i in 0..p.len() {
+                p[i] = z[i] + beta * p[i];
+            }
+        }
+        None
+    }
+
+    /// K v for the symmetric tangent stored as its lower triangle on the pattern.
+    fn tangent_times(&self, values: &[f64], v: &[f64]) -> Vec<f64> {
+        let (cp, ri) = (
+            self.pattern.symbolic.col_ptr(),
+            self.pattern.symbolic.row_idx(),
+        );
+        let mut out = vec![0.0; v.len()];
+        for j in 0..v.len() {
+            let mut acc = 0.0;
+            for k in cp[j]..cp[j + 1] {
+                let (i, a) = (ri[k], values[k]);
+                out[i] += a * v[j];
+                if i != j {
+                    acc += a * v[i];
+                }
+            }
+            out[j] += acc;
+        }
+        out
     }
 
     fn solution(

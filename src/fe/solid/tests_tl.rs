@@ -137,6 +137,7 @@ fn deformed_equilibrium_and_quadratic_convergence() {
     // Load steps of a quarter at first, so the last step starts close (Newton's asymptotic range).
     let opts = TlOptions {
         first_step: 0.25,
+        krylov_iterations: Some(0),
         ..TlOptions::default()
     };
     let s = TlSolid::new(&p, opts).unwrap().solve(&loads).unwrap();
@@ -294,6 +295,57 @@ fn a_coarser_field_starts_the_finer_newton() {
         .zip(wild.displacements_m())
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
+}
+
+/// Corrections by conjugate gradients on a lagged factor (inexact Newton) land on the field full
+/// Newton finds, with fewer factorisations; from a coarser level's field one factorisation does.
+#[test]
+fn lagged_tangent_corrections_give_full_newtons_field() {
+    let slender = 20.0;
+    let (coarse, ei) = cantilever(slender, 10, 0.3);
+    let (fine, _) = cantilever(slender, 20, 0.3);
+    let loads = tip_load(slender, ei, 1.0);
+    let full = TlOptions {
+        krylov_iterations: Some(0),
+        ..TlOptions::default()
+    };
+    let field = |s: &TlSolution| s.displacements_m().to_vec();
+    let max_diff = |a: &[f64], b: &[f64]| {
+        let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / scale
+    };
+    let exact = TlSolid::new(&fine, full).unwrap().solve(&loads).unwrap();
+    // This mesh is small: by default a factorisation is cheaper than CG here (full Newton).
+    let auto = TlSolid::new(&fine, TlOptions::default()).unwrap();
+    let st = auto.solve(&loads).unwrap().stats();
+    assert_eq!(st.factorisations, st.iterations, "{st:?}");
+    let forced = TlOptions {
+        krylov_iterations: Some(40),
+        ..TlOptions::default()
+    };
+    let model = TlSolid::new(&fine, forced).unwrap();
+    let lagged = model.solve(&loads).unwrap();
+    let d = max_diff(&field(&exact), &field(&lagged));
+    assert!(d < 1e-9, "{d:e}");
+    let (e, l) = (exact.stats(), lagged.stats());
+    assert_eq!(e.factorisations, e.iterations, "{e:?}");
+    assert!(l.factorisations < e.factorisations, "{l:?} {e:?}");
+    // From the coarser mesh's field: the first iteration factorises, CG carries the rest.
+    let c = TlSolid::new(&coarse, full).unwrap().solve(&loads).unwrap();
+    let warm = model.solve_from(&loads, |p| c.displacement_m(p)).unwrap();
+    let d = max_diff(&field(&exact), &field(&warm));
+    assert!(d < 1e-9, "{d:e}");
+    let w = warm.stats();
+    assert!(w.factorisations == 1 && w.iterations >= 2, "{w:?}");
+    // The reactions still balance the load (the residual criterion is the outer iteration's).
+    let (f, r) = (warm.applied_force_n(), warm.reaction_n("root").unwrap());
+    let scale = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for k in 0..3 {
+        assert!((r[k] + f[k]).abs() < 1e-9 * scale, "{r:?} {f:?}");
+    }
 }
 
 /// Tiny loads converge as fast as any: the strain comes from the displacement gradient, not from
