@@ -42,7 +42,8 @@
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
 //!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si),
 //!    linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
-//!    St. Venant-Kirchhoff, Newton on the same symbolic analysis); [`fe::solid::corner`] resolves
+//!    St. Venant-Kirchhoff, Newton on the same symbolic analysis, its corrections preconditioned
+//!    CG on the last factor where factorising is the cost); [`fe::solid::corner`] resolves
 //!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the

@@ -1,7 +1,9 @@
-//! The geometrically nonlinear solid ([`crate::fe::solid::tl`]): full Newton with the consistent
+//! The geometrically nonlinear solid ([`crate::fe::solid::tl`]): Newton with the consistent
 //! tangent on the linear model's dofs, pattern and symbolic analysis (one per grid and constraint
-//! set, every iteration a numeric factorisation on it), with load stepping in the style of the
-//! von Karman plate ([`crate::fe::VonKarman`]).
+//! set), with load stepping in the style of the von Karman plate ([`crate::fe::VonKarman`]). Where
+//! the factor is large every correction after the first is conjugate gradients on the current
+//! tangent preconditioned by the last numeric factorisation (inexact Newton: one factorisation
+//! per solve on the sensor); on small meshes each iteration factorises (full Newton).
 //!
 //! Loads are dead loads: point forces and pressures computed on the undeformed geometry exactly as
 //! the linear core does, scaled by the load factor. Prescribed displacements are scaled with the
