@@ -98,7 +98,9 @@ fn verify_solid(
     use tactfab::sensor::solid::{solid_against_plate, SolidRun};
     let acc: tactfab::sensor::Accuracy = args.accuracy.into();
     let mut out = Vec::new();
-    for (s, r) in scenes.iter().zip(reports.iter_mut()) {
+    let progress = super::Progress::new();
+    for (i, (s, r)) in scenes.iter().zip(reports.iter_mut()).enumerate() {
+        progress.message(solid_stage(&s.name, i, scenes.len()));
         let run = SolidRun {
             base: g.base,
             levels: 2,
@@ -111,6 +113,11 @@ fn verify_solid(
         out.push(solid);
     }
     Ok(out)
+}
+
+/// The spinner's text while the solid rung runs (a minute or more per scene).
+fn solid_stage(scene: &str, i: usize, n: usize) -> String {
+    format!("solid rung: scene `{scene}` ({} of {n})", i + 1)
 }
 
 /// What `--verify-solid` did to one scene's errors.
@@ -315,7 +322,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
     let acc: Accuracy = args.accuracy.into();
     let levels = usize::from(args.accuracy.max_levels).min(3);
     let mut reports: Vec<SolidReport> = Vec::new();
-    for s in scenes {
+    let progress = super::Progress::new();
+    for (i, s) in scenes.iter().enumerate() {
+        progress.message(solid_stage(&s.name, i, scenes.len()));
         let run = SolidRun {
             base: g.base,
             levels,
@@ -325,6 +334,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
+    drop(progress);
     if args.json {
         println!(
             "{}",

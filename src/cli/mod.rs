@@ -122,8 +122,11 @@ impl Progress {
         }
     }
     pub fn stage(&self, s: tactfab::report::Stage) {
+        self.message(s.label());
+    }
+    pub fn message(&self, s: String) {
         if let Some(b) = &self.0 {
-            b.set_message(s.label());
+            b.set_message(s);
         }
     }
 }
