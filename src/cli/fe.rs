@@ -352,9 +352,10 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             f(r.force_n, 3),
             if r.nonlinear {
                 let its: usize = r.levels.iter().filter_map(|l| l.newton_iterations).sum();
+                let fac: usize = r.levels.iter().filter_map(|l| l.factorisations).sum();
                 format!(
                     "geometrically nonlinear: Total Lagrangian, St. Venant-Kirchhoff, dead load; \
-                     {its} Newton iterations"
+                     {its} Newton iterations, {fac} factorisations"
                 )
             } else {
                 "linear".to_string()

@@ -34,9 +34,13 @@ fn line_strip_um(g: &SensorGeometry) -> f64 {
 pub struct SolidLevel {
     pub element_um: f64,
     pub dofs: usize,
-    /// Newton iterations (each a tangent assembly and a factorisation) of the geometrically
+    /// Newton iterations (each a tangent assembly and a correction) of the geometrically
     /// nonlinear solve; None for the linear one (one factorisation).
     pub newton_iterations: Option<usize>,
+    /// Numeric factorisations of the nonlinear solve: one per iteration with full Newton, fewer
+    /// where the corrections are conjugate gradients on the last factor
+    /// ([`crate::fe::solid::TlOptions::krylov_iterations`]); None for the linear one.
+    pub factorisations: Option<usize>,
     /// Entries of the Cholesky factor (f64), a measure of the memory it takes.
     pub factor_entries: usize,
     #[serde(skip)]
@@ -426,7 +430,7 @@ pub fn evaluate_solid(
             let start = Instant::now();
             let solid = build(g, std::slice::from_ref(&loads), base, opts, mx, my)
                 .map_err(SensorError::Fe)?;
-            let (readout, dofs, factor_entries, newton_iterations, field) = if run.nonlinear {
+            let (readout, dofs, factor_entries, newton, field) = if run.nonlinear {
                 let model =
                     TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
                 let loads = &solid.problem.load_cases[0];
@@ -439,7 +443,7 @@ pub fn evaluate_solid(
                     read(g, &solid, &sol, at, patch).map_err(SensorError::Fe)?,
                     model.n_free_dofs(),
                     model.factor_len(),
-                    Some(sol.stats().iterations),
+                    Some(sol.stats()),
                     Some(sol),
                 )
             } else {
@@ -458,7 +462,8 @@ pub fn evaluate_solid(
             let level = SolidLevel {
                 element_um: opts.element_um,
                 dofs,
-                newton_iterations,
+                newton_iterations: newton.map(|n| n.iterations),
+                factorisations: newton.map(|n| n.factorisations),
                 factor_entries,
                 seconds: start.elapsed().as_secs_f64(),
                 readout,

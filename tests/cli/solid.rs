@@ -175,7 +175,16 @@ fn the_nonlinear_solid_stiffens_and_keeps_equilibrium_in_the_deformed_state() {
         )
         .unwrap();
         assert_eq!(r.nonlinear, nonlinear);
-        assert_eq!(r.levels[0].newton_iterations.is_some(), nonlinear);
+        let l = &r.levels[0];
+        assert_eq!(l.newton_iterations.is_some(), nonlinear);
+        assert_eq!(l.factorisations.is_some(), nonlinear);
+        if let (Some(its), Some(fac)) = (l.newton_iterations, l.factorisations) {
+            eprintln!(
+                "{f} N: {its} Newton iterations, {fac} factorisations, {} dofs",
+                l.dofs
+            );
+            assert!(fac >= 1 && fac <= its, "{its} {fac}");
+        }
         r.levels[0].readout.clone()
     };
     let (lin, tl) = (nl(4.0, false), nl(4.0, true));
