@@ -207,15 +207,20 @@ impl PlateSolution {
         }
         [dot(&s[0]), dot(&s[1]), dot(&s[2]), dot(&s[5]), uu, vv]
     }
-    /// Surface stresses (sigma_x, sigma_y, tau_xy) in Pa of element `e` at local (x, y) m:
-    /// [bottom, top], sigma = Q (eps0 +/- (t/2) kappa).
-    pub(crate) fn surface_stresses(&self, e: usize, x: f64, y: f64) -> [[f64; 3]; 2] {
+    /// Curvature (-w_xx, -w_yy, -2 w_xy) in 1/m and membrane strain (eps0_x, eps0_y, gamma0_xy)
+    /// of element `e` at local (x, y) m, from one shape evaluation.
+    fn curvature_and_membrane_strain(&self, e: usize, x: f64, y: f64) -> ([f64; 3], [f64; 3]) {
         let (a, b) = self.element_size_m(e);
         let u = self.element_u(e);
         let s = bfs::shape(x, y, a, b);
         let dot = |row: &[f64; 16]| row.iter().zip(&u).map(|(p, q)| p * q).sum::<f64>();
         let k = [-dot(&s[3]), -dot(&s[4]), -2.0 * dot(&s[5])];
-        let m = self.membrane_strain_with(e, x, y, &s, &u);
+        (k, self.membrane_strain_with(e, x, y, &s, &u))
+    }
+    /// Surface stresses (sigma_x, sigma_y, tau_xy) in Pa of element `e` at local (x, y) m:
+    /// [bottom, top], sigma = Q (eps0 +/- (t/2) kappa).
+    pub(crate) fn surface_stresses(&self, e: usize, x: f64, y: f64) -> [[f64; 3]; 2] {
+        let (k, m) = self.curvature_and_membrane_strain(e, x, y);
         let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
         [1.0, -1.0].map(|sign| {
             self.ctx.material.stress(
@@ -229,12 +234,7 @@ impl PlateSolution {
     /// plate): what a section of the structure there is driven by.
     pub fn resultants(&self, x_um: f64, y_um: f64) -> Option<Resultants> {
         let (e, lx, ly) = self.ctx.mesh.locate(x_um, y_um)?;
-        let (a, b) = self.element_size_m(e);
-        let u = self.element_u(e);
-        let s = bfs::shape(lx, ly, a, b);
-        let dot = |row: &[f64; 16]| row.iter().zip(&u).map(|(p, q)| p * q).sum::<f64>();
-        let curvature = [-dot(&s[3]), -dot(&s[4]), -2.0 * dot(&s[5])];
-        let membrane_strain = self.membrane_strain_with(e, lx, ly, &s, &u);
+        let (curvature, membrane_strain) = self.curvature_and_membrane_strain(e, lx, ly);
         let t = self.ctx.thickness_um[e] * 1e-6;
         Some(Resultants {
             moments: bfs::moments(curvature, &self.ctx.material.bending_stiffness(t)),

@@ -473,14 +473,15 @@ impl TlSolid {
             })?;
         stats.factorisations += 1;
         stats.iterations += 1;
-        let mut rhs = Mat::<f64>::zeros(dofs.n_free(), 1);
-        for (i, &d) in dofs.free_dofs.iter().enumerate() {
-            rhs[(i, 0)] = target * f[d] - at.force[d] - product[d];
-        }
-        llt.solve_in_place(rhs.as_mut());
+        let rhs: Vec<f64> = dofs
+            .free_dofs
+            .iter()
+            .map(|&d| target * f[d] - at.force[d] - product[d])
+            .collect();
+        let du = solve_with(&llt, &rhs);
         let mut trial: Vec<f64> = u.iter().zip(&dc).map(|(a, b)| a + b).collect();
         for (i, &d) in dofs.free_dofs.iter().enumerate() {
-            trial[d] += rhs[(i, 0)];
+            trial[d] += du[i];
         }
         if trial.iter().any(|v| !v.is_finite()) {
             return Err("non-finite predictor".into());
