@@ -402,14 +402,23 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             .iter()
             .find(|q| q.name == "max_stress_averaged")
         {
-            let sf = |s: f64| g.fracture_strength_mpa / s;
+            // Averaged in compression (a load on a support): nothing opens, no finite factor.
+            let sf = |s: f64| {
+                if s > 0.0 {
+                    f(g.fracture_strength_mpa / s, 2)
+                } else if s < 0.0 {
+                    "inf (in compression)".to_string()
+                } else {
+                    "inf".to_string()
+                }
+            };
             println!(
                 "  safety factor {} from the averaged stress (fracture {} MPa; the {} \
                  says {})",
-                f(sf(q.value), 2),
+                sf(q.value),
                 f(g.fracture_strength_mpa, 0),
                 plate_name,
-                q.plate_value.map_or_else(|| "-".into(), |p| f(sf(p), 2))
+                q.plate_value.map_or_else(|| "-".into(), sf)
             );
         }
         if let Some(last) = r.levels.last() {

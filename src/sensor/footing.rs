@@ -16,6 +16,9 @@ pub struct SupportFooting {
     /// Distance from the clamp line (where the etched wall meets the plate) out to the footing's
     /// edge on the film (um): the {111} wall's run-out, taken as a rigid link \[choice\].
     pub offset_um: f64,
+    /// The beam's height, support plus plate (um): its bottom fibre, which the film under it
+    /// follows, lies half of it under the neutral axis.
+    pub height_um: f64,
     /// The film's and the base's foundation moduli (N/m^3) in series make `beam.k_pa_per_m`.
     pub film_k_pa_per_m: f64,
     pub base_k_pa_per_m: f64,
@@ -124,6 +127,7 @@ impl SupportFooting {
                 length_m,
             },
             offset_um,
+            height_um: h_m * 1e6,
             film_k_pa_per_m: film_k,
             base_k_pa_per_m: base_k(lambda),
             in_plane_pa: in_plane_stiffness_pa(
@@ -175,6 +179,22 @@ impl SupportFooting {
                 .shape(w_m, theta)
                 .deflection_integral_m2(s0_um * 1e-6, s1_um * 1e-6)
     }
+
+    /// Integral over [s0, s1] (um from the footing's edge, clipped to the beam) of the
+    /// support's strain across the wall at its bottom face, where the film is bonded (m):
+    /// Euler-Bernoulli, eps = -(h / 2) w'' at h / 2 under the neutral axis (w downward), so the
+    /// integral is -(h / 2) (w'(s1) - w'(s0)).
+    pub fn bottom_strain_integral_m(&self, w_m: f64, theta: f64, s0_um: f64, s1_um: f64) -> f64 {
+        let (a, b) = (
+            (s0_um * 1e-6).max(0.0),
+            (s1_um * 1e-6).min(self.beam.length_m),
+        );
+        if b <= a {
+            return 0.0;
+        }
+        let shape = self.shape(w_m, theta);
+        -0.5 * self.height_um * 1e-6 * (shape.derivative(1, b) - shape.derivative(1, a))
+    }
 }
 
 #[cfg(test)]
@@ -184,7 +204,7 @@ mod tests {
     use crate::sensor::evaluate::build_problem;
     use crate::sensor::geometry::{ElectrodeArea, ElectrodeSide};
     use crate::sensor::mesh_lines::base_lines;
-    use crate::sensor::readout::footing_force;
+    use crate::sensor::readout::footing_island;
     use crate::sensor::symmetry::Symmetry;
 
     fn geometry(sets: &[&str]) -> SensorGeometry {
@@ -236,7 +256,7 @@ mod tests {
             let s = solve(&g, 11_000.0, 6_000.0, 0.3);
             for side in [ElectrodeSide::Support1, ElectrodeSide::Support2] {
                 let ft = SupportFooting::new(&g);
-                let f = footing_force(&g, &ft, &s, side, &whole_footing(&g, side));
+                let f = footing_island(&g, &ft, &s, side, &whole_footing(&g, side)).force_n;
                 let r = s
                     .reaction_n(crate::sensor::readout::group_for(side))
                     .unwrap();
@@ -272,9 +292,9 @@ mod tests {
             };
             let i1 = island(ElectrodeSide::Support1, edge - s1, edge - s0);
             let i2 = island(ElectrodeSide::Support2, w - edge + s0, w - edge + s1);
-            let fa = footing_force(&g, &ft, &a, ElectrodeSide::Support1, &i1);
-            let fb = footing_force(&g, &ft, &b, ElectrodeSide::Support2, &i2);
-            let fc = footing_force(&g, &ft, &c, ElectrodeSide::Support1, &i1);
+            let fa = footing_island(&g, &ft, &a, ElectrodeSide::Support1, &i1).force_n;
+            let fb = footing_island(&g, &ft, &b, ElectrodeSide::Support2, &i2).force_n;
+            let fc = footing_island(&g, &ft, &c, ElectrodeSide::Support1, &i1).force_n;
             assert!((fa - fb).abs() < 1e-9 * fa.abs(), "{fa} vs {fb}");
             assert!((fc - 2.0 * fa).abs() < 1e-9 * fa.abs(), "{fc} vs 2 x {fa}");
             sign.push(fa.signum());
@@ -327,6 +347,48 @@ mod tests {
         assert!((1.0 / series - 1.0 / k - 1.0 / kb).abs() < 1e-12 / series);
         let stiff = in_plane_stiffness_pa(ea, l, g, t, base(3e19));
         assert!((stiff - k).abs() < 1e-8 * k, "{stiff} vs rigid {k}");
+    }
+
+    /// The island's strain integral is -(h / 2) times the integral of w'' over its extent,
+    /// checked against composite Gauss on the beam's second derivative, clipped at the beam's
+    /// ends, and linear in the end state.
+    #[test]
+    fn the_bottom_strain_integral_is_the_bottom_fibres_strain_integrated() {
+        let g = geometry(&[]);
+        let ft = SupportFooting::new(&g);
+        let (w, t) = (2.0e-7, -4.0e-4);
+        let shape = ft.shape(w, t);
+        let len_um = ft.beam.length_m * 1e6;
+        let h = ft.height_um * 1e-6;
+        assert!((ft.height_um - 292.0).abs() < 1.0, "{}", ft.height_um);
+        let gauss = |a_um: f64, b_um: f64| -> f64 {
+            let n = 400;
+            let d = (b_um - a_um) / n as f64;
+            (0..n)
+                .flat_map(|i| {
+                    let x0 = a_um + d * i as f64;
+                    crate::fe::bfs::gauss4_on(x0, x0 + d)
+                })
+                .map(|(s, wq)| -0.5 * h * shape.derivative(2, s * 1e-6) * wq * 1e-6)
+                .sum()
+        };
+        for (s0, s1) in [
+            (0.0, 300.0),
+            (180.0, 2300.0),
+            (-100.0, 500.0),
+            (2000.0, 9e9),
+        ] {
+            let got = ft.bottom_strain_integral_m(w, t, s0, s1);
+            let want = gauss(f64::max(s0, 0.0), f64::min(s1, len_um));
+            assert!(
+                (got - want).abs() < 1e-9 * want.abs().max(1e-12),
+                "[{s0}, {s1}]: {got} vs {want}"
+            );
+        }
+        let a = ft.bottom_strain_integral_m(w, t, 100.0, 900.0);
+        let b = ft.bottom_strain_integral_m(3.0 * w, 3.0 * t, 100.0, 900.0);
+        assert!((b - 3.0 * a).abs() < 1e-12 * a.abs(), "{b} vs 3 x {a}");
+        assert_eq!(ft.bottom_strain_integral_m(w, t, 900.0, 100.0), 0.0);
     }
 
     #[test]

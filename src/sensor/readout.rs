@@ -73,17 +73,27 @@ fn edge_force(sol: &PlateSolution, side: ElectrodeSide, x0: f64, x1: f64) -> f64
     f
 }
 
-/// Force through an electrode's island on an elastic footing: the foundation pressure under the
-/// support (Hetenyi's w(s) times k for the plate's w and slope at the clamp line) integrated
-/// over the island's extent from the footing's edge and along the wall (4-point Gauss per mesh
-/// segment: w and the slope are cubic along the edge, the force linear in them).
-pub(super) fn footing_force(
+/// What an island on an elastic footing takes from the support above it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct FootingIsland {
+    /// Force through the island (N, compressive): the foundation pressure integrated.
+    pub force_n: f64,
+    /// Integral over the island of the support's bottom-face strain across the wall (m^2),
+    /// which the film bonded under it follows.
+    pub strain_m2: f64,
+}
+
+/// [`FootingIsland`] of an electrode: the foundation pressure under the support (Hetenyi's w(s)
+/// times k for the plate's w and slope at the clamp line) and the beam's bottom-fibre strain,
+/// each integrated over the island's extent from the footing's edge and along the wall (4-point
+/// Gauss per mesh segment: w and the slope are cubic along the edge, both linear in them).
+pub(super) fn footing_island(
     g: &SensorGeometry,
     ft: &SupportFooting,
     sol: &PlateSolution,
     side: ElectrodeSide,
     e: &super::geometry::ElectrodeArea,
-) -> f64 {
+) -> FootingIsland {
     let (y_line, outward, s0, s1) = match side {
         ElectrodeSide::Support1 => {
             let edge = g.etched.support_edge_y_um;
@@ -105,8 +115,9 @@ pub(super) fn footing_force(
         stiffness: [[0.0; 2]; 2],
         normal_in_plane_pa: None,
     };
+    let mut out = FootingIsland::default();
     let Ok(segs) = edge_spring::segments(mesh, &line) else {
-        return 0.0;
+        return out;
     };
     const G: [(f64, f64); 4] = [
         (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
@@ -114,7 +125,6 @@ pub(super) fn footing_force(
         (0.339_981_043_584_856_26, 0.652_145_154_862_546_2),
         (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
     ];
-    let mut f = 0.0;
     for seg in &segs {
         let (a, b) = (seg.t_um[0].max(e.x0_um), seg.t_um[1].min(e.x1_um));
         if b <= a {
@@ -123,14 +133,40 @@ pub(super) fn footing_force(
         for (xi, wq) in G {
             let x = 0.5 * (a + b) + 0.5 * (b - a) * xi;
             if let Some((w, t)) = edge_spring::edge_state(&line, &segs, sol.dofs(), x) {
-                f += 0.5 * (b - a) * 1e-6 * wq * ft.force_per_length(w, t, s0, s1);
+                let dx = 0.5 * (b - a) * 1e-6 * wq;
+                out.force_n += dx * ft.force_per_length(w, t, s0, s1);
+                out.strain_m2 += dx * ft.bottom_strain_integral_m(w, t, s0, s1);
             }
         }
     }
-    f
+    out
 }
 
-/// Thickness mode Q = d33 F for support electrodes (fe-validation.md, piezo relations);
+/// Charge of a support island on the elastic footing (pC, the plate rungs' polarity: d33 times
+/// the compressive force). The film is bonded between the support and the base, so it follows
+/// the support's bottom face in plane (the solid rung shows it: its in-plane strain matches the
+/// silicon's above it): across the wall the footing beam's bottom strain e, along it none
+/// (cylindrical bending), and through it the foundation pressure p. Hooke's law for the
+/// isotropic film with eps_along = 0, eps_across = e, s3 = -p gives s_across = E' e - c p,
+/// s_along = nu E' e - c p (E' = E / (1 - nu^2), c = nu / (1 - nu)). With D3 = d31 s1 +
+/// d32 s2 + d33 s3 (IEEE Std 176) and the island's compressive force F, Q = (d33 + c (d31 +
+/// d32)) F - (d_across + nu d_along) E' integral of e dA.
+fn footing_charge_pc(g: &SensorGeometry, island: FootingIsland, direct_n: f64) -> f64 {
+    let nu = g.pvdf_nu;
+    let e_plane = g.pvdf_e_pa / (1.0 - nu * nu);
+    let c = nu / (1.0 - nu);
+    // The film's axis 1 is the drawn axis; the walls run along x.
+    let (across, along) = match g.drawn_axis {
+        Axis::Y => (g.d31_pc_per_n, g.d32_pc_per_n),
+        Axis::X => (g.d32_pc_per_n, g.d31_pc_per_n),
+    };
+    let d33_constrained = g.d33_pc_per_n + c * (g.d31_pc_per_n + g.d32_pc_per_n);
+    d33_constrained * (island.force_n + direct_n)
+        - (across + nu * along) * e_plane * island.strain_m2
+}
+
+/// Thickness mode Q = d33 F for support electrodes on the clamp (fe-validation.md, piezo
+/// relations; paper 001 Eq. 6), the bonded film's [`footing_charge_pc`] on the elastic footing;
 /// extension mode Q = integral of (d31 s1 + d32 s2) dA over each middle electrode with s the
 /// plane-stress PVDF stress from the strain at the film's mid-plane, half a film thickness under
 /// the plate's bottom surface (fe-validation.md takes the surface itself; the solid rung reads
@@ -185,16 +221,20 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
                 (g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_, None)
             }
             side => {
-                let mut f = sol
-                    .map(|s| match &footing {
-                        Some(ft) => footing_force(g, ft, s, side, e),
-                        None => edge_force(s, side, e.x0_um, e.x1_um),
+                let island = footing.as_ref().map(|ft| {
+                    sol.map_or_else(FootingIsland::default, |s| {
+                        footing_island(g, ft, s, side, e)
                     })
-                    .unwrap_or(0.0);
+                });
+                let mut f = match island {
+                    Some(i) => i.force_n,
+                    None => sol.map_or(0.0, |s| edge_force(s, side, e.x0_um, e.x1_um)),
+                };
+                let mut direct_n = 0.0;
                 for d in direct.iter().filter(|d| d.side == side) {
                     let overlap = (d.x1_um.min(e.x1_um) - d.x0_um.max(e.x0_um)).max(0.0);
                     let span = d.x1_um - d.x0_um;
-                    f += if span > 0.0 {
+                    direct_n += if span > 0.0 {
                         d.force_n * overlap / span
                     } else if d.x0_um >= e.x0_um && d.x0_um <= e.x1_um {
                         d.force_n
@@ -202,7 +242,12 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
                         0.0
                     };
                 }
-                (g.d33_pc_per_n * f, Some(f))
+                f += direct_n;
+                let charge = match island {
+                    Some(i) => footing_charge_pc(g, i, direct_n),
+                    None => g.d33_pc_per_n * f,
+                };
+                (charge, Some(f))
             }
         };
         out.push(ElectrodeReading {
@@ -216,5 +261,59 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
         electrodes: out,
         support1_n: s1,
         support2_n: s2,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry() -> SensorGeometry {
+        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
+        let p = crate::process::load_str(&text, "mis-grasper.yaml", &[])
+            .expect("valid process")
+            .process;
+        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
+    }
+
+    /// The footing island's charge against Hooke's law solved numerically: the film's in-plane
+    /// stresses from its compliance with eps_along = 0, eps_across = e and s3 = -p given, then
+    /// Q = -(d31 s1 + d32 s2 + d33 s3) A with 1 the drawn axis, for both drawn axes.
+    #[test]
+    fn the_footing_charge_is_the_laterally_bonded_films_d3() {
+        let mut g = geometry();
+        let (e_pa, nu) = (g.pvdf_e_pa, g.pvdf_nu);
+        let area_m2 = 2.0e-6;
+        for axis in [Axis::Y, Axis::X] {
+            g.drawn_axis = axis;
+            for (e, p, direct) in [(-3e-5, 2e3, 0.0), (1e-5, -4e4, 0.01), (0.0, 1e4, -0.05)] {
+                // Compliance rows of the in-plane strains, unknowns (s_along, s_across), s3 known.
+                let s3 = -p - direct / area_m2;
+                let (r_along, r_across) = (nu * s3 / e_pa, e + nu * s3 / e_pa);
+                let a = [[1.0 / e_pa, -nu / e_pa], [-nu / e_pa, 1.0 / e_pa]];
+                let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+                let s_along = (r_along * a[1][1] - a[0][1] * r_across) / det;
+                let s_across = (a[0][0] * r_across - a[1][0] * r_along) / det;
+                let (s1, s2) = match axis {
+                    Axis::Y => (s_across, s_along),
+                    Axis::X => (s_along, s_across),
+                };
+                let d3 = g.d31_pc_per_n * s1 + g.d32_pc_per_n * s2 + g.d33_pc_per_n * s3;
+                let want = -d3 * area_m2;
+                let island = FootingIsland {
+                    force_n: p * area_m2,
+                    strain_m2: e * area_m2,
+                };
+                let got = footing_charge_pc(&g, island, direct);
+                assert!(
+                    (got - want).abs() < 1e-9 * want.abs(),
+                    "{axis:?} e {e} p {p}: {got} vs {want}"
+                );
+            }
+        }
+        // The bonded film reads a third of the free film's d33 under pure compression.
+        g.drawn_axis = Axis::Y;
+        let q = footing_charge_pc(&g, FootingIsland::default(), 1.0);
+        assert!(q.abs() < 0.5 * g.d33_pc_per_n.abs(), "{q}");
     }
 }

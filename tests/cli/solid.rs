@@ -376,6 +376,33 @@ fn fe_model_solid_through_the_binary() {
         "{wall}"
     );
     assert!(!text.stdout.contains("safety factor -"), "{}", text.stdout);
+    // A press on a support leaves the averaged stress under the plate in compression: no
+    // negative factor from it either.
+    let mut on_support = vec![
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--point",
+        "6,1.25,0.02,0.5",
+        "--max-levels",
+        "1",
+    ];
+    for s in SHORT {
+        on_support.extend(["--set", s]);
+    }
+    let text = tactfab(&on_support);
+    text.expect_code(0);
+    let averaged = text
+        .stdout
+        .lines()
+        .find(|l| l.contains("from the averaged stress"))
+        .expect("the averaged stress's line");
+    assert!(
+        averaged.contains("safety factor inf (in compression)"),
+        "{averaged}"
+    );
+    assert!(!text.stdout.contains("safety factor -"), "{}", text.stdout);
     // The studies refuse it with a usage-level error.
     let bad = tactfab(&[
         "orient",
