@@ -3,7 +3,8 @@
 //! thickness from its etched footprint edge to the die edge, is a beam on the PVDF film and the
 //! base as a Winkler foundation ([`crate::fe::footing::FootingBeam`], Hetenyi 1946). Its end
 //! stiffness, carried to the clamp line, holds the plate there instead of the clamp; the support
-//! electrodes read the foundation pressure under their islands.
+//! electrodes read the film bonded under it: the foundation pressure through it and the beam's
+//! bottom strain across the wall in it (`readout::footing_charge_pc`).
 
 use crate::fe::footing::{FootingBeam, FootingShape};
 
