@@ -48,12 +48,14 @@
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the
 //!    supports' elastic footing, [`sensor::footing`]), and reads the electrodes: thickness mode
-//!    Q = d33 F under the supports (the footing's pressure under the island on the footing), extension mode Q = integral of (d31 s1 + d32 s2) under the
-//!    plate, V = Q / C. It refines the mesh until the estimated error is under the requested
-//!    [`sensor::Accuracy`] and says which model answered ([`sensor::ModelKind`]), why, and what it
-//!    cost, solving half or a quarter of the plate when the teeth and the loads are
-//!    mirror-symmetric. The rung is the cheapest whose discretisation plus model error is under
-//!    the tolerance ([`sensor::ModelChoice`]); every quantity carries both parts
+//!    Q = d33 F under the supports (on the footing the film bonded under the island, with the
+//!    footing's pressure through it and the support's bottom strain in it), extension mode
+//!    Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines the mesh until
+//!    the estimated error is under the requested [`sensor::Accuracy`] and says which model
+//!    answered ([`sensor::ModelKind`]), why, and what it cost, solving half or a quarter of the
+//!    plate when the teeth and the loads are mirror-symmetric. The rung is the cheapest whose
+//!    discretisation plus model error is under the tolerance ([`sensor::ModelChoice`]); every
+//!    quantity carries both parts
 //!    ([`sensor::QuantityError`]), and each scene its touch-down on the channel floor
 //!    ([`sensor::TouchDown`]). [`sensor::solid`] is the top rung: the etched shape as a 3-D solid
 //!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
@@ -75,9 +77,9 @@
 //!     bricks), [`hidden`] (that slab's pressure through the sensor: per-cell unit
 //!     responses of the linear plate, the grasp as full scenes on any plate rung, the inverse
 //!     that locates and classifies the feature and flags its mirror ambiguity, the
-//!     detectability map, the pulsating vessel through the read-out chain), [`sweep`] (paper 001's 15,000 plates,
-//!     sharded) and [`readout_chain`] (the nine channels in time through their charge
-//!     amplifiers: PVDF senses change).
+//!     detectability map, the pulsating vessel through the read-out chain), [`sweep`] (paper
+//!     001's 15,000 plates, sharded) and [`readout_chain`] (the nine channels in time through
+//!     their charge amplifiers: PVDF senses change).
 //!
 //! Every warning, error and rule violation on the way is a [`finding::Finding`]: a code enum per
 //! domain (etch plan, design rules, layout, FE scene) with one stable spelling, a severity, the
