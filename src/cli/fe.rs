@@ -397,6 +397,25 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 e(q.plate_difference)
             );
         }
+        // What each island reads, term by term, on the finest level.
+        let terms: Vec<String> = g
+            .electrodes
+            .iter()
+            .zip(&last.readout.charge_terms_pc)
+            .map(|(e, t)| {
+                format!(
+                    "{} {} / {} / {}",
+                    e.name,
+                    f(t[0], 4),
+                    f(t[1], 4),
+                    f(t[2], 4)
+                )
+            })
+            .collect();
+        println!(
+            "  charge by piezo term (finest level, pC, d31 s1 / d32 s2 / d33 s3): {}",
+            terms.join("; ")
+        );
         if let Some(q) = r
             .quantities
             .iter()

@@ -22,6 +22,10 @@ use crate::process::Axis;
 pub struct SolidReadout {
     /// Per electrode, in the order of `SensorGeometry::electrodes`.
     pub charge_pc: Vec<f64>,
+    /// Each electrode's charge by the piezo term it comes from, [d31 s1, d32 s2, d33 s3] with
+    /// the electrode's polarity (pC): they sum to `charge_pc`. What an island reads, and so what
+    /// a cheaper model of it must get right (the support islands' d31 term is their bending).
+    pub charge_terms_pc: Vec<[f64; 3]>,
     pub voltage_mv: Vec<f64>,
     /// Compressive force through the support films (N).
     pub support1_n: f64,
@@ -156,6 +160,7 @@ pub fn read(
         .map(|e| images(s, [e.x0_um, e.y0_um, e.x1_um, e.y1_um]))
         .collect();
     let mut charge = vec![0.0; g.electrodes.len()];
+    let mut terms = vec![[0.0; 3]; g.electrodes.len()];
     let (mut s1, mut s2) = (0.0, 0.0);
     let gauss = hex27::gauss_points();
     for k in 0..nz {
@@ -183,7 +188,12 @@ pub fn read(
                         Axis::X => (sx, sy),
                     };
                     // pC/m^2 from pC/N x Pa.
-                    let d3 = g.d31_pc_per_n * s1_ + g.d32_pc_per_n * s2_ + g.d33_pc_per_n * sz;
+                    let d3_terms = [
+                        g.d31_pc_per_n * s1_,
+                        g.d32_pc_per_n * s2_,
+                        g.d33_pc_per_n * sz,
+                    ];
+                    let d3 = d3_terms[0] + d3_terms[1] + d3_terms[2];
                     if support_film {
                         // Compressive force (N): the film's mean of the nominal -P_zz over its
                         // area (sigma_zz when linear).
@@ -195,7 +205,11 @@ pub fn read(
                             s2 += f;
                         }
                     }
-                    for (q, (el, rs)) in charge.iter_mut().zip(g.electrodes.iter().zip(&rects)) {
+                    for ((q, parts), (el, rs)) in charge
+                        .iter_mut()
+                        .zip(terms.iter_mut())
+                        .zip(g.electrodes.iter().zip(&rects))
+                    {
                         let wanted = match el.side {
                             ElectrodeSide::Middle => floor_film,
                             _ => support_film,
@@ -218,6 +232,9 @@ pub fn read(
                                 -1.0
                             };
                             *q += images * sign * d3 * dv / t_film;
+                            for (p, t) in parts.iter_mut().zip(d3_terms) {
+                                *p += images * sign * t * dv / t_film;
+                            }
                         }
                     }
                 }
@@ -252,6 +269,7 @@ pub fn read(
         0.5 * critical_distance_um(g.fracture_toughness_mpa_sqrt_m, g.fracture_strength_mpa);
     Ok(SolidReadout {
         charge_pc: charge,
+        charge_terms_pc: terms,
         voltage_mv: voltage,
         support1_n: s1,
         support2_n: s2,

@@ -348,6 +348,34 @@ fn fe_model_solid_through_the_binary() {
             .unwrap()
     };
     assert!((get("reaction_support1") + get("reaction_support2") - 1.0).abs() < 1e-9);
+    // Each electrode's charge split by piezo term adds up to it; the middle islands read the
+    // plate's bending through d31 (the film under the span is in plane stress: s3 is small).
+    let readout = &r["levels"][0]["readout"];
+    let charges = readout["charge_pc"].as_array().unwrap();
+    let terms = readout["charge_terms_pc"].as_array().unwrap();
+    assert_eq!(charges.len(), 9);
+    assert_eq!(terms.len(), 9);
+    for (q, t) in charges.iter().zip(terms) {
+        let q = q.as_f64().unwrap();
+        let t: Vec<f64> = t
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert!(
+            (t.iter().sum::<f64>() - q).abs() <= 1e-9 * q.abs().max(1e-12),
+            "{t:?} vs {q}"
+        );
+    }
+    let term = |i: usize, k: usize| terms[i][k].as_f64().unwrap();
+    // The charges are listed in the electrodes' order.
+    let m2 = q
+        .iter()
+        .filter(|x| x["name"].as_str().unwrap().starts_with("charge_"))
+        .position(|x| x["name"] == "charge_M2")
+        .unwrap();
+    assert!(term(m2, 2).abs() < 0.05 * term(m2, 0).abs(), "{terms:?}");
     // Every compared quantity carries the linear plate's value (the tooth base's from its edge
     // section); the solid's own stresses (the peak and the walls' at the critical distance) have
     // none to compare with.
