@@ -159,7 +159,6 @@ pub fn read(
         .iter()
         .map(|e| images(s, [e.x0_um, e.y0_um, e.x1_um, e.y1_um]))
         .collect();
-    let mut charge = vec![0.0; g.electrodes.len()];
     let mut terms = vec![[0.0; 3]; g.electrodes.len()];
     let (mut s1, mut s2) = (0.0, 0.0);
     let gauss = hex27::gauss_points();
@@ -193,7 +192,6 @@ pub fn read(
                         g.d32_pc_per_n * s2_,
                         g.d33_pc_per_n * sz,
                     ];
-                    let d3 = d3_terms[0] + d3_terms[1] + d3_terms[2];
                     if support_film {
                         // Compressive force (N): the film's mean of the nominal -P_zz over its
                         // area (sigma_zz when linear).
@@ -205,11 +203,7 @@ pub fn read(
                             s2 += f;
                         }
                     }
-                    for ((q, parts), (el, rs)) in charge
-                        .iter_mut()
-                        .zip(terms.iter_mut())
-                        .zip(g.electrodes.iter().zip(&rects))
-                    {
+                    for (parts, (el, rs)) in terms.iter_mut().zip(g.electrodes.iter().zip(&rects)) {
                         let wanted = match el.side {
                             ElectrodeSide::Middle => floor_film,
                             _ => support_film,
@@ -231,7 +225,6 @@ pub fn read(
                             } else {
                                 -1.0
                             };
-                            *q += images * sign * d3 * dv / t_film;
                             for (p, t) in parts.iter_mut().zip(d3_terms) {
                                 *p += images * sign * t * dv / t_film;
                             }
@@ -248,6 +241,8 @@ pub fn read(
         Some(_) => (s1 * images_n, s1 * images_n),
         None => (s1 * images_n, s2 * images_n),
     };
+    // Each charge is the sum of its terms (Q = (1/t) integral of D3 dV).
+    let charge: Vec<f64> = terms.iter().map(|t| t[0] + t[1] + t[2]).collect();
     let voltage = charge
         .iter()
         .zip(&g.electrodes)
