@@ -17,6 +17,15 @@ const SHORT: [&str; 4] = [
     "checks.scenes[1].load.point.x_um=6000",
 ];
 
+/// `args` followed by the `--set`s that make the short test die.
+fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    let mut out = args.to_vec();
+    for s in SHORT {
+        out.extend(["--set", s]);
+    }
+    out
+}
+
 fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
     Scene {
         name: "p".into(),
@@ -320,7 +329,7 @@ fn contact_loads_find_the_tooth_tops() {
 
 #[test]
 fn fe_model_solid_through_the_binary() {
-    let mut args = vec![
+    let args = on_short_die(&[
         "fe",
         "process/mis-grasper.yaml",
         "--model",
@@ -330,10 +339,7 @@ fn fe_model_solid_through_the_binary() {
         "--max-levels",
         "1",
         "--json",
-    ];
-    for s in SHORT {
-        args.extend(["--set", s]);
-    }
+    ]);
     let out = tactfab(&args);
     out.expect_code(0);
     let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
@@ -406,7 +412,7 @@ fn fe_model_solid_through_the_binary() {
     assert!(!text.stdout.contains("safety factor -"), "{}", text.stdout);
     // A press on a support leaves the averaged stress under the plate in compression: no
     // negative factor from it either.
-    let mut on_support = vec![
+    let on_support = on_short_die(&[
         "fe",
         "process/mis-grasper.yaml",
         "--model",
@@ -415,10 +421,7 @@ fn fe_model_solid_through_the_binary() {
         "6,1.25,0.02,0.5",
         "--max-levels",
         "1",
-    ];
-    for s in SHORT {
-        on_support.extend(["--set", s]);
-    }
+    ]);
     let text = tactfab(&on_support);
     text.expect_code(0);
     let averaged = text
@@ -468,7 +471,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     // say which quantity, and the comparison is written beside the traveler.
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("b");
-    let mut args = vec![
+    let args = on_short_die(&[
         "build",
         "process/mis-grasper.yaml",
         "-o",
@@ -480,10 +483,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         // A safety factor no rung meets: the solid's own check must say so too.
         "--set",
         "checks.scenes[0].limits.min_safety_factor=1000",
-    ];
-    for s in SHORT {
-        args.extend(["--set", s]);
-    }
+    ]);
     let run = tactfab(&args);
     run.expect_code(1);
     assert!(
@@ -556,7 +556,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
 fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
     // The line load on the short die: linear where auto answers, so the solid is linear and
     // cheap; its differences become the plate answer's `model` part.
-    let mut args = vec![
+    let args = on_short_die(&[
         "fe",
         "process/mis-grasper.yaml",
         "--scene",
@@ -565,10 +565,7 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
         "--max-levels",
         "3",
         "--json",
-    ];
-    for s in SHORT {
-        args.extend(["--set", s]);
-    }
+    ]);
     let run = tactfab(&args);
     let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
         panic!("{e}\n{}\n{}", run.stdout, run.stderr);
