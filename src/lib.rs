@@ -44,7 +44,9 @@
 //!    linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
 //!    St. Venant-Kirchhoff, Newton on the same symbolic analysis, its corrections preconditioned
 //!    CG on the last factor where factorising is the cost); [`fe::solid::corner`] resolves
-//!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge).
+//!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge),
+//!    [`fe::solid::vertex`] at a frustum's base vertex (3-D submodels graded into the vertex and
+//!    its edges, nested down to the critical distance on one factorisation).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the
 //!    supports' elastic footing, [`sensor::footing`]), and reads the electrodes: thickness mode
@@ -61,7 +63,8 @@
 //!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
 //!    their own film's stresses, solved linear or geometrically nonlinear as the ladder's plate
 //!    rung for the scene is, and compared quantity by quantity with that rung; the sharp {111}
-//!    edges' stress at the critical distance ([`sensor::edge_stress`]) feeds its safety factor.
+//!    edges' and the teeth's base vertices' stress at the critical distance
+//!    ([`sensor::edge_stress`]) feeds its safety factor.
 //!    The plate rungs answer the teeth's base edges from a section of the edge solved once per
 //!    design ([`sensor::edge_section`]) driven by their resultants there.
 //!    The footing's in-plane give holds the large-deflection plate's edges on the footing.

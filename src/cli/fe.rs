@@ -454,6 +454,31 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 );
             }
             for e in &last.readout.edge_stress {
+                if let Some(along) = e.along_edge_um {
+                    println!(
+                        "  {} stress {} MPa at L/2 = {} nm from a tooth's base corner and its \
+                         edges (worst {} um along an edge from the corner, at x {} y {} mm; \
+                         vertex submodels nested from a half-size of {} um, their own estimate \
+                         {} MPa): {}",
+                        e.kind.as_str(),
+                        f(e.stress_mpa, 4),
+                        f(e.read_at_um * 1e3, 3),
+                        f(along, 4),
+                        f(e.at_um[0] * 1e-3, 4),
+                        f(e.at_um[1] * 1e-3, 4),
+                        f(e.radius_um, 3),
+                        f(e.submodel_error_mpa, 3),
+                        if e.stress_mpa > 0.0 {
+                            format!(
+                                "safety factor {}",
+                                f(g.fracture_strength_mpa / e.stress_mpa, 3)
+                            )
+                        } else {
+                            "in compression there, no crack to open".to_string()
+                        }
+                    );
+                    continue;
+                }
                 println!(
                     "  {} stress {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
                      corner submodel of radius {} um, its own estimate {} MPa): {}",

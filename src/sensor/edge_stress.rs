@@ -20,14 +20,24 @@
 //! largest principal stress half a radius from the edge on the material's bisector ranks the
 //! stations; the best [`SECTIONS_PER_KIND`] of each kind (mirror images counted once) are
 //! submodelled and the largest answer kept.
+//!
+//! Within those two radii of a tooth's base corner the vertex submodels answer
+//! ([`crate::fe::solid::vertex`], kind `tooth_vertex`): the two vertices the solid's field ranks
+//! highest are submodelled, each read on the sphere of L / 2 round the vertex and on the
+//! cylinders of L / 2 round its two edges out to 0.6 of the largest model's half-size.
 
 use serde::Serialize;
 
 use crate::fe::solid::corner::{
     solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
 };
+use crate::fe::solid::vertex::{
+    VertexChain, VertexFrame, VertexGrading, VertexModel, VertexPlace, VertexReading,
+    SMALLEST_IN_READS,
+};
 use crate::fe::solid::{principal_stresses_pa, Elasticity, SolidField};
 use crate::fe::FeResult;
+use std::sync::{Arc, Mutex};
 
 use super::geometry::SensorGeometry;
 use super::solid_mesh::{silicon_elasticity, SensorSolid};
@@ -50,6 +60,9 @@ pub enum EdgeKind {
     ToothBase,
     /// A U-channel wall meets the plate's underside (the floor film in the corner).
     SupportEdge,
+    /// A tooth's base vertex: two base edges meet under the frustum's corner
+    /// ([`crate::fe::solid::vertex`]).
+    ToothVertex,
 }
 
 impl EdgeKind {
@@ -58,6 +71,7 @@ impl EdgeKind {
         match self {
             EdgeKind::ToothBase => "tooth_base",
             EdgeKind::SupportEdge => "support_edge",
+            EdgeKind::ToothVertex => "tooth_vertex",
         }
     }
 }
@@ -74,8 +88,12 @@ pub struct EdgeStress {
     pub at_um: [f64; 3],
     /// L / 2 (um).
     pub read_at_um: f64,
-    /// Submodel radius (um).
+    /// Submodel radius (um; a vertex's: its largest model's half-size).
     pub radius_um: f64,
+    /// A vertex's reading: how far along one of its edges from the vertex (um); 0 on the
+    /// sphere round the vertex itself. None for an edge's section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub along_edge_um: Option<f64>,
 }
 
 /// Theory of critical distances: L = (1/pi) (K_Ic / sigma_0)^2 (Taylor 2007, Eq. 2.6), in um.
@@ -318,11 +336,179 @@ pub fn edge_stresses(
                 at_um: edge.frame(at).origin_um,
                 read_at_um: read_um,
                 radius_um: c.rings_um().last().copied().unwrap_or(edge.radius_um),
+                along_edge_um: None,
             });
         }
         out.extend(best);
     }
+    out.extend(vertex_stress(g, s, sol, read_um)?);
     Ok(out)
+}
+
+/// Vertices submodelled (the ones ranked highest by the solid's field).
+const VERTICES_SUBMODELLED: usize = 2;
+
+/// The teeth's base vertices in the part solved, each with its frame (x, y along its edges into
+/// the tooth's sides, z up) and the half-size of its largest submodel.
+fn vertices(g: &SensorGeometry, s: &SensorSolid) -> Vec<(VertexFrame, f64)> {
+    let et = &g.etched;
+    let (t, h, ro) = (
+        g.plate_thickness_um,
+        et.tooth_height_um,
+        et.tooth_run_out_um,
+    );
+    if et.tooth_tops_um.is_empty() || h <= 0.0 || ro <= 0.0 || t <= 0.0 {
+        return Vec::new();
+    }
+    // Inside the plate (its underside driven as a cut) and the tooth's height.
+    let radius = 0.9 * t.min(h);
+    let (x0, x1, y0, y1) = s.domain_um;
+    let reach = radius * (1.0 + ro / h);
+    let z = s.layers.plate_top_um;
+    let mut out = Vec::new();
+    for tt in &et.tooth_tops_um {
+        let (bx0, by0, bx1, by1) = (tt[0] - ro, tt[1] - ro, tt[2] + ro, tt[3] + ro);
+        // Each corner: (x, y, its first edge's direction, its second's), right-handed with z.
+        for (x, y, e_x, e_y) in [
+            (bx0, by0, axis(0, 1.0), axis(1, 1.0)),
+            (bx1, by0, axis(1, 1.0), axis(0, -1.0)),
+            (bx1, by1, axis(0, -1.0), axis(1, -1.0)),
+            (bx0, by1, axis(1, -1.0), axis(0, 1.0)),
+        ] {
+            let inside = x - reach >= x0 && x + reach <= x1 && y - reach >= y0 && y + reach <= y1;
+            if inside {
+                let frame = VertexFrame {
+                    origin_um: [x, y, z],
+                    e_x,
+                    e_y,
+                    e_z: [0.0, 0.0, 1.0],
+                };
+                out.push((frame, radius));
+            }
+        }
+    }
+    out
+}
+
+/// The solid's largest principal stress in the plate beside each of a vertex's edges, half its
+/// submodel out and a fifth of it down: the vertex's rank.
+fn vertex_indicator(frame: &VertexFrame, radius: f64, sol: &impl SolidField) -> Option<f64> {
+    [[0.5, -0.2, -0.2], [-0.2, 0.5, -0.2]]
+        .iter()
+        .filter_map(|p| {
+            let (e, xi) = sol.locate(frame.world_um(p.map(|v| v * radius)))?;
+            Some(principal_stresses_pa(&sol.stress_at(e, xi)?)[0])
+        })
+        .reduce(f64::max)
+}
+
+/// A vertex submodel's unit model, factorised once per material, slope and grading and kept
+/// for every vertex, level and scene of the process.
+fn vertex_model(
+    slope: f64,
+    material: &Elasticity,
+    grading: VertexGrading,
+) -> FeResult<Arc<VertexModel>> {
+    type Key = (u64, Vec<u64>, bool);
+    static CACHE: Mutex<Vec<(Key, Arc<VertexModel>)>> = Mutex::new(Vec::new());
+    let key: Key = (
+        slope.to_bits(),
+        // To 1 kPa: the four corners' rotations of a cubic crystal differ by round-off.
+        material
+            .c_pa
+            .iter()
+            .flatten()
+            .map(|v| (v * 1e-3).round() as i64 as u64)
+            .collect(),
+        grading == VertexGrading::Fine,
+    );
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, m)) = cache.iter().find(|(k, _)| *k == key) {
+        return Ok(m.clone());
+    }
+    let m = Arc::new(VertexModel::new(slope, material, grading)?);
+    // A few processes at most in one run; keep the last four.
+    if cache.len() >= 4 {
+        cache.remove(0);
+    }
+    cache.push((key, m.clone()));
+    Ok(m)
+}
+
+/// The teeth's base vertices' stress at the critical distance `read_um`: the best-ranked
+/// vertices submodelled ([`crate::fe::solid::vertex`]), the largest answer kept, its estimate
+/// the coarser grading's (every other octave, two rings per octave in the sections) difference
+/// at the same place. None without teeth or with no vertex in the part solved.
+fn vertex_stress(
+    g: &SensorGeometry,
+    s: &SensorSolid,
+    sol: &impl SolidField,
+    read_um: f64,
+) -> FeResult<Option<EdgeStress>> {
+    let Some((sectors, _)) = tooth_base_corner(g) else {
+        return Ok(None);
+    };
+    let die = sectors[0].material;
+    let slope = g.etched.tooth_run_out_um / g.etched.tooth_height_um;
+    let mut ranked: Vec<(f64, VertexFrame, f64)> = vertices(g, s)
+        .into_iter()
+        .filter(|(_, r)| *r > SMALLEST_IN_READS * read_um)
+        .filter_map(|(f, r)| vertex_indicator(&f, r, sol).map(|v| (v, f, r)))
+        .collect();
+    ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+    ranked.dedup_by(|b, a| (a.0 - b.0).abs() <= 1e-7 * a.0.abs());
+    let mut best: Option<(VertexReading, VertexFrame, f64)> = None;
+    for &(_, frame, radius) in ranked.iter().take(VERTICES_SUBMODELLED) {
+        let local = die.rotated(&[frame.e_x, frame.e_y, frame.e_z]);
+        let fine = vertex_model(slope, &local, VertexGrading::Fine)?;
+        let field = |p: [f64; 3]| sol.displacement_m(p);
+        let chain = VertexChain::solve(
+            &fine,
+            frame,
+            radius,
+            SMALLEST_IN_READS * read_um,
+            sol.kinematics(),
+            &field,
+        )?;
+        let r = chain.critical_stress(read_um, RINGS_FINE, &die, None)?;
+        if best.as_ref().is_none_or(|b| r.stress_pa > b.0.stress_pa) {
+            best = Some((r, frame, radius));
+        }
+    }
+    let Some((r, frame, radius)) = best else {
+        return Ok(None);
+    };
+    let local = die.rotated(&[frame.e_x, frame.e_y, frame.e_z]);
+    let coarse = vertex_model(slope, &local, VertexGrading::Coarse)?;
+    let field = |p: [f64; 3]| sol.displacement_m(p);
+    let chain = VertexChain::solve(
+        &coarse,
+        frame,
+        radius,
+        SMALLEST_IN_READS * read_um,
+        sol.kinematics(),
+        &field,
+    )?;
+    let c = chain.critical_stress(read_um, RINGS_COARSE, &die, Some(r.place))?;
+    let (at_um, along) = match r.place {
+        VertexPlace::Vertex => (frame.origin_um, 0.0),
+        VertexPlace::Edge { edge, s_um } => {
+            let e = if edge == 0 { frame.e_x } else { frame.e_y };
+            (
+                std::array::from_fn(|i| frame.origin_um[i] + s_um * e[i]),
+                s_um,
+            )
+        }
+    };
+    Ok(Some(EdgeStress {
+        kind: EdgeKind::ToothVertex,
+        stress_mpa: r.stress_pa * 1e-6,
+        submodel_error_mpa: (r.stress_pa - c.stress_pa).abs() * 1e-6,
+        at_um,
+        read_at_um: read_um,
+        radius_um: radius,
+        along_edge_um: Some(along),
+    }))
 }
 
 /// One kind of edge's stress at level 0 with two and with four bricks through the plate, and
@@ -369,6 +555,7 @@ mod tests {
             at_um: [0.0; 3],
             read_at_um: 0.005,
             radius_um: 36.8,
+            along_edge_um: None,
         };
         let two = [e(EdgeKind::ToothBase, 28.48), e(EdgeKind::SupportEdge, 1.7)];
         let four = [e(EdgeKind::ToothBase, 30.42)];

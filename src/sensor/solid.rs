@@ -315,10 +315,11 @@ fn quantity_table(
 
 /// The stress names the solid's safety factor is judged on: the plate rungs' averaged stress and
 /// each sharp edge's stress at the critical distance.
-pub const SAFETY_STRESSES: [&str; 3] = [
+pub const SAFETY_STRESSES: [&str; 4] = [
     "max_stress_averaged",
     "tooth_base_stress",
     "support_edge_stress",
+    "tooth_vertex_stress",
 ];
 
 impl super::SceneReport {

@@ -114,7 +114,7 @@ fn supports_carry_the_load_and_each_scales_with_it() {
     }
     assert!((2.0 * r1.deflection_at_load_um - r2.deflection_at_load_um).abs() < 1e-9);
     // The sharp edges' stresses too (the corner submodels are linear in their driver).
-    assert_eq!(r1.edge_stress.len(), 2, "{:?}", r1.edge_stress);
+    assert_eq!(r1.edge_stress.len(), 3, "{:?}", r1.edge_stress);
     for (a, b) in r1.edge_stress.iter().zip(&r2.edge_stress) {
         assert_eq!((a.kind, a.at_um), (b.kind, b.at_um));
         assert!(
@@ -221,7 +221,7 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     // measures what the thickness does to the edges' stresses, and their estimate includes it.
     let g = geometry(&SHORT);
     let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[]).unwrap();
-    assert_eq!(r.edge_thickness.len(), 2, "{:?}", r.edge_thickness);
+    assert_eq!(r.edge_thickness.len(), 3, "{:?}", r.edge_thickness);
     let lambda = tactfab::fe::solid::corner::williams_exponent(
         std::f64::consts::PI + 54.7356f64.to_radians(),
     );
@@ -345,9 +345,9 @@ fn fe_model_solid_through_the_binary() {
     let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     let r: &serde_json::Value = &v["scenes"][0];
     let q = r["quantities"].as_array().unwrap();
-    // Deflection, nine charges, two reactions, the averaged and peak stresses and the two kinds
-    // of sharp edge.
-    assert_eq!(q.len(), 1 + 9 + 2 + 2 + 2, "{q:?}");
+    // Deflection, nine charges, two reactions, the averaged and peak stresses, the two kinds
+    // of sharp edge and the teeth's base vertices.
+    assert_eq!(q.len(), 1 + 9 + 2 + 2 + 2 + 1, "{q:?}");
     let get = |n: &str| {
         q.iter().find(|x| x["name"] == n).unwrap()["value"]
             .as_f64()
@@ -383,9 +383,13 @@ fn fe_model_solid_through_the_binary() {
         .unwrap();
     assert!(term(m2, 2).abs() < 0.05 * term(m2, 0).abs(), "{terms:?}");
     // Every compared quantity carries the linear plate's value (the tooth base's from its edge
-    // section); the solid's own stresses (the peak and the walls' at the critical distance) have
-    // none to compare with.
-    let own = ["max_principal_stress", "support_edge_stress"];
+    // section); the solid's own stresses (the peak, the walls' and the vertices' at the critical
+    // distance) have none to compare with.
+    let own = [
+        "max_principal_stress",
+        "support_edge_stress",
+        "tooth_vertex_stress",
+    ];
     assert!(q
         .iter()
         .filter(|x| !own.contains(&x["name"].as_str().unwrap()))
@@ -609,6 +613,7 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
         "max_stress_averaged",
         "tooth_base_stress",
         "support_edge_stress",
+        "tooth_vertex_stress",
     ]
     .iter()
     .map(|n| {

@@ -41,6 +41,7 @@ pub mod problem;
 pub mod solution;
 pub mod solve;
 pub mod tl;
+pub mod vertex;
 
 #[cfg(test)]
 mod tests;
@@ -48,6 +49,8 @@ mod tests;
 mod tests_corner;
 #[cfg(test)]
 mod tests_tl;
+#[cfg(test)]
+mod tests_vertex;
 
 pub use elasticity::Elasticity;
 pub use field::SolidField;

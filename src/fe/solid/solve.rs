@@ -165,6 +165,37 @@ impl SolidModel {
         for &(d, v, _) in &dofs.constrained {
             u_fixed[d] = v;
         }
+        self.solve_with(forces, u_fixed)
+    }
+
+    /// Solves without loads, the constrained dofs given new values: `value(p_um)` is the
+    /// displacement (m) of a constrained node at (mapped) position `p_um`, of which the
+    /// components the constraints fix are taken. The factor is reused: a submodel driven by
+    /// another field, any number of times (`fe::solid::vertex`).
+    pub fn solve_prescribed(
+        &self,
+        value: impl Fn([f64; 3]) -> FeResult<[f64; 3]>,
+    ) -> FeResult<SolidSolution> {
+        let c = &self.ctx;
+        let mut u_fixed = vec![0.0; 3 * c.pos_um.len()];
+        let mut last: Option<(usize, [f64; 3])> = None;
+        for &(d, _, _) in &c.dofs.constrained {
+            let node = d / 3;
+            let u = match last {
+                Some((n, u)) if n == node => u,
+                _ => value(c.pos_um[node])?,
+            };
+            last = Some((node, u));
+            u_fixed[d] = u[d % 3];
+        }
+        let forces = vec![vec![0.0; u_fixed.len()]];
+        let mut out = self.solve_with(forces, u_fixed)?;
+        Ok(out.pop().expect("one case"))
+    }
+
+    fn solve_with(&self, forces: Vec<Vec<f64>>, u_fixed: Vec<f64>) -> FeResult<Vec<SolidSolution>> {
+        let c = &self.ctx;
+        let dofs = &c.dofs;
         let k_fixed = c.kel.apply_on(
             &c.grid,
             &c.pos_um,
@@ -172,7 +203,7 @@ impl SolidModel {
             self.support_elements.iter().copied(),
         );
         let n_free = dofs.n_free();
-        let mut rhs = Mat::<f64>::zeros(n_free, load_cases.len());
+        let mut rhs = Mat::<f64>::zeros(n_free, forces.len());
         for (k, f) in forces.iter().enumerate() {
             for (i, &d) in dofs.free_dofs.iter().enumerate() {
                 rhs[(i, k)] = f[d] - k_fixed[d];
@@ -181,7 +212,7 @@ impl SolidModel {
         let rhs0 = rhs.clone();
         self.llt.solve_in_place(rhs.as_mut());
         self.refine(&rhs0, &mut rhs, &u_fixed);
-        (0..load_cases.len())
+        (0..forces.len())
             .into_par_iter()
             .map(|k| {
                 let mut u = u_fixed.clone();
