@@ -453,6 +453,17 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     f(0.5 * l, 4)
                 );
             }
+            // A corner in compression at L / 2 does not open: no factor to state.
+            let opening = |stress_mpa: f64| {
+                if stress_mpa > 0.0 {
+                    format!(
+                        "safety factor {}",
+                        f(g.fracture_strength_mpa / stress_mpa, 3)
+                    )
+                } else {
+                    "in compression there, no crack to open".to_string()
+                }
+            };
             for e in &last.readout.edge_stress {
                 if let Some(along) = e.along_edge_um {
                     println!(
@@ -468,14 +479,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                         f(e.at_um[1] * 1e-3, 4),
                         f(e.radius_um, 3),
                         f(e.submodel_error_mpa, 3),
-                        if e.stress_mpa > 0.0 {
-                            format!(
-                                "safety factor {}",
-                                f(g.fracture_strength_mpa / e.stress_mpa, 3)
-                            )
-                        } else {
-                            "in compression there, no crack to open".to_string()
-                        }
+                        opening(e.stress_mpa),
                     );
                     continue;
                 }
@@ -489,15 +493,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     f(e.at_um[1] * 1e-3, 4),
                     f(e.radius_um, 3),
                     f(e.submodel_error_mpa, 3),
-                    // A corner in compression at L / 2 does not open: no factor to state.
-                    if e.stress_mpa > 0.0 {
-                        format!(
-                            "safety factor {}",
-                            f(g.fracture_strength_mpa / e.stress_mpa, 3)
-                        )
-                    } else {
-                        "in compression there, no crack to open".to_string()
-                    }
+                    opening(e.stress_mpa),
                 );
             }
         }

@@ -457,20 +457,29 @@ fn vertex_stress(
         .collect();
     ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
     ranked.dedup_by(|b, a| (a.0 - b.0).abs() <= 1e-7 * a.0.abs());
-    let mut best: Option<(VertexReading, VertexFrame, f64)> = None;
-    for &(_, frame, radius) in ranked.iter().take(VERTICES_SUBMODELLED) {
+    // One vertex read with one grading (and its sections' rings), at every place or one.
+    let read = |frame: VertexFrame,
+                radius: f64,
+                grading: VertexGrading,
+                rings: usize,
+                only: Option<VertexPlace>|
+     -> FeResult<VertexReading> {
         let local = die.rotated(&[frame.e_x, frame.e_y, frame.e_z]);
-        let fine = vertex_model(slope, &local, VertexGrading::Fine)?;
+        let model = vertex_model(slope, &local, grading)?;
         let field = |p: [f64; 3]| sol.displacement_m(p);
-        let chain = VertexChain::solve(
-            &fine,
+        VertexChain::solve(
+            &model,
             frame,
             radius,
             SMALLEST_IN_READS * read_um,
             sol.kinematics(),
             &field,
-        )?;
-        let r = chain.critical_stress(read_um, RINGS_FINE, &die, None)?;
+        )?
+        .critical_stress(read_um, rings, &die, only)
+    };
+    let mut best: Option<(VertexReading, VertexFrame, f64)> = None;
+    for &(_, frame, radius) in ranked.iter().take(VERTICES_SUBMODELLED) {
+        let r = read(frame, radius, VertexGrading::Fine, RINGS_FINE, None)?;
         if best.as_ref().is_none_or(|b| r.stress_pa > b.0.stress_pa) {
             best = Some((r, frame, radius));
         }
@@ -478,18 +487,13 @@ fn vertex_stress(
     let Some((r, frame, radius)) = best else {
         return Ok(None);
     };
-    let local = die.rotated(&[frame.e_x, frame.e_y, frame.e_z]);
-    let coarse = vertex_model(slope, &local, VertexGrading::Coarse)?;
-    let field = |p: [f64; 3]| sol.displacement_m(p);
-    let chain = VertexChain::solve(
-        &coarse,
+    let c = read(
         frame,
         radius,
-        SMALLEST_IN_READS * read_um,
-        sol.kinematics(),
-        &field,
+        VertexGrading::Coarse,
+        RINGS_COARSE,
+        Some(r.place),
     )?;
-    let c = chain.critical_stress(read_um, RINGS_COARSE, &die, Some(r.place))?;
     let (at_um, along) = match r.place {
         VertexPlace::Vertex => (frame.origin_um, 0.0),
         VertexPlace::Edge { edge, s_um } => {
