@@ -1,8 +1,9 @@
 //! The stress near a frustum's base vertex, where two sharp re-entrant edges meet (issue 16, item
 //! 7): a 3-D submodel graded towards the vertex and its edges, nested to the critical distance.
 //!
-//! Near the vertex the field is three-dimensional (its own singularity, Bazant & Keer 1974, Int.
-//! J. Solids Struct. 10: 1229, on top of the two edges' Williams fields), so the edges' sections
+//! Near the vertex the field is three-dimensional (a vertex singularity of its own on top of the
+//! two edges' Williams fields; Sinclair 2004, Appl. Mech. Rev., doi:10.1115/1.1767846, sec. 5,
+//! reviews them), so the edges' sections
 //! ([`crate::fe::solid::corner`]) do not hold there. Locally the material is a cone: the half-space
 //! under the plate's top face and the frustum above, between its two {111} sidewalls. In vertex
 //! axes (x along one base edge, y along the other, z up; the frustum over x, y >= 0) it is the
