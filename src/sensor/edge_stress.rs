@@ -348,25 +348,16 @@ pub fn edge_stresses(
 /// Vertices submodelled (the ones ranked highest by the solid's field).
 const VERTICES_SUBMODELLED: usize = 2;
 
-/// The teeth's base vertices in the part solved, each with its frame (x, y along its edges into
-/// the tooth's sides, z up) and the half-size of its largest submodel.
-fn vertices(g: &SensorGeometry, s: &SensorSolid) -> Vec<(VertexFrame, f64)> {
-    let et = &g.etched;
-    let (t, h, ro) = (
-        g.plate_thickness_um,
-        et.tooth_height_um,
-        et.tooth_run_out_um,
-    );
-    if et.tooth_tops_um.is_empty() || h <= 0.0 || ro <= 0.0 || t <= 0.0 {
-        return Vec::new();
-    }
-    // Inside the plate (its underside driven as a cut) and the tooth's height.
-    let radius = 0.9 * t.min(h);
+/// The teeth's base vertices in the part solved whose submodel of half-size `radius_um` (its
+/// frustum's walls running out `slope` per height) fits in it, each with its frame (x, y along
+/// its edges into the tooth's sides, z up).
+fn vertices(g: &SensorGeometry, s: &SensorSolid, radius_um: f64, slope: f64) -> Vec<VertexFrame> {
+    let ro = g.etched.tooth_run_out_um;
     let (x0, x1, y0, y1) = s.domain_um;
-    let reach = radius * (1.0 + ro / h);
+    let reach = radius_um * (1.0 + slope);
     let z = s.layers.plate_top_um;
     let mut out = Vec::new();
-    for tt in &et.tooth_tops_um {
+    for tt in &g.etched.tooth_tops_um {
         let (bx0, by0, bx1, by1) = (tt[0] - ro, tt[1] - ro, tt[2] + ro, tt[3] + ro);
         // Each corner: (x, y, its first edge's direction, its second's), right-handed with z.
         for (x, y, e_x, e_y) in [
@@ -377,13 +368,12 @@ fn vertices(g: &SensorGeometry, s: &SensorSolid) -> Vec<(VertexFrame, f64)> {
         ] {
             let inside = x - reach >= x0 && x + reach <= x1 && y - reach >= y0 && y + reach <= y1;
             if inside {
-                let frame = VertexFrame {
+                out.push(VertexFrame {
                     origin_um: [x, y, z],
                     e_x,
                     e_y,
                     e_z: [0.0, 0.0, 1.0],
-                };
-                out.push((frame, radius));
+                });
             }
         }
     }
@@ -449,17 +439,21 @@ fn vertex_stress(
         return Ok(None);
     };
     let die = sectors[0].material;
-    let slope = g.etched.tooth_run_out_um / g.etched.tooth_height_um;
-    let mut ranked: Vec<(f64, VertexFrame, f64)> = vertices(g, s)
+    let (t, h) = (g.plate_thickness_um, g.etched.tooth_height_um);
+    let slope = g.etched.tooth_run_out_um / h;
+    // Inside the plate (its underside driven as a cut) and the tooth's height.
+    let radius = 0.9 * t.min(h);
+    if radius <= SMALLEST_IN_READS * read_um {
+        return Ok(None);
+    }
+    let mut ranked: Vec<(f64, VertexFrame)> = vertices(g, s, radius, slope)
         .into_iter()
-        .filter(|(_, r)| *r > SMALLEST_IN_READS * read_um)
-        .filter_map(|(f, r)| vertex_indicator(&f, r, sol).map(|v| (v, f, r)))
+        .filter_map(|f| vertex_indicator(&f, radius, sol).map(|v| (v, f)))
         .collect();
     ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
     ranked.dedup_by(|b, a| (a.0 - b.0).abs() <= 1e-7 * a.0.abs());
     // One vertex read with one grading (and its sections' rings), at every place or one.
     let read = |frame: VertexFrame,
-                radius: f64,
                 grading: VertexGrading,
                 rings: usize,
                 only: Option<VertexPlace>|
@@ -477,23 +471,17 @@ fn vertex_stress(
         )?
         .critical_stress(read_um, rings, &die, only)
     };
-    let mut best: Option<(VertexReading, VertexFrame, f64)> = None;
-    for &(_, frame, radius) in ranked.iter().take(VERTICES_SUBMODELLED) {
-        let r = read(frame, radius, VertexGrading::Fine, RINGS_FINE, None)?;
+    let mut best: Option<(VertexReading, VertexFrame)> = None;
+    for &(_, frame) in ranked.iter().take(VERTICES_SUBMODELLED) {
+        let r = read(frame, VertexGrading::Fine, RINGS_FINE, None)?;
         if best.as_ref().is_none_or(|b| r.stress_pa > b.0.stress_pa) {
-            best = Some((r, frame, radius));
+            best = Some((r, frame));
         }
     }
-    let Some((r, frame, radius)) = best else {
+    let Some((r, frame)) = best else {
         return Ok(None);
     };
-    let c = read(
-        frame,
-        radius,
-        VertexGrading::Coarse,
-        RINGS_COARSE,
-        Some(r.place),
-    )?;
+    let c = read(frame, VertexGrading::Coarse, RINGS_COARSE, Some(r.place))?;
     let (at_um, along) = match r.place {
         VertexPlace::Vertex => (frame.origin_um, 0.0),
         VertexPlace::Edge { edge, s_um } => {

@@ -138,29 +138,21 @@ fn a_rigid_rotation_is_taken_out_and_the_readings_are_linear() {
     // Read linearly, a 0.3 rad rotation is a strain of ~4e-2: stresses of GPa.
     assert!(r.stress_pa.abs() < 1e-2, "{r:?}");
     // Linearity: twice a uniform strain, twice the reading.
-    let one = VertexChain::solve(
-        &model,
-        f,
-        40.0,
-        30.0 * read,
-        DriverKinematics::Linear,
-        &linear(A, x0),
-    )
-    .unwrap()
-    .critical_stress(read, 2, &silicon(), None)
-    .unwrap();
-    let a2 = A.map(|row| row.map(|v| 2.0 * v));
-    let two = VertexChain::solve(
-        &model,
-        f,
-        40.0,
-        30.0 * read,
-        DriverKinematics::Linear,
-        &linear(a2, x0),
-    )
-    .unwrap()
-    .critical_stress(read, 2, &silicon(), None)
-    .unwrap();
+    let reading = |a: [[f64; 3]; 3]| {
+        VertexChain::solve(
+            &model,
+            f,
+            40.0,
+            30.0 * read,
+            DriverKinematics::Linear,
+            &linear(a, x0),
+        )
+        .unwrap()
+        .critical_stress(read, 2, &silicon(), None)
+        .unwrap()
+    };
+    let one = reading(A);
+    let two = reading(A.map(|row| row.map(|v| 2.0 * v)));
     assert!((two.stress_pa - 2.0 * one.stress_pa).abs() < 1e-9 * one.stress_pa.abs());
 }
 

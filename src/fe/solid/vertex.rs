@@ -214,8 +214,6 @@ pub struct VertexChain<'a> {
     model: &'a VertexModel,
     pub frame: VertexFrame,
     levels: Vec<(f64, SolidSolution)>,
-    /// The local rigid rotation taken out of the driver (die axes).
-    rotation: [[f64; 3]; 3],
 }
 
 impl<'a> VertexChain<'a> {
@@ -314,18 +312,12 @@ impl<'a> VertexChain<'a> {
             model,
             frame,
             levels,
-            rotation,
         })
     }
 
     /// The levels' half-sizes (um), the largest first.
     pub fn radii_um(&self) -> Vec<f64> {
         self.levels.iter().map(|l| l.0).collect()
-    }
-
-    /// The local rigid rotation taken out of the driver (identity for a linear driver).
-    pub fn rotation(&self) -> [[f64; 3]; 3] {
-        self.rotation
     }
 
     /// The level that reads a local point at cube-distance `reach_um` from the vertex: the
@@ -418,22 +410,26 @@ impl VertexChain<'_> {
     /// `s_um` from the vertex, read on the smallest model (points nearer the other edge or the
     /// vertex left out); None if none is inside it.
     pub fn direct(&self, edge: usize, s_um: f64, read_um: f64) -> Option<f64> {
-        use crate::fe::solid::principal::principal_stresses_pa;
         let pi = std::f64::consts::PI;
         let wall = 1f64.atan2(self.model.slope);
-        let d = self.levels.len() - 1;
         let n = 64;
         (0..=n)
             .filter_map(|q| {
                 let th = -pi + (wall + pi) * q as f64 / n as f64;
-                let p = Self::section_point(edge, s_um, read_um, th);
-                if edge_distance(p) < read_um * (1.0 - 1e-6) {
-                    return None;
-                }
-                let s = self.stress_local_pa(d, p)?;
-                Some(principal_stresses_pa(&s)[0])
+                self.on_surface(Self::section_point(edge, s_um, read_um, th), read_um)
             })
             .reduce(f64::max)
+    }
+
+    /// The largest principal stress at local point `p` on the smallest model, if `p` lies on
+    /// the point method's surface (at least `read_um` from both edges) and in the material.
+    fn on_surface(&self, p: [f64; 3], read_um: f64) -> Option<f64> {
+        use crate::fe::solid::principal::principal_stresses_pa;
+        if edge_distance(p) < read_um * (1.0 - 1e-6) {
+            return None;
+        }
+        let s = self.stress_local_pa(self.levels.len() - 1, p)?;
+        Some(principal_stresses_pa(&s)[0])
     }
 
     /// The largest principal stress at `read_um` from edge `edge` at `s_um` from the vertex, by
@@ -504,7 +500,6 @@ impl VertexChain<'_> {
         material_die: &Elasticity,
         only: Option<VertexPlace>,
     ) -> FeResult<VertexReading> {
-        use crate::fe::solid::principal::principal_stresses_pa;
         let pi = std::f64::consts::PI;
         let mut best = VertexReading {
             stress_pa: f64::NEG_INFINITY,
@@ -519,14 +514,7 @@ impl VertexChain<'_> {
             }
         };
         let wanted = |p: VertexPlace| only.is_none_or(|o| o == p);
-        let d = self.levels.len() - 1;
-        let reach = 0.45 * self.levels[d].0;
-        let principal = |p: [f64; 3]| -> Option<f64> {
-            (edge_distance(p) >= read_um * (1.0 - 1e-6))
-                .then(|| self.stress_local_pa(d, p))
-                .flatten()
-                .map(|s| principal_stresses_pa(&s)[0])
-        };
+        let reach = 0.45 * self.levels[self.levels.len() - 1].0;
         // The vertex's own directions: below the street's corner (x, y, z <= 0).
         if wanted(VertexPlace::Vertex) {
             let n = 9;
@@ -539,7 +527,7 @@ impl VertexChain<'_> {
                         read_um * theta.sin() * phi.sin(),
                         read_um * theta.cos(),
                     ];
-                    if let Some(v) = principal(p) {
+                    if let Some(v) = self.on_surface(p, read_um) {
                         take(v, VertexPlace::Vertex);
                     }
                 }
