@@ -15,16 +15,17 @@
 //! loaded section. Its safety factor is sigma_0 / sigma(L / 2).
 //!
 //! The most loaded section is found on the solid itself: along every re-entrant edge of the part
-//! solved, at stations one submodel radius apart (and at least two radii from the edge's ends,
-//! where two edges meet at a vertex whose 3-D singularity a section cannot describe), the solid's
+//! solved, at stations one submodel radius apart (clear of the edge's ends: two radii for the
+//! channel walls; a tooth's base edges end at vertices, whose 3-D field a section cannot
+//! describe, and start where the vertex models' own reading of them ends), the solid's
 //! largest principal stress half a radius from the edge on the material's bisector ranks the
 //! stations; the best [`SECTIONS_PER_KIND`] of each kind (mirror images counted once) are
 //! submodelled and the largest answer kept.
 //!
-//! Within those two radii of a tooth's base corner the vertex submodels answer
-//! ([`crate::fe::solid::vertex`], kind `tooth_vertex`): the two vertices the solid's field ranks
-//! highest are submodelled, each read on the sphere of L / 2 round the vertex and on the
-//! cylinders of L / 2 round its two edges out to 0.6 of the largest model's half-size.
+//! Near a tooth's base corner the vertex submodels answer ([`crate::fe::solid::vertex`], kind
+//! `tooth_vertex`): the two vertices the solid's field ranks highest are submodelled, each read
+//! on the sphere of L / 2 round the vertex and on the cylinders of L / 2 round its two edges out
+//! to 0.6 of the largest model's half-size (0.54 min(t, h)), where the edges' stations begin.
 
 use serde::Serialize;
 
@@ -32,7 +33,7 @@ use crate::fe::solid::corner::{
     solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
 };
 use crate::fe::solid::vertex::{
-    VertexChain, VertexFrame, VertexGrading, VertexModel, VertexPlace, VertexReading,
+    VertexChain, VertexFrame, VertexGrading, VertexModel, VertexPlace, VertexReading, LAST_SECTION,
     SMALLEST_IN_READS,
 };
 use crate::fe::solid::{principal_stresses_pa, Elasticity, SolidField};
@@ -112,6 +113,8 @@ struct Edge {
     e_s: [f64; 3],
     sectors: Vec<CornerSector>,
     radius_um: f64,
+    /// Stations stay this far from the edge's ends.
+    end_margin_um: f64,
 }
 
 fn axis(i: usize, sign: f64) -> [f64; 3] {
@@ -151,6 +154,9 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
     let mut out = Vec::new();
     let ro = et.tooth_run_out_um;
     if let Some((sectors, radius)) = tooth_base_corner(g) {
+        // The vertex models read each edge out to their last section: the edge's own sections
+        // start there, so the two readings meet.
+        let corner_margin = LAST_SECTION * vertex_radius_um(g);
         for tt in &et.tooth_tops_um {
             let (bx0, by0, bx1, by1) = (tt[0] - ro, tt[1] - ro, tt[2] + ro, tt[3] + ro);
             let inside = |v: f64, hi: f64| v >= 0.0 && v <= hi;
@@ -166,6 +172,7 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
                         e_s: axis(1, sign),
                         sectors: sectors.clone(),
                         radius_um: radius,
+                        end_margin_um: corner_margin,
                     });
                 }
             }
@@ -179,6 +186,7 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
                         e_s: axis(0, sign),
                         sectors: sectors.clone(),
                         radius_um: radius,
+                        end_margin_um: corner_margin,
                     });
                 }
             }
@@ -212,6 +220,7 @@ fn edges(g: &SensorGeometry, s: &SensorSolid) -> Vec<Edge> {
                 e_s: axis(1, sign),
                 sectors: sectors.clone(),
                 radius_um: radius,
+                end_margin_um: 2.0 * radius,
             });
         }
     }
@@ -231,7 +240,7 @@ impl Edge {
         }
     }
 
-    /// Stations along the edge, two radii clear of its ends, about a radius apart, spaced
+    /// Stations along the edge, its margin clear of its ends, about a radius apart, spaced
     /// evenly over the whole edge (so a mirror image of a station is a station, and a part of
     /// the die ranks the stations the whole die would), those in the part solved.
     fn stations(&self, s: &SensorSolid) -> Vec<f64> {
@@ -242,7 +251,7 @@ impl Edge {
         if across - self.radius_um < clo || across + self.radius_um > chi {
             return Vec::new();
         }
-        let margin = 2.0 * self.radius_um;
+        let margin = self.end_margin_um;
         let (a, b) = (self.span_um.0 + margin, self.span_um.1 - margin);
         if b < a {
             return Vec::new();
@@ -348,6 +357,12 @@ pub fn edge_stresses(
 /// Vertices submodelled (the ones ranked highest by the solid's field).
 const VERTICES_SUBMODELLED: usize = 2;
 
+/// The largest vertex model's half-size: inside the plate (its underside driven as a cut) and
+/// the tooth's height.
+fn vertex_radius_um(g: &SensorGeometry) -> f64 {
+    0.9 * g.plate_thickness_um.min(g.etched.tooth_height_um)
+}
+
 /// The teeth's base vertices in the part solved whose submodel of half-size `radius_um` (its
 /// frustum's walls running out `slope` per height) fits in it, each with its frame (x, y along
 /// its edges into the tooth's sides, z up).
@@ -439,10 +454,8 @@ fn vertex_stress(
         return Ok(None);
     };
     let die = sectors[0].material;
-    let (t, h) = (g.plate_thickness_um, g.etched.tooth_height_um);
-    let slope = g.etched.tooth_run_out_um / h;
-    // Inside the plate (its underside driven as a cut) and the tooth's height.
-    let radius = 0.9 * t.min(h);
+    let slope = g.etched.tooth_run_out_um / g.etched.tooth_height_um;
+    let radius = vertex_radius_um(g);
     if radius <= SMALLEST_IN_READS * read_um {
         return Ok(None);
     }
@@ -557,5 +570,45 @@ mod tests {
         assert!((c[0].error_mpa - want).abs() < 1e-4, "{c:?}");
         // Measured with 6 bricks: 31.25 MPa, and the fitted limit near 34: the estimate reaches it.
         assert!(28.48 + c[0].error_mpa > 33.0);
+    }
+
+    /// Along a tooth's base edge the two readings meet: its sections start where the vertex
+    /// models' last section stands (a run-out and a fraction of the vertex model from the
+    /// corner), at most a radius apart from there on, and none nearer a corner.
+    #[test]
+    fn the_tooth_bases_stations_begin_where_the_vertex_models_end() {
+        use crate::sensor::solid_mesh::{build, Base, SolidMeshOptions};
+        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
+        let p = crate::process::load_str(&text, "mis-grasper.yaml", &[])
+            .expect("valid process")
+            .process;
+        let g = SensorGeometry::new(&crate::design::Design::new(p).expect("design"));
+        let s = build(
+            &g,
+            &[],
+            Base::Rigid,
+            SolidMeshOptions::level(2000.0, 0),
+            None,
+            None,
+        )
+        .expect("solid");
+        let reach = LAST_SECTION * vertex_radius_um(&g);
+        let all = edges(&g, &s);
+        let bases: Vec<&Edge> = all
+            .iter()
+            .filter(|e| e.kind == EdgeKind::ToothBase)
+            .collect();
+        assert_eq!(bases.len(), 4 * g.etched.tooth_tops_um.len());
+        for e in bases {
+            let st = e.stations(&s);
+            let (a, b) = e.span_um;
+            assert!(st.len() >= 2, "{st:?}");
+            assert!(
+                (st[0] - (a + reach)).abs() < 1e-9 && (st[st.len() - 1] - (b - reach)).abs() < 1e-9
+            );
+            assert!(st
+                .windows(2)
+                .all(|w| w[1] - w[0] <= e.radius_um * (1.0 + 1e-9)));
+        }
     }
 }

@@ -391,8 +391,9 @@ pub const SMALLEST_IN_READS: f64 = 30.0;
 /// distance): a disc of radius s / 4 round the edge at s, with the critical distance inside it.
 const FIRST_SECTION: f64 = 18.0;
 const SECTION_RADIUS: f64 = 0.25;
-/// Sections reach this fraction of the largest model's size.
-const LAST_SECTION: f64 = 0.6;
+/// Sections reach this fraction of the largest model's size (where a caller's own reading of
+/// the edges takes over: `sensor::edge_stress` starts the tooth bases' sections there).
+pub const LAST_SECTION: f64 = 0.6;
 /// Sections per edge at most (one per octave: 40 octaves span any die down to atoms).
 const MAX_SECTIONS: usize = 40;
 
