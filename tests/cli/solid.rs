@@ -641,10 +641,11 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
         run.stdout
     );
     // The plate's tooth base against the solid's, an independent model of the same edge: within
-    // 35 % (measured 24 %: the plate reads higher; this solid has two levels and two bricks
-    // through the plate, which read the edge about 20 % low on the bundled design, README).
+    // 25 % (measured 12.4 %, 21.7 % with the solid's smaller section before: the plate reads
+    // higher; this solid has two levels and two bricks through the plate, which read the edge
+    // about 10 % low on the bundled design, README).
     let d = by_name("tooth_base_stress");
-    assert!(d > 0.0 && d < 0.35, "{d}");
+    assert!(d > 0.0 && d < 0.25, "{d}");
     // The solid checks a plate answer: with --model solid there is nothing to check.
     let run = tactfab(&[
         "fe",
