@@ -597,8 +597,9 @@ mod tests {
     }
 
     /// Along a tooth's base edge the two readings meet: its sections start where the vertex
-    /// models' last section stands (a run-out and a fraction of the vertex model from the
-    /// corner), at most a radius apart from there on, and none nearer a corner.
+    /// models' last section stands (0.6 of the vertex model's half-size from the corner), at
+    /// most a spacing apart from there on, none nearer a corner; the sections' discs are larger
+    /// than the spacing but stay inside the plate and below the neighbouring sidewall.
     #[test]
     fn the_tooth_bases_stations_begin_where_the_vertex_models_end() {
         use crate::sensor::solid_mesh::{build, Base, SolidMeshOptions};
