@@ -107,6 +107,7 @@ fn verify_solid(
             tol: acc.tol_rel,
             symmetry: !args.no_symmetry,
             nonlinear: false,
+            graded: args.graded,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(&solid, acc.tol_rel);
@@ -331,6 +332,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             tol: acc.tol_rel,
             symmetry: !args.no_symmetry,
             nonlinear: false,
+            graded: args.graded,
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
@@ -347,7 +349,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         let secs: f64 = r.levels.iter().map(|l| l.seconds).sum();
         println!(
             "scene `{}` ({} N): solid model ({}), {}; base {}; {} levels, {} dofs and {:.0} MB \
-             of factor on the last (h {} um), {:.1} s",
+             of factor on the last (h {} um{}), {:.1} s",
             r.scene,
             f(r.force_n, 3),
             if r.nonlinear {
@@ -366,6 +368,11 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             last.dofs,
             last.factor_entries as f64 * 8e-6,
             f(last.element_um, 0),
+            if r.graded {
+                ", graded at the tooth base edges"
+            } else {
+                ""
+            },
             secs
         );
         if r.contact_on_top_faces < 1.0 - 1e-9 {

@@ -236,6 +236,7 @@ pub fn build(
                         tol: o.tol_rel,
                         symmetry: true,
                         nonlinear: false,
+                        graded: false,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

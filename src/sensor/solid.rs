@@ -77,6 +77,8 @@ pub struct SolidReport {
     /// Geometrically nonlinear (Total Lagrangian, St. Venant-Kirchhoff, dead load) rather than
     /// linear: chosen when the plate ladder answers the scene with the large-deflection plate.
     pub nonlinear: bool,
+    /// The levels graded at the tooth base edges (`--graded`).
+    pub graded: bool,
     /// The plate rung compared with: "plate" or "large_deflection_plate".
     pub plate_rung: String,
     pub levels: Vec<SolidLevel>,
@@ -393,6 +395,9 @@ pub struct SolidRun {
     pub symmetry: bool,
     /// Geometrically nonlinear solve (Newton on the Total Lagrangian model).
     pub nonlinear: bool,
+    /// Every level graded at the tooth base edges
+    /// ([`super::solid_mesh::TOOTH_EDGE_GRADING`]): about 4 times the dofs and memory.
+    pub graded: bool,
 }
 
 /// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
@@ -474,7 +479,10 @@ pub fn evaluate_solid(
     // The nonlinear solve of each level starts from the coarser level's field.
     let mut coarser: Option<crate::fe::solid::TlSolution> = None;
     for level in 0..levels {
-        let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
+        let opts = SolidMeshOptions {
+            tooth_edge_grading: run.graded,
+            ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
+        };
         let (answer, loaded, field) = solve(opts, coarser.as_ref())?;
         contact = contact.min(loaded);
         coarser = field;
@@ -487,6 +495,7 @@ pub fn evaluate_solid(
     let edge_thickness = match out.first() {
         Some(first) if levels >= 3 && !first.readout.edge_stress.is_empty() => {
             let mut opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, 0);
+            opts.tooth_edge_grading = run.graded;
             opts.plate_layers *= 2;
             opts.teeth_layers *= 2;
             let (doubled, _, _) = solve(opts, coarser.as_ref())?;
@@ -564,6 +573,7 @@ pub fn evaluate_solid(
             }
         },
         nonlinear: run.nonlinear,
+        graded: run.graded,
         plate_rung: String::new(),
         levels: out,
         edge_thickness,

@@ -162,7 +162,15 @@ pub struct SolidMeshOptions {
     pub teeth_layers: usize,
     pub support_layers: usize,
     pub base_layers: usize,
+    /// Lines at [`TOOTH_EDGE_GRADING`] plate thicknesses either side of every tooth base edge.
+    pub tooth_edge_grading: bool,
 }
+
+/// Where the graded mesh adds lines round a tooth base edge, in plate thicknesses: measured on
+/// the bundled design, the band from 0.5 to 2 t off the edges holds the solid's error there (a
+/// further pair at 0.25 t moves the deflection 0.035 % and the edge stress 0.5 %; 0.5 t alone
+/// leaves most of it).
+pub const TOOTH_EDGE_GRADING: [f64; 2] = [0.5, 2.0];
 
 impl SolidMeshOptions {
     /// Level `level` of a refinement sequence: the in-plane size halves every two levels (a
@@ -176,6 +184,7 @@ impl SolidMeshOptions {
             teeth_layers: 1,
             support_layers: 1,
             base_layers: 1,
+            tooth_edge_grading: false,
         }
     }
 }
@@ -364,6 +373,16 @@ pub fn build(
     }
     xs.extend(tx.from.iter().copied());
     ys.extend(ty.from.iter().copied());
+    if opts.tooth_edge_grading {
+        for k in TOOTH_EDGE_GRADING {
+            for e in &teeth.x {
+                xs.extend([e.0 - k * t, e.0 + k * t]);
+            }
+            for e in &teeth.y {
+                ys.extend([e.0 - k * t, e.0 + k * t]);
+            }
+        }
+    }
     for case in cases {
         for load in case {
             let pts: Vec<(f64, f64)> = match load {

@@ -46,6 +46,7 @@ fn run(levels: usize, symmetry: bool) -> SolidRun {
         tol: 0.01,
         symmetry,
         nonlinear: false,
+        graded: false,
     }
 }
 
@@ -160,6 +161,63 @@ fn edge_stress_follows_the_wedge_singularity_with_the_critical_distance() {
         worst > 3.0 * ra.max_principal_mpa,
         "{worst} {}",
         ra.max_principal_mpa
+    );
+}
+
+#[test]
+fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
+    // `--graded` adds grid lines round every tooth base edge: the graded mesh's space holds the
+    // uniform one's (the lines split elements where the map is linear), so the conforming
+    // solution can only grow more compliant: the deflection under the load rises, and both
+    // balance the load.
+    let g = geometry(&SHORT);
+    let solve = |graded: bool| {
+        evaluate_solid(
+            &g,
+            &point(6000.0, 7500.0, 0.02),
+            SolidRun {
+                graded,
+                ..run(1, true)
+            },
+            &[],
+        )
+        .unwrap()
+    };
+    let (uniform, graded) = (solve(false), solve(true));
+    assert!(!uniform.graded && graded.graded);
+    let (u, v) = (&uniform.levels[0], &graded.levels[0]);
+    assert!(v.dofs > 2 * u.dofs, "{} {}", u.dofs, v.dofs);
+    let (wu, wv) = (
+        u.readout.deflection_at_load_um,
+        v.readout.deflection_at_load_um,
+    );
+    assert!(wv > wu * (1.0 + 1e-3), "{wu} {wv}");
+    for r in [&u.readout, &v.readout] {
+        let total = r.support1_n + r.support2_n;
+        assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
+    }
+    // Through the binary: `--graded` reaches the solid, which says so in JSON and text.
+    let base = [
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--point",
+        "6,7.5,0.02,0.5",
+        "--max-levels",
+        "1",
+        "--graded",
+    ];
+    let out = tactfab(&on_short_die(&[&base[..], &["--json"]].concat()));
+    out.expect_code(0);
+    let j: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
+    assert_eq!(j["scenes"][0]["graded"], true);
+    let out = tactfab(&on_short_die(&base));
+    out.expect_code(0);
+    assert!(
+        out.stdout.contains("graded at the tooth base edges"),
+        "{}",
+        out.stdout
     );
 }
 

@@ -34,6 +34,7 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         tol: 0.01,
         symmetry: true,
         nonlinear: false,
+        graded: false,
     };
     let rung = evaluate_solid(&g, &scene, run, &[]).unwrap();
     let r = &rung.levels[0].readout;
