@@ -529,7 +529,8 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 // Measured on the bundled design: the uniform levels read the worst tooth base
                 // a third low, beyond their estimate (README, "--graded on the solid rung").
                 println!(
-                    "  (uniform levels: they can miss the worst tooth base, beyond this estimate;                      --graded grades every level at the tooth base edges, ~4x the dofs)"
+                    "  (uniform levels: they can miss the worst tooth base, beyond this estimate; \
+                     --graded grades every level at the tooth base edges, ~4x the dofs)"
                 );
             }
         }
