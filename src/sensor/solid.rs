@@ -476,14 +476,15 @@ pub fn evaluate_solid(
             };
             Ok((level, solid.loaded_fraction[0], field))
         };
+    // Every mesh of the run, the thickness check's too, graded alike.
+    let mesh = |level: usize| SolidMeshOptions {
+        tooth_edge_grading: run.graded,
+        ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
+    };
     // The nonlinear solve of each level starts from the coarser level's field.
     let mut coarser: Option<crate::fe::solid::TlSolution> = None;
     for level in 0..levels {
-        let opts = SolidMeshOptions {
-            tooth_edge_grading: run.graded,
-            ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
-        };
-        let (answer, loaded, field) = solve(opts, coarser.as_ref())?;
+        let (answer, loaded, field) = solve(mesh(level), coarser.as_ref())?;
         contact = contact.min(loaded);
         coarser = field;
         out.push(answer);
@@ -494,8 +495,7 @@ pub fn evaluate_solid(
     // to (three levels).
     let edge_thickness = match out.first() {
         Some(first) if levels >= 3 && !first.readout.edge_stress.is_empty() => {
-            let mut opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, 0);
-            opts.tooth_edge_grading = run.graded;
+            let mut opts = mesh(0);
             opts.plate_layers *= 2;
             opts.teeth_layers *= 2;
             let (doubled, _, _) = solve(opts, coarser.as_ref())?;
