@@ -275,6 +275,12 @@ pub struct BuildArgs {
     /// `<device>-solid-check.json`.
     #[arg(long)]
     pub verify_solid: bool,
+    /// With --verify-solid: grade every solid level at the tooth base edges (lines at 0.5 and 2
+    /// plate thicknesses either side of each), as `fe --verify-solid --graded` does: about 4x
+    /// the solid's dofs and memory, and its edge stresses and deflection where the uniform
+    /// levels leave them low (README).
+    #[arg(long, requires = "verify_solid")]
+    pub graded: bool,
 }
 
 /// Whether an unconverged declared scene fails the build.

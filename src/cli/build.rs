@@ -1,6 +1,6 @@
 //! `tactfab build FILE -o DIR`: everything for one process file, written atomically.
 
-use tactfab::report::{build, summary, Options};
+use tactfab::report::{build, summary, Options, SolidCheck};
 
 use super::args::BuildArgs;
 use super::{design, origin, write_dir, Outcome, Progress};
@@ -15,7 +15,10 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         fe: Some(args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
-        verify_solid_levels: args.verify_solid.then_some(2),
+        verify_solid: args.verify_solid.then_some(SolidCheck {
+            levels: 2,
+            graded: args.graded,
+        }),
     };
     let built = {
         let progress = Progress::new();
@@ -70,6 +73,19 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             }
         }
         None => out.push_str("  FE: no scenes declared in checks.scenes\n"),
+    }
+    if let Some(first) = built.solid_check.first() {
+        let grading = if first.graded {
+            ", graded at the tooth base edges"
+        } else {
+            " (uniform: can miss the worst tooth base; --graded)"
+        };
+        out.push_str(&format!(
+            "  solid rung: {} scenes on {} levels{grading}, in {}-solid-check.json\n",
+            built.solid_check.len(),
+            first.levels.len(),
+            s.device
+        ));
     }
     let (_, html) = built.traveler_names();
     out.push_str(&format!("  traveler: {}\n", args.out.join(html).display()));

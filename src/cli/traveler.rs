@@ -13,7 +13,7 @@ pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
         fe: (!args.no_fe).then(|| args.accuracy.into()),
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
-        verify_solid_levels: None,
+        verify_solid: None,
     };
     let built = {
         let progress = Progress::new();

@@ -53,9 +53,19 @@ pub struct Options {
     pub gds_epoch_s: Option<i64>,
     /// Report scenes that did not reach the tolerance without failing the build.
     pub allow_unconverged: bool,
-    /// Solve each declared scene on the solid rung too, on this many levels, and fail where the
-    /// linear plate differs from it by more than the tolerance.
-    pub verify_solid_levels: Option<usize>,
+    /// Solve each declared scene on the solid rung too and fail where the plate rung the ladder
+    /// picks differs from it by more than the tolerance.
+    pub verify_solid: Option<SolidCheck>,
+}
+
+/// How `build --verify-solid` runs the solid rung.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolidCheck {
+    /// Mesh levels (in plane, each sqrt 2 finer).
+    pub levels: usize,
+    /// Every level graded at the tooth base edges (`--graded`: about 4x the dofs; the uniform
+    /// levels can leave the edges' stresses and the deflection low).
+    pub graded: bool,
 }
 
 /// Stages, for progress reporting.
@@ -227,16 +237,16 @@ pub fn build(
             progress(Stage::Fe(scenes.len()));
             let g = SensorGeometry::new(design);
             let mut reports = evaluate_many(&g, scenes, o)?;
-            if let Some(levels) = opts.verify_solid_levels {
+            if let Some(check) = opts.verify_solid {
                 progress(Stage::Solid(scenes.len()));
                 for (s, r) in scenes.iter().zip(reports.iter_mut()) {
                     let run = crate::sensor::solid::SolidRun {
                         base: g.base,
-                        levels,
+                        levels: check.levels,
                         tol: o.tol_rel,
                         symmetry: true,
                         nonlinear: false,
-                        graded: false,
+                        graded: check.graded,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

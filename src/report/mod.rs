@@ -25,7 +25,7 @@ pub mod sheet;
 pub mod summary;
 pub mod traveler;
 
-pub use build::{build, Built, Options, ReportError, Stage};
+pub use build::{build, Built, Options, ReportError, SolidCheck, Stage};
 pub use limits::{check_limits, limit_failures, LimitCheck};
 pub use origin::Origin;
 pub use summary::{summary, BuildSummary};

@@ -566,9 +566,16 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         "{}",
         run.stdout
     );
+    assert!(
+        run.stdout
+            .contains("solid rung: 4 scenes on 2 levels (uniform: can miss the worst tooth base"),
+        "{}",
+        run.stdout
+    );
     let text = std::fs::read_to_string(out.join("mis-grasper-solid-check.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["scenes"].as_array().unwrap().len(), 4);
+    assert_eq!(v["scenes"][0]["graded"], false);
     let sf = &v["limits"][0][0];
     assert_eq!(sf["limit"], "min_safety_factor");
     assert_eq!(sf["passed"], false);
@@ -619,6 +626,48 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         assert!(worst > 0.0 && model >= worst, "{k}: {model} < {worst}");
         assert_eq!(fe["converged"], false, "{k}");
     }
+}
+
+#[test]
+fn build_verify_solid_graded_grades_every_solid_level() {
+    // `build --verify-solid --graded` reaches the solid rung (one light scene on the short die,
+    // the build's two solid levels) and says so; --graded alone is a usage error.
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("b");
+    let run = tactfab(&[
+        "build",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--verify-solid",
+        "--graded",
+        "--max-levels",
+        "2",
+        "--allow-unconverged",
+        "--set",
+        SHORT[0],
+        "--set",
+        SHORT[1],
+        "--set",
+        "checks.scenes=[{name: light, load: {point: {x_um: 6000, y_um: 7500, force_n: 0.02, \
+         radius_um: 500}}}]",
+    ]);
+    assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
+    assert!(
+        run.stdout
+            .contains("solid rung: 1 scenes on 2 levels, graded at the tooth base edges"),
+        "{}",
+        run.stdout
+    );
+    let text = std::fs::read_to_string(out.join("mis-grasper-solid-check.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let scene = &v["scenes"][0];
+    assert_eq!(scene["scene"], "light");
+    assert_eq!(scene["graded"], true);
+    assert_eq!(scene["levels"].as_array().unwrap().len(), 2);
+    let run = tactfab(&["build", "process/mis-grasper.yaml", "-o", "x", "--graded"]);
+    run.expect_code(2);
+    assert!(run.stderr.contains("--verify-solid"), "{}", run.stderr);
 }
 
 #[test]
