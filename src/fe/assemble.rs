@@ -41,7 +41,7 @@ impl ElementStiffness {
             let (a, b) = ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6);
             let key = [a.to_bits(), b.to_bits(), t.to_bits()];
             let id = *cache.entry(key).or_insert_with(|| {
-                let d = problem.material.bending_stiffness(t * 1e-6);
+                let d = problem.bending_stiffness(t * 1e-6);
                 matrices.push(Box::new(bfs::stiffness(a, b, &d)));
                 (matrices.len() - 1) as u32
             });

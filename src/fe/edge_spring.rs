@@ -59,7 +59,7 @@ fn hermite(xi: f64, h: f64) -> [f64; 4] {
 
 /// Row vectors N_w and N_theta over the segment's 8 dofs (node a: w, w_x, w_y, w_xy; node b
 /// likewise) at xi.
-fn shape_rows(s: &EdgeSpring, xi: f64, h_m: f64) -> ([f64; 8], [f64; 8]) {
+pub(crate) fn shape_rows(s: &EdgeSpring, xi: f64, h_m: f64) -> ([f64; 8], [f64; 8]) {
     let hm = hermite(xi, h_m);
     let (tang, normal, twist) = match s.along {
         Axis::X => (1, 2, 3),
@@ -75,7 +75,7 @@ fn shape_rows(s: &EdgeSpring, xi: f64, h_m: f64) -> ([f64; 8], [f64; 8]) {
     (nw, nt)
 }
 
-const GAUSS4: [(f64, f64); 4] = [
+pub(crate) const GAUSS4: [(f64, f64); 4] = [
     (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
     (0.330_009_478_207_571_87, 0.326_072_577_431_273_07),
     (0.669_990_521_792_428_1, 0.326_072_577_431_273_07),

@@ -66,8 +66,8 @@ pub use material::{BendingStiffness, DieEdge, PlateMaterial};
 pub use mesh::{RectMesh, RefinePoint};
 pub use modal::{natural_frequencies, ModalOptions, Mode, Modes};
 pub use problem::{
-    Axis, Dof, EdgeSpring, LineSupport, Load, PlateProblem, PrescribedDof, RectUm, SupportKind,
-    ThicknessRegion,
+    Axis, BondedFilm, Dof, EdgeSpring, LineSupport, Load, PlateProblem, PrescribedDof, RectUm,
+    SupportKind, ThicknessRegion,
 };
 pub use quarter_square::quarter_square;
 pub use solution::{

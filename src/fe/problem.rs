@@ -3,7 +3,7 @@
 //! Sign convention: loads are positive in the +w direction ("downward", the load direction), so a
 //! positive force gives a positive deflection w; the bottom surface is the side facing +w.
 
-use crate::fe::material::PlateMaterial;
+use crate::fe::material::{BendingStiffness, PlateMaterial};
 use crate::fe::mesh::RectMesh;
 use serde::Serialize;
 
@@ -50,6 +50,14 @@ pub struct LineSupport {
     pub to_um: f64,
 }
 
+/// A film bonded under the plate across the whole problem (the PVDF under the channel floor):
+/// part of the plate's bending stiffness ([`PlateProblem::bending_stiffness`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BondedFilm {
+    pub material: PlateMaterial,
+    pub thickness_um: f64,
+}
+
 /// An elastic support along a mesh line: a distributed spring on the deflection w and the slope
 /// normal to the line, per unit length of the line (an edge on an elastic footing,
 /// [`crate::fe::footing`]). Its force in the load direction is reported as the group's reaction.
@@ -72,6 +80,12 @@ pub struct EdgeSpring {
     /// displacement along the line is held either way. The linear plate has no in-plane dofs and
     /// ignores it.
     pub normal_in_plane_pa: Option<f64>,
+    /// For the large-deflection plate: the full stiffness per unit length on (w, theta, u), u
+    /// the in-plane displacement normal to the line towards the plate (a support that turns
+    /// about a point off the mid-plane moves the plate's edge in plane as it turns); it replaces
+    /// `stiffness` and `normal_in_plane_pa` there. The linear plate has no in-plane dofs and
+    /// keeps `stiffness`.
+    pub coupled: Option<[[f64; 3]; 3]>,
 }
 
 /// Nodal degree of freedom of the BFS element.
@@ -189,6 +203,8 @@ pub struct PlateProblem {
     pub edge_springs: Vec<EdgeSpring>,
     pub prescribed: Vec<PrescribedDof>,
     pub load_cases: Vec<Vec<Load>>,
+    /// A film bonded under the plate, counted in its bending stiffness; None: the plate alone.
+    pub bonded_film: Option<BondedFilm>,
 }
 
 impl PlateProblem {
@@ -203,6 +219,30 @@ impl PlateProblem {
             edge_springs: Vec::new(),
             prescribed: Vec::new(),
             load_cases: Vec::new(),
+            bonded_film: None,
+        }
+    }
+
+    /// Bending stiffness of an element of thickness `t_m` (m): the plate's own, plus a bonded
+    /// film's about the element's mid-plane (its centroid (t + t_f) / 2 under it), the parallel
+    /// axis theorem on the film's plane-stress stiffness (Reddy, Mechanics of Laminated Plates,
+    /// Eq. 3.3.17, the laminate's D). The film's membrane-bending coupling B (a neutral-axis
+    /// shift of B / A, 0.2 um on the bundled design) and its in-plane stiffness (0.5 % of the
+    /// plate's) are left out.
+    pub fn bending_stiffness(&self, t_m: f64) -> BendingStiffness {
+        let d = self.material.bending_stiffness(t_m);
+        let Some(f) = &self.bonded_film else {
+            return d;
+        };
+        let tf = f.thickness_um * 1e-6;
+        let z = 0.5 * (t_m + tf);
+        let i = tf.powi(3) / 12.0 + tf * z * z;
+        let m = &f.material;
+        BendingStiffness {
+            d11_nm: d.d11_nm + m.q11_pa * i,
+            d12_nm: d.d12_nm + m.q12_pa * i,
+            d22_nm: d.d22_nm + m.q22_pa * i,
+            d66_nm: d.d66_nm + m.q66_pa * i,
         }
     }
 

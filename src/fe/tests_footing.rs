@@ -48,6 +48,7 @@ fn strip(k: [[f64; 2]; 2], turned: bool, ny: usize) -> PlateProblem {
             outward: out,
             stiffness: k,
             normal_in_plane_pa: None,
+            coupled: None,
         });
     }
     for at in [0.0, B_UM] {

@@ -27,6 +27,7 @@ fn strip(n: usize, pressure_pa: f64, k_pa: Option<f64>) -> PlateProblem {
             outward: out,
             stiffness: [[1e20, 0.0], [0.0, 1e10]],
             normal_in_plane_pa: k_pa,
+            coupled: None,
         });
     }
     mirror_sides_and_pressure(&mut p, pressure_pa);
@@ -142,6 +143,7 @@ fn in_plane_springs_balance_and_mirror() {
                 outward: out,
                 stiffness: k_bend,
                 normal_in_plane_pa: Some(k_u),
+                coupled: None,
             });
         }
         let load = vec![Load::Point {

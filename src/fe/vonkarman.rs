@@ -34,7 +34,7 @@ use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::dofs::{find_line, rank, DofMap, CONSTRAINED};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::loads::load_vector;
-use crate::fe::material::PlateMaterial;
+use crate::fe::material::{BendingStiffness, PlateMaterial};
 use crate::fe::mesh::RectMesh;
 use crate::fe::ordering::node_dof_order;
 use crate::fe::problem::{Axis, LineSupport, Load, PlateProblem, SupportKind};
@@ -172,7 +172,7 @@ fn membrane_columns(a: &[f64; 4], mx: &[f64; 4], my: &[f64; 4]) -> [[f64; 8]; 3]
 }
 
 impl ElementKind {
-    fn new(a: f64, b: f64, t_m: f64, mat: &PlateMaterial) -> Self {
+    fn new(a: f64, b: f64, t_m: f64, mat: &PlateMaterial, d: BendingStiffness) -> Self {
         let gx = bfs::gauss4_on(0.0, a);
         let gy = bfs::gauss4_on(0.0, b);
         let mut k = ElementKind {
@@ -182,7 +182,7 @@ impl ElementKind {
             my: [[0.0; 4]; 16],
             nt: [[0.0; 32]; 16],
             wt: [0.0; 16],
-            kb: Box::new(bfs::stiffness(a, b, &mat.bending_stiffness(t_m))),
+            kb: Box::new(bfs::stiffness(a, b, &d)),
             km: [[0.0; 8]; 8],
             am: [[[0.0; 8]; 3]; 16],
             a: [
@@ -547,7 +547,13 @@ impl VonKarman {
             let id = *cache
                 .entry([a.to_bits(), b.to_bits(), t.to_bits()])
                 .or_insert_with(|| {
-                    kinds.push(ElementKind::new(a, b, t * 1e-6, &problem.material));
+                    kinds.push(ElementKind::new(
+                        a,
+                        b,
+                        t * 1e-6,
+                        &problem.material,
+                        problem.bending_stiffness(t * 1e-6),
+                    ));
                     (kinds.len() - 1) as u32
                 });
             kind.push(id);
@@ -569,7 +575,15 @@ impl VonKarman {
                 material: problem.material,
                 groups: bending.groups,
             }),
-            springs: crate::fe::solve::springs_of(problem)?,
+            springs: crate::fe::solve::springs_of(problem)?
+                .into_iter()
+                .map(|(mut s, segs)| {
+                    if let Some(k) = s.coupled {
+                        s.stiffness = [[k[0][0], k[0][1]], [k[1][0], k[1][1]]];
+                    }
+                    (s, segs)
+                })
+                .collect(),
             in_plane_springs,
         })
     }
@@ -902,7 +916,11 @@ impl VonKarman {
                 });
             }
         }
-        for (i, node, force) in crate::fe::edge_spring::nodal_forces(&self.springs, &u, M) {
+        let coupling = in_plane_spring::nodal_w_forces(&self.in_plane_springs, &u, M);
+        for (i, node, force) in crate::fe::edge_spring::nodal_forces(&self.springs, &u, M)
+            .into_iter()
+            .chain(coupling)
+        {
             let g = self
                 .groups
                 .iter()
@@ -1077,7 +1095,7 @@ mod element_tests {
     #[test]
     fn force_is_the_energy_gradient_and_tangent_its_hessian() {
         let mat = PlateMaterial::silicon(DieEdge::Along110);
-        let k = ElementKind::new(600e-6, 400e-6, 80e-6, &mat);
+        let k = ElementKind::new(600e-6, 400e-6, 80e-6, &mat, mat.bending_stiffness(80e-6));
         let ue = state();
         let mut kt = vec![0.0; NE * NE];
         let r = k.evaluate(&ue, Some(&mut kt));

@@ -219,6 +219,9 @@ pub enum SupportModel {
     /// Each support is a beam on the film (and the base) as a Winkler foundation: edge springs
     /// from Hetenyi's end stiffness, and the support electrodes read the foundation pressure.
     ElasticFooting,
+    /// Each support's cross-section solved as a plane-strain solid (support, {111} wall, film,
+    /// base, the plate over it): edge springs from its stiffness at the clamp line.
+    SolidSection,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]

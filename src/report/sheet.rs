@@ -82,6 +82,10 @@ pub fn document(t: &Traveler, fig: &Figures) -> Doc {
                         crate::process::SupportModel::ElasticFooting => {
                             "each support a beam on the film and base as an elastic foundation"
                         }
+                        crate::process::SupportModel::SolidSection => {
+                            "each support's section solved as a plane-strain solid, edge springs \
+                             from its stiffness"
+                        }
                     }
                 ),
                 None => "FE checks not run".to_string(),

@@ -434,7 +434,7 @@ fn touch_down(
             Symmetry::none(g)
         };
         let base = base_lines(g, std::slice::from_ref(l), &sym, mesh.graded);
-        let vk = VonKarman::new(&build_problem(g, &base, 0, &sym), opts)?;
+        let vk = VonKarman::new(&build_problem(g, &base, 0, &sym)?, opts)?;
         let part = sym.restrict(&l.plate);
         let mut last: Option<crate::fe::PlateSolution> = None;
         let mut coarse = |s: f64| -> Result<f64, SensorError> {
@@ -1037,7 +1037,7 @@ impl LevelContext<'_> {
     fn prepare(&self, level: usize) -> Result<Prepared, SensorError> {
         let t0 = Instant::now();
         let n = self.loads.len();
-        let problem = build_problem(self.g, self.base, level, self.sym);
+        let problem = build_problem(self.g, self.base, level, self.sym)?;
         let per_node = match self.rung {
             Rung::Linear => 4,
             _ => 6,
@@ -1188,7 +1188,9 @@ fn coarse_touch_down(
     opts: NonlinearOptions,
     coarse: &[Option<crate::fe::PlateSolution>],
 ) -> Vec<Option<CoarseTouch>> {
-    let problem = build_problem(ctx.g, ctx.base, 0, ctx.sym);
+    let Ok(problem) = build_problem(ctx.g, ctx.base, 0, ctx.sym) else {
+        return vec![None; coarse.len()];
+    };
     let Ok(vk) = VonKarman::new(&problem, opts) else {
         return vec![None; coarse.len()];
     };
@@ -1478,6 +1480,10 @@ fn convergence_records(
         .collect()
 }
 
+/// An elastic support's constants per unit length: the stiffness on (w, theta), the in-plane
+/// one, and the coupled 3 x 3 on (w, theta, u) where the support has one.
+type SpringConstants = ([[f64; 2]; 2], f64, Option<[[f64; 3]; 3]>);
+
 /// The plate over the U-channel (or the part of it solved): clamped where the etched {111}
 /// walls meet it, teeth as thicker regions, symmetry lines on the mirrors.
 pub(super) fn build_problem(
@@ -1485,7 +1491,7 @@ pub(super) fn build_problem(
     base: &(Vec<f64>, Vec<f64>),
     level: usize,
     sym: &Symmetry,
-) -> PlateProblem {
+) -> crate::fe::FeResult<PlateProblem> {
     let xs = subdivide(&base.0, level);
     let ys = subdivide(&base.1, level);
     let mesh = RectMesh { x_um: xs, y_um: ys };
@@ -1511,15 +1517,32 @@ pub(super) fn build_problem(
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();
     let (x0, x1, y0, y1) = sym.domain_um;
-    let footing = (g.support_model == crate::process::SupportModel::ElasticFooting)
-        .then(|| super::footing::SupportFooting::new(g));
+    let springs: Option<SpringConstants> = match g.support_model {
+        crate::process::SupportModel::Clamped => None,
+        crate::process::SupportModel::ElasticFooting => {
+            let ft = super::footing::SupportFooting::new(g);
+            Some((ft.edge_stiffness(), ft.in_plane_pa, None))
+        }
+        crate::process::SupportModel::SolidSection => {
+            let s = match &g.support_section {
+                Some(r) => r.clone()?,
+                None => super::support_section::SupportSection::new(g, 0)?,
+            };
+            // The film the section bonds under the plate is part of the plate's stiffness too.
+            p.bonded_film = Some(crate::fe::BondedFilm {
+                material: crate::fe::PlateMaterial::isotropic(g.pvdf_e_pa, g.pvdf_nu),
+                thickness_um: g.film_thickness_um,
+            });
+            Some((s.bending_stiffness(), s.in_plane_pa(), Some(s.stiffness)))
+        }
+    };
     for (side, y, outward) in [
         (ElectrodeSide::Support1, g.plate_y0_um, -1.0),
         (ElectrodeSide::Support2, g.plate_y1_um, 1.0),
     ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();
-            if let Some(ft) = &footing {
+            if let Some((stiffness, in_plane, coupled)) = springs {
                 p.edge_springs.push(crate::fe::EdgeSpring {
                     group,
                     along: FeAxis::X,
@@ -1527,8 +1550,9 @@ pub(super) fn build_problem(
                     from_um: x0,
                     to_um: x1,
                     outward,
-                    stiffness: ft.edge_stiffness(),
-                    normal_in_plane_pa: Some(ft.in_plane_pa),
+                    stiffness,
+                    normal_in_plane_pa: Some(in_plane),
+                    coupled,
                 });
                 continue;
             }
@@ -1556,5 +1580,5 @@ pub(super) fn build_problem(
             to_um,
         });
     }
-    p
+    Ok(p)
 }

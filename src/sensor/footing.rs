@@ -222,7 +222,7 @@ mod tests {
     fn solve(g: &SensorGeometry, x_um: f64, y_um: f64, force_n: f64) -> PlateSolution {
         let sym = Symmetry::none(g);
         let base = base_lines(g, &[], &sym, false);
-        let mut p = build_problem(g, &base, 1, &sym);
+        let mut p = build_problem(g, &base, 1, &sym).unwrap();
         assert_eq!(p.edge_springs.len(), 2, "the footing replaces the clamps");
         assert!(p.supports.is_empty());
         p.load_cases.push(vec![Load::Point {
@@ -404,7 +404,7 @@ mod tests {
             gc.support_model = crate::process::SupportModel::Clamped;
             let sym = Symmetry::none(&gc);
             let base = base_lines(&gc, &[], &sym, false);
-            let mut p = build_problem(&gc, &base, 1, &sym);
+            let mut p = build_problem(&gc, &base, 1, &sym).unwrap();
             p.load_cases.push(vec![Load::Point {
                 x_um: 15_000.0,
                 y_um: 7_500.0,

@@ -66,6 +66,9 @@ pub struct SensorGeometry {
     pub base: Base,
     /// How the plate rungs hold the plate where the etched walls meet it.
     pub support_model: crate::process::SupportModel,
+    /// The supports' plane-strain section (`support_model: solid_section`), solved once here.
+    #[serde(skip)]
+    pub support_section: Option<Result<super::support_section::SupportSection, crate::fe::FeError>>,
 }
 
 /// What the etch leaves in 3D, in die coordinates (um).
@@ -166,7 +169,7 @@ impl SensorGeometry {
         let si = &p.materials.silicon;
         let material = silicon_material(p);
         let f = &p.materials.pvdf;
-        SensorGeometry {
+        let mut g = SensorGeometry {
             length_um: g.die_length_um,
             width_um: g.die_width_um,
             plate_y0_um: py0,
@@ -200,7 +203,12 @@ impl SensorGeometry {
                 },
             },
             support_model: p.materials.base.support_model,
+            support_section: None,
+        };
+        if g.support_model == crate::process::SupportModel::SolidSection {
+            g.support_section = Some(super::support_section::SupportSection::new(&g, 0));
         }
+        g
     }
 
     /// Electrode rectangles of the PVDF mask: what is drawn is what the model reads. Each island's

@@ -30,6 +30,7 @@ pub mod solid;
 pub mod solid_export;
 pub mod solid_mesh;
 pub mod solid_readout;
+pub mod support_section;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use check::{check_scene, SensorError, MAX_PATCHES, MAX_SOLUTION_VALUES};

@@ -87,7 +87,7 @@ pub fn plate_modes(
     let (mut elements, mut dofs) = (0, 0);
     let mut sizes = Vec::new();
     for (level, &sub) in SUBDIVISIONS.iter().enumerate().take(levels) {
-        let problem = build_problem(g, &base, level, &sym);
+        let problem = build_problem(g, &base, level, &sym)?;
         let m = Factorised::new(&problem)?.modes(mass, opts)?;
         elements = problem.mesh.n_elements();
         dofs = m.free_dofs;

@@ -114,6 +114,7 @@ pub(super) fn footing_island(
         outward,
         stiffness: [[0.0; 2]; 2],
         normal_in_plane_pa: None,
+        coupled: None,
     };
     let mut out = FootingIsland::default();
     let Ok(segs) = edge_spring::segments(mesh, &line) else {

@@ -5,25 +5,50 @@
 //! and adds no dofs: it couples the two nodes of each segment, which the stencil already holds.
 
 use crate::fe::assemble::Pattern;
-use crate::fe::edge_spring::segments;
+use crate::fe::edge_spring::{segment_dofs, segments, shape_rows, GAUSS4};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::mesh::RectMesh;
-use crate::fe::problem::{Axis, PlateProblem};
+use crate::fe::problem::{Axis, EdgeSpring, PlateProblem};
 
 /// One segment of a line with an in-plane spring: the normal in-plane dof of its two nodes and
 /// its stiffness times its length, k h (N/m).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct InPlaneSegment {
     pub dofs: [usize; 2],
     pub k_h_n_per_m: f64,
+    /// The coupling of a [`EdgeSpring::coupled`] spring: its 10 x 10 block over the segment's
+    /// 8 bending dofs and its 2 normal in-plane dofs (zero diagonal blocks).
+    pub cross: Option<([usize; 10], Vec<f64>)>,
+    /// Index of the spring in the problem's `edge_springs`.
+    pub spring: usize,
+}
+
+/// int (k_wu (N_w^T N_u + N_u^T N_w) + k_tu (N_t^T N_u + N_u^T N_t)) dt over the segment, the
+/// in-plane shape linear, its sign towards the plate (against `outward`); 4-point Gauss is exact.
+fn cross_block(s: &EdgeSpring, h_m: f64, k_wu: f64, k_tu: f64) -> Vec<f64> {
+    let mut m = vec![0.0; 100];
+    let sign = -s.outward;
+    for (xi, wq) in GAUSS4 {
+        let (nw, nt) = shape_rows(s, xi, h_m);
+        let nu = [sign * (1.0 - xi), sign * xi];
+        for i in 0..8 {
+            let a = k_wu * nw[i] + k_tu * nt[i];
+            for (j, n) in nu.iter().enumerate() {
+                let v = wq * h_m * a * n;
+                m[i * 10 + 8 + j] += v;
+                m[(8 + j) * 10 + i] += v;
+            }
+        }
+    }
+    m
 }
 
 /// The segments of every edge spring with an in-plane stiffness; `m` dofs per node with u, v
 /// at 4 and 5. An error if a stiffness is not positive and finite (a spring that is not one).
 pub(super) fn in_plane_segments(problem: &PlateProblem, m: usize) -> FeResult<Vec<InPlaneSegment>> {
     let mut out = Vec::new();
-    for s in &problem.edge_springs {
-        let Some(k) = s.normal_in_plane_pa else {
+    for (spring, s) in problem.edge_springs.iter().enumerate() {
+        let Some(k) = s.coupled.map(|c| c[2][2]).or(s.normal_in_plane_pa) else {
             continue;
         };
         if !(k > 0.0 && k.is_finite()) {
@@ -37,9 +62,19 @@ pub(super) fn in_plane_segments(problem: &PlateProblem, m: usize) -> FeResult<Ve
             Axis::Y => 4,
         };
         for seg in segments(&problem.mesh, s)? {
+            let h_m = (seg.t_um[1] - seg.t_um[0]) * 1e-6;
+            let dofs = seg.nodes.map(|n| m * n + normal);
+            let cross = s.coupled.map(|c| {
+                let bend = segment_dofs(&seg, m);
+                let all: [usize; 10] =
+                    std::array::from_fn(|i| if i < 8 { bend[i] } else { dofs[i - 8] });
+                (all, cross_block(s, h_m, c[0][2], c[1][2]))
+            });
             out.push(InPlaneSegment {
-                dofs: seg.nodes.map(|n| m * n + normal),
-                k_h_n_per_m: k * (seg.t_um[1] - seg.t_um[0]) * 1e-6,
+                dofs,
+                k_h_n_per_m: k * h_m,
+                cross,
+                spring,
             });
         }
     }
@@ -59,6 +94,11 @@ pub(super) fn add_forces(segs: &[InPlaneSegment], u: &[f64], r: &mut [f64]) {
         let [a, b] = seg.dofs;
         r[a] += k[0] * u[a] + k[1] * u[b];
         r[b] += k[2] * u[a] + k[3] * u[b];
+        if let Some((dofs, m)) = &seg.cross {
+            for i in 0..10 {
+                r[dofs[i]] += (0..10).map(|j| m[i * 10 + j] * u[dofs[j]]).sum::<f64>();
+            }
+        }
     }
 }
 
@@ -72,5 +112,29 @@ pub(super) fn add_to_values(
 ) {
     for seg in segs {
         pattern.add_dof_block(vals, mesh, free_index, &seg.dofs, &matrix(seg));
+        if let Some((dofs, m)) = &seg.cross {
+            pattern.add_dof_block(vals, mesh, free_index, dofs, m);
+        }
     }
+}
+
+/// The coupling's force at the w dofs of each coupled segment's two nodes, (spring index, node,
+/// force N): the part of a coupled spring's reaction the bending block does not hold; `m` dofs
+/// per node.
+pub(super) fn nodal_w_forces(
+    segs: &[InPlaneSegment],
+    u: &[f64],
+    m: usize,
+) -> Vec<(usize, usize, f64)> {
+    let mut out = Vec::new();
+    for seg in segs {
+        let Some((dofs, k)) = &seg.cross else {
+            continue;
+        };
+        for row in [0, 4] {
+            let f: f64 = (0..10).map(|j| k[row * 10 + j] * u[dofs[j]]).sum();
+            out.push((seg.spring, dofs[row] / m, f));
+        }
+    }
+    out
 }
