@@ -578,7 +578,9 @@ impl VonKarman {
             springs: crate::fe::solve::springs_of(problem)?
                 .into_iter()
                 .map(|(mut s, segs)| {
-                    if let Some(k) = s.coupled {
+                    // With the in-plane dofs held by springs the coupled block replaces the
+                    // condensed one; sliding in plane, the condensed one (u free) stays.
+                    if let (Some(k), InPlane::Immovable) = (s.coupled, opts.in_plane) {
                         s.stiffness = [[k[0][0], k[0][1]], [k[1][0], k[1][1]]];
                     }
                     (s, segs)
