@@ -504,14 +504,7 @@ mod tests {
     use crate::fe::solid::corner::williams_exponent;
     use crate::sensor::solid_mesh::silicon_elasticity;
 
-    fn geometry(sets: &[&str]) -> SensorGeometry {
-        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
-        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        let p = crate::process::load_str(&text, "mis-grasper.yaml", &sets)
-            .expect("valid process")
-            .process;
-        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
-    }
+    use crate::sensor::geometry::bundled as geometry;
 
     #[test]
     fn strain_along_the_edge_gives_the_uniaxial_stress() {

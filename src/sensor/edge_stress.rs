@@ -603,11 +603,7 @@ mod tests {
     #[test]
     fn the_tooth_bases_stations_begin_where_the_vertex_models_end() {
         use crate::sensor::solid_mesh::{build, Base, SolidMeshOptions};
-        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
-        let p = crate::process::load_str(&text, "mis-grasper.yaml", &[])
-            .expect("valid process")
-            .process;
-        let g = SensorGeometry::new(&crate::design::Design::new(p).expect("design"));
+        let g = crate::sensor::geometry::bundled(&[]);
         let s = build(
             &g,
             &[],

@@ -208,14 +208,11 @@ mod tests {
     use crate::sensor::readout::footing_island;
     use crate::sensor::symmetry::Symmetry;
 
+    /// The bundled design on the elastic footing, with `sets`.
     fn geometry(sets: &[&str]) -> SensorGeometry {
-        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
-        let mut all = vec!["materials.base.support_model=elastic_footing".to_string()];
-        all.extend(sets.iter().map(|s| s.to_string()));
-        let p = crate::process::load_str(&text, "mis-grasper.yaml", &all)
-            .expect("valid process")
-            .process;
-        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
+        let mut all = vec!["materials.base.support_model=elastic_footing"];
+        all.extend_from_slice(sets);
+        crate::sensor::geometry::bundled(&all)
     }
 
     /// The whole plate at level 1 under a point load at (x, y) um.

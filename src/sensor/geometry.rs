@@ -341,3 +341,14 @@ pub fn silicon_material(p: &Process) -> PlateMaterial {
         SiliconModel::Isotropic => PlateMaterial::isotropic(si.e_gpa * 1e9, si.nu),
     }
 }
+
+/// The bundled design with `sets` applied (`--set` spelling), for the sensor's unit tests.
+#[cfg(test)]
+pub(crate) fn bundled(sets: &[&str]) -> SensorGeometry {
+    let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let p = crate::process::load_str(&text, "mis-grasper.yaml", &sets)
+        .expect("valid process")
+        .process;
+    SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
+}

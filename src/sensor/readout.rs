@@ -270,11 +270,7 @@ mod tests {
     use super::*;
 
     fn geometry() -> SensorGeometry {
-        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
-        let p = crate::process::load_str(&text, "mis-grasper.yaml", &[])
-            .expect("valid process")
-            .process;
-        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
+        crate::sensor::geometry::bundled(&[])
     }
 
     /// The footing island's charge against Hooke's law solved numerically: the film's in-plane

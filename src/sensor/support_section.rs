@@ -330,14 +330,7 @@ fn stub_compliance(g: &SensorGeometry, l_m: f64) -> [[f64; 3]; 3] {
 mod tests {
     use super::*;
 
-    fn geometry(sets: &[&str]) -> SensorGeometry {
-        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
-        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        let p = crate::process::load_str(&text, "mis-grasper.yaml", &sets)
-            .expect("valid process")
-            .process;
-        SensorGeometry::new(&crate::design::Design::new(p).expect("design"))
-    }
+    use crate::sensor::geometry::bundled as geometry;
 
     #[test]
     fn the_section_is_symmetric_positive_definite_and_converges() {
