@@ -30,8 +30,8 @@ use crate::fe::solid::corner::{
     solve_corner, CornerFrame, CornerMesh, CornerSector, DriverKinematics,
 };
 use crate::fe::solid::{
-    principal_stresses_pa, Axis3, Constraint, FaceRect, HexGrid, NodeSet, Outward, Prescribed,
-    SolidLoad, SolidProblem, SolidSolution,
+    merged_lines, principal_stresses_pa, Axis3, Constraint, FaceRect, HexGrid, NodeSet, Outward,
+    Prescribed, SolidLoad, SolidProblem, SolidSolution,
 };
 use crate::fe::{FeError, FeResult, PlateSolution};
 
@@ -260,27 +260,9 @@ struct Slice {
     radius: f64,
 }
 
-/// Lines from `from` to `to` (either order) starting at `h0` next to `from` and growing by
-/// [`GROWTH`] up to `h_max`; the last interval ends exactly at `to`.
+/// Lines from `from` to `to` graded from `h0` by [`GROWTH`] up to `h_max`.
 fn graded(from: f64, to: f64, h0: f64, h_max: f64) -> Vec<f64> {
-    let (len, dir) = ((to - from).abs(), (to - from).signum());
-    let mut out = vec![from];
-    let (mut at, mut step) = (0.0, h0.min(len));
-    while at + 1.5 * step < len {
-        at += step;
-        out.push(from + dir * at);
-        step = (step * GROWTH).min(h_max);
-    }
-    out.push(to);
-    out
-}
-
-/// Sorted, with near-duplicates (within 1e-9 of the extent) merged.
-fn merged(mut v: Vec<f64>) -> Vec<f64> {
-    v.sort_by(f64::total_cmp);
-    let tol = 1e-9 * v.last().map_or(1.0, |l| l.abs().max(1.0));
-    v.dedup_by(|a, b| (*a - *b).abs() <= tol);
-    v
+    crate::fe::solid::graded_lines(from, to, h0, GROWTH, h_max)
 }
 
 impl Slice {
@@ -310,9 +292,10 @@ impl Slice {
         let (t, h, b, w) = (self.t, self.h, self.c, self.width());
         let h0 = corner_element * self.radius;
         let h_max = LARGEST_THICKNESSES * t;
-        let ys = merged([graded(b, 0.0, h0, h_max), graded(b, self.end(), h0, h_max)].concat());
+        let ys =
+            merged_lines([graded(b, 0.0, h0, h_max), graded(b, self.end(), h0, h_max)].concat());
         let zm = 0.5 * t;
-        let zs = merged(
+        let zs = merged_lines(
             [
                 graded(t, 0.0, h0, h_max),
                 vec![zm],

@@ -13,7 +13,8 @@
 //! corner's local give included.
 
 use crate::fe::solid::{
-    Axis3, Constraint, Elasticity, HexGrid, NodeSet, Prescribed, SolidModel, SolidProblem,
+    graded_lines, merged_lines, Axis3, Constraint, Elasticity, HexGrid, NodeSet, Prescribed,
+    SolidModel, SolidProblem,
 };
 use crate::fe::{FeError, FeResult};
 
@@ -37,29 +38,6 @@ pub struct SupportSection {
     pub stiffness: [[f64; 3]; 3],
     /// Free dofs of the section's mesh.
     pub dofs: usize,
-}
-
-/// Lines from `a` towards `b` (either order), the first step `h0` growing by `growth` up to
-/// `h_max`, ending exactly at `b`.
-fn graded(a: f64, b: f64, h0: f64, growth: f64, h_max: f64) -> Vec<f64> {
-    let dir = (b - a).signum();
-    let span = (b - a).abs();
-    let mut out = vec![a];
-    let (mut at, mut h) = (0.0, h0.min(h_max));
-    while at + h < span - 0.5 * h {
-        at += h;
-        out.push(a + dir * at);
-        h = (h * growth).min(h_max);
-    }
-    out.push(b);
-    out
-}
-
-/// Sorted, deduplicated lines.
-fn lines(mut v: Vec<f64>) -> Vec<f64> {
-    v.sort_by(f64::total_cmp);
-    v.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-    v
 }
 
 fn inverse3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
@@ -118,19 +96,19 @@ impl SupportSection {
         // Lines (logical: the wall is the line y0 at every height, mapped to its slope).
         let h_fine = 0.02 * t * k;
         let mut ys = Vec::new();
-        ys.extend(graded(y0, 0.0, h_fine, 1.4, 0.5 * t * k));
-        ys.extend(graded(y0, y_end, h_fine, 1.4, 0.5 * t * k));
+        ys.extend(graded_lines(y0, 0.0, h_fine, 1.4, 0.5 * t * k));
+        ys.extend(graded_lines(y0, y_end, h_fine, 1.4, 0.5 * t * k));
         let mut zs = Vec::new();
         let h_base = match g.base {
             Base::Elastic { thickness_um, .. } => {
-                ys.extend(graded(
+                ys.extend(graded_lines(
                     y_end,
                     half_w,
                     0.5 * t * k,
                     1.4,
                     0.25 * thickness_um * k,
                 ));
-                zs.extend(graded(
+                zs.extend(graded_lines(
                     0.0,
                     -thickness_um,
                     0.5 * f * k,
@@ -141,18 +119,36 @@ impl SupportSection {
             }
             Base::Rigid => None,
         };
-        zs.extend(graded(0.0, film_top, 0.5 * f * k, 1.0, 0.5 * f * k));
-        zs.extend(graded(film_top, floor_bottom, h_fine, 1.4, 0.25 * t * k));
-        zs.extend(graded(floor_bottom, film_top, h_fine, 1.4, 0.25 * t * k));
-        zs.extend(graded(
+        zs.extend(graded_lines(0.0, film_top, 0.5 * f * k, 1.0, 0.5 * f * k));
+        zs.extend(graded_lines(
+            film_top,
+            floor_bottom,
+            h_fine,
+            1.4,
+            0.25 * t * k,
+        ));
+        zs.extend(graded_lines(
+            floor_bottom,
+            film_top,
+            h_fine,
+            1.4,
+            0.25 * t * k,
+        ));
+        zs.extend(graded_lines(
             floor_bottom,
             plate_bottom,
             0.5 * f * k,
             1.0,
             0.5 * f * k,
         ));
-        zs.extend(graded(plate_bottom, plate_top, h_fine, 1.4, 0.25 * t * k));
-        let (ys, zs) = (lines(ys), lines(zs));
+        zs.extend(graded_lines(
+            plate_bottom,
+            plate_top,
+            h_fine,
+            1.4,
+            0.25 * t * k,
+        ));
+        let (ys, zs) = (merged_lines(ys), merged_lines(zs));
         let xs = [0.0, 0.25 * t];
 
         let mut grid = HexGrid::new(&xs, &ys, &zs)?;

@@ -60,6 +60,29 @@ pub fn uniform_lines(from_um: f64, to_um: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Lines from `from` to `to` (either order) starting at `h0` next to `from` and growing by
+/// `growth` up to `h_max`; the last interval ends exactly at `to` (it may be up to 1.5 steps).
+pub fn graded_lines(from_um: f64, to_um: f64, h0_um: f64, growth: f64, h_max_um: f64) -> Vec<f64> {
+    let (len, dir) = ((to_um - from_um).abs(), (to_um - from_um).signum());
+    let mut out = vec![from_um];
+    let (mut at, mut step) = (0.0, h0_um.min(len));
+    while step > 0.0 && at + 1.5 * step < len {
+        at += step;
+        out.push(from_um + dir * at);
+        step = (step * growth).min(h_max_um);
+    }
+    out.push(to_um);
+    out
+}
+
+/// Sorted, with near-duplicates (within 1e-9 of the extent) merged.
+pub fn merged_lines(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_by(f64::total_cmp);
+    let tol = 1e-9 * v.last().map_or(1.0, |l| l.abs().max(1.0));
+    v.dedup_by(|a, b| (*a - *b).abs() <= tol);
+    v
+}
+
 fn check_lines(name: &str, lines: &[f64]) -> FeResult<()> {
     if lines.len() < 2 {
         return Err(FeError::SolidInput {

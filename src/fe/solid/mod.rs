@@ -54,7 +54,7 @@ mod tests_vertex;
 
 pub use elasticity::Elasticity;
 pub use field::SolidField;
-pub use grid::{uniform_lines, HexGrid, NodeMap, MAX_DOFS};
+pub use grid::{graded_lines, merged_lines, uniform_lines, HexGrid, NodeMap, MAX_DOFS};
 pub use nonlinear::{NewtonIterate, TlOptions, TlSolid, TlSolution};
 pub use principal::principal_stresses_pa;
 pub use problem::{
