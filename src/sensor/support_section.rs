@@ -13,7 +13,7 @@
 //! corner's local give included.
 
 use crate::fe::solid::{
-    graded_lines, merged_lines, Axis3, Constraint, Elasticity, HexGrid, NodeSet, Prescribed,
+    graded_lines, hex27, merged_lines, Axis3, Constraint, Elasticity, HexGrid, NodeSet, Prescribed,
     SolidModel, SolidProblem,
 };
 use crate::fe::{FeError, FeResult};
@@ -40,23 +40,12 @@ pub struct SupportSection {
     /// [`crate::fe::EdgeSpring`]), u (m) the mid-plane's in-plane displacement towards the span;
     /// [[N/m^2, N/m, N/m^2], [N/m, N, N/m], [N/m^2, N/m, N/m^2]].
     pub stiffness: [[f64; 3]; 3],
-    /// Free dofs of the section's mesh.
-    pub dofs: usize,
 }
 
+/// The inverse of a 3 x 3 stiffness or compliance; None if it is singular.
 fn inverse3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let c = |i: usize, j: usize| {
-        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
-        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
-        m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]
-    };
-    let det = m[0][0] * c(0, 0) + m[0][1] * c(0, 1) + m[0][2] * c(0, 2);
-    if !det.is_finite() || det.abs() < 1e-300 {
-        return None;
-    }
-    Some(std::array::from_fn(|i| {
-        std::array::from_fn(|j| c(j, i) / det)
-    }))
+    let det = hex27::det3(&m);
+    (det.is_finite() && det.abs() >= 1e-300).then(|| hex27::inverse3(&m, det))
 }
 
 impl SupportSection {
@@ -279,10 +268,7 @@ impl SupportSection {
         // larger y) is -dw/dy of that w, so +s of the section's: flip w's sign.
         let p = [-1.0, 1.0, 1.0];
         let stiffness = std::array::from_fn(|i| std::array::from_fn(|j| p[i] * p[j] * k_s[i][j]));
-        Ok(SupportSection {
-            stiffness,
-            dofs: model.n_free_dofs(),
-        })
+        Ok(SupportSection { stiffness })
     }
 
     /// Stiffness on (w, theta) with the in-plane displacement free (the plate's membrane force

@@ -143,7 +143,8 @@ pub(crate) fn det3(m: &[[f64; 3]; 3]) -> f64 {
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
-fn inverse3(m: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
+/// Inverse of a 3 x 3 matrix by its adjugate, given its determinant.
+pub(crate) fn inverse3(m: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
     let mut inv = [[0.0; 3]; 3];
     for (r, row) in inv.iter_mut().enumerate() {
         for (c, v) in row.iter_mut().enumerate() {
