@@ -412,7 +412,7 @@ pub struct EdgeReading {
 /// part solved, at stations one submodel radius apart, the plate's drives read just on the street
 /// side of the edge. The stations keep two radii plus a run-out clear of the edge's ends: within
 /// a run-out of a base vertex the frustum's hip (two sidewalls meeting) makes the section 3-D,
-/// and the plate's step (at the tooth's mid-height line) has its corner there, a plate-theory
+/// and the plate's step (where it bends as the sidewall) has its corner there, a plate-theory
 /// singularity that is not the structure's. What the vertices add is the section's model error,
 /// measured against the solid rung.
 pub fn plate_tooth_base_stress(

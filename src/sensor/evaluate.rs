@@ -914,7 +914,12 @@ fn solve_levels(
                     if !(l.plate.is_empty() || active[k]) {
                         return None;
                     }
-                    let r = read(g, sols[k].as_ref(), &l.direct);
+                    let r = read(
+                        g,
+                        sols[k].as_ref(),
+                        &l.direct,
+                        in_plane == Some(InPlane::Immovable),
+                    );
                     let w = sols[k]
                         .as_ref()
                         .map_or(0.0, |s| s.deflection_m(l.at_um.0, l.at_um.1));
@@ -1524,16 +1529,40 @@ pub(super) fn build_problem(
             Some((ft.edge_stiffness(), ft.in_plane_pa, None))
         }
         crate::process::SupportModel::SolidSection => {
-            let s = match &g.support_section {
-                Some(r) => r.clone()?,
-                None => super::support_section::SupportSection::new(g, 0)?,
+            let Some(sections) = &g.support_section else {
+                return Err(crate::fe::FeError::SolidInput {
+                    detail: "support_model solid_section without its section".into(),
+                    hint: "build the sensor with SensorGeometry::new, which solves the section",
+                });
             };
+            let sections = sections.as_ref().map_err(Clone::clone)?;
             // The film the section bonds under the plate is part of the plate's stiffness too.
             p.bonded_film = Some(crate::fe::BondedFilm {
                 material: crate::fe::PlateMaterial::isotropic(g.pvdf_e_pa, g.pvdf_nu),
                 thickness_um: g.film_thickness_um,
             });
-            Some((s.bending_stiffness(), s.in_plane_pa(), Some(s.stiffness)))
+            // Each piece of each support's wall on its own section (a tooth standing on it or
+            // not).
+            for (side, y, outward) in [(0, g.plate_y0_um, -1.0), (1, g.plate_y1_um, 1.0)] {
+                if !(y >= y0 && y <= y1) {
+                    continue;
+                }
+                let group = group_for([ElectrodeSide::Support1, ElectrodeSide::Support2][side]);
+                for (from_um, to_um, s) in sections.pieces(side, x0, x1) {
+                    p.edge_springs.push(crate::fe::EdgeSpring {
+                        group: group.to_string(),
+                        along: FeAxis::X,
+                        at_um: y,
+                        from_um,
+                        to_um,
+                        outward,
+                        stiffness: s.bending_stiffness(),
+                        normal_in_plane_pa: Some(s.in_plane_pa()),
+                        coupled: Some(s.stiffness),
+                    });
+                }
+            }
+            None
         }
     };
     for (side, y, outward) in [
@@ -1542,6 +1571,9 @@ pub(super) fn build_problem(
     ] {
         if y >= y0 && y <= y1 {
             let group = group_for(side).to_string();
+            if g.support_model == crate::process::SupportModel::SolidSection {
+                continue;
+            }
             if let Some((stiffness, in_plane, coupled)) = springs {
                 p.edge_springs.push(crate::fe::EdgeSpring {
                     group,

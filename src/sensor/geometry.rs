@@ -68,7 +68,8 @@ pub struct SensorGeometry {
     pub support_model: crate::process::SupportModel,
     /// The supports' plane-strain section (`support_model: solid_section`), solved once here.
     #[serde(skip)]
-    pub support_section: Option<Result<super::support_section::SupportSection, crate::fe::FeError>>,
+    pub support_section:
+        Option<Result<super::support_section::SupportSections, crate::fe::FeError>>,
 }
 
 /// What the etch leaves in 3D, in die coordinates (um).
@@ -79,6 +80,9 @@ pub struct EtchedShape {
     /// Tooth height (the front etch depth) and its {111} sidewall run-out.
     pub tooth_height_um: f64,
     pub tooth_run_out_um: f64,
+    /// Where the plate rungs' step stands, as a fraction of the run-out from the base edge
+    /// ([`super::frustum_step::inset`]).
+    pub tooth_step_inset: f64,
     /// Support height (the back etch depth) and support 1's footprint edge: the back mask's
     /// edge less its undercut, where the etched wall leaves the support's bottom face. The wall
     /// runs from there to the channel floor's edge (`plate_y0_um`); support 2 mirrors it.
@@ -133,9 +137,9 @@ fn channel_depth_um(design: &Design) -> f64 {
 
 impl SensorGeometry {
     /// The sensor of a design: the teeth and electrodes the mask set draws, the plate the recipe
-    /// leaves. A tooth is a square of side top + run-out (the mid-height width of the {111}
-    /// frustum, from the etch plan) with the full tooth height on top of the plate, clipped to the
-    /// plate between the supports.
+    /// leaves. A tooth is a square with the full tooth height on top of the plate, clipped to the
+    /// plate between the supports; its edges stand where the step bends as the {111} sidewall
+    /// (the etch plan's run-out) does ([`super::frustum_step::inset`]), not at mid-height.
     pub fn new(design: &Design) -> Self {
         let (p, plan) = (&design.process, &design.plan);
         let g = &p.geometry;
@@ -148,7 +152,15 @@ impl SensorGeometry {
             Some(s) => (s.achieved_depth_um, s.sidewall_run_out_um),
             None => (t.height_um, t.height_um / 2f64.sqrt()),
         };
-        let teeth = tooth_footprints(&design.masks, run_out, plate + height, (py0, py1));
+        // The sidewall's step with the supports' sections; the clamp and the footing keep the
+        // mid-height step their validation tables were measured with.
+        let inset = match p.materials.base.support_model {
+            crate::process::SupportModel::SolidSection => {
+                super::frustum_step::inset(plate, height, run_out, silicon_stiffness(p))
+            }
+            _ => 0.5,
+        };
+        let teeth = tooth_footprints(&design.masks, (run_out, inset), plate + height, (py0, py1));
         let top = design.masks.tooth_top_um;
         let etched = EtchedShape {
             tooth_tops_um: match design.masks.tooth_cell {
@@ -162,6 +174,7 @@ impl SensorGeometry {
             },
             tooth_height_um: height,
             tooth_run_out_um: run_out,
+            tooth_step_inset: inset,
             support_height_um: channel_depth_um(design),
             support_edge_y_um: plan.channel_wall_y_um[0],
         };
@@ -206,7 +219,7 @@ impl SensorGeometry {
             support_section: None,
         };
         if g.support_model == crate::process::SupportModel::SolidSection {
-            g.support_section = Some(super::support_section::SupportSection::new(&g, 0));
+            g.support_section = Some(super::support_section::SupportSections::new(&g, 0));
         }
         g
     }
@@ -254,6 +267,10 @@ impl SensorGeometry {
                 ys.extend([e.y0_um, e.y1_um]);
             }
         }
+        // Where the supports' section changes (a tooth standing on the support).
+        if let Some(Ok(s)) = &self.support_section {
+            xs.extend(s.x_lines_um());
+        }
         (xs, ys)
     }
 
@@ -270,11 +287,12 @@ impl SensorGeometry {
     }
 }
 
-/// Footprints of the drawn teeth over the plate: the mask's tooth tops grown by the {111}
-/// run-out, `thickness_um` thick, clipped to the die in x and to the plate `(y0, y1)` in y.
+/// Footprints of the drawn teeth over the plate: the mask's tooth tops grown to the step that
+/// bends as the {111} sidewall ([`super::frustum_step::inset`]), `thickness_um` thick, clipped to the
+/// die in x and to the plate `(y0, y1)` in y.
 fn tooth_footprints(
     masks: &MaskSet,
-    run_out_um: f64,
+    (run_out_um, inset): (f64, f64),
     thickness_um: f64,
     (py0, py1): (f64, f64),
 ) -> Vec<ThicknessRegion> {
@@ -282,7 +300,7 @@ fn tooth_footprints(
         return Vec::new();
     }
     let top = masks.tooth_top_um;
-    let side = top + run_out_um;
+    let side = top + 2.0 * run_out_um * (1.0 - inset);
     masks
         .teeth
         .iter()

@@ -25,6 +25,7 @@ mod scene;
 mod symmetry;
 mod touch_down;
 
+pub mod frustum_step;
 pub mod solid;
 #[doc(hidden)]
 pub mod solid_export;

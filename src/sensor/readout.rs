@@ -9,6 +9,7 @@ use crate::process::{Axis, SupportModel};
 use super::footing::SupportFooting;
 use super::geometry::{ElectrodeSide, SensorGeometry};
 use super::scene::DirectLoad;
+use super::support_section::{SupportSection, SupportSections};
 
 /// One electrode's reading.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -83,26 +84,30 @@ pub(super) struct FootingIsland {
     pub strain_m2: f64,
 }
 
-/// [`FootingIsland`] of an electrode: the foundation pressure under the support (Hetenyi's w(s)
-/// times k for the plate's w and slope at the clamp line) and the beam's bottom-fibre strain,
-/// each integrated over the island's extent from the footing's edge and along the wall (4-point
-/// Gauss per mesh segment: w and the slope are cubic along the edge, both linear in them).
-pub(super) fn footing_island(
+/// The plate's state on a support's clamp line at one quadrature point of an island's extent.
+struct EdgeSample {
+    /// Where along the wall (um).
+    x_um: f64,
+    /// Quadrature weight: the length it stands for (m).
+    dx_m: f64,
+    /// w (m) and the slope pointing into the support, as [`EdgeSpring`] takes them.
+    w: f64,
+    theta: f64,
+    /// The mid-plane's in-plane displacement towards the span (m), on a solution that has one.
+    u: Option<f64>,
+}
+
+/// The clamp line's state at 4-point Gauss points per mesh segment over the island's extent
+/// along the wall (w and the slope are cubic along the edge, the in-plane displacement linear).
+fn edge_samples(
     g: &SensorGeometry,
-    ft: &SupportFooting,
     sol: &PlateSolution,
     side: ElectrodeSide,
     e: &super::geometry::ElectrodeArea,
-) -> FootingIsland {
-    let (y_line, outward, s0, s1) = match side {
-        ElectrodeSide::Support1 => {
-            let edge = g.etched.support_edge_y_um;
-            (g.plate_y0_um, -1.0, edge - e.y1_um, edge - e.y0_um)
-        }
-        _ => {
-            let edge = g.width_um - g.etched.support_edge_y_um;
-            (g.plate_y1_um, 1.0, e.y0_um - edge, e.y1_um - edge)
-        }
+) -> Vec<EdgeSample> {
+    let (y_line, outward) = match side {
+        ElectrodeSide::Support1 => (g.plate_y0_um, -1.0),
+        _ => (g.plate_y1_um, 1.0),
     };
     let mesh = sol.mesh();
     let line = EdgeSpring {
@@ -116,7 +121,7 @@ pub(super) fn footing_island(
         normal_in_plane_pa: None,
         coupled: None,
     };
-    let mut out = FootingIsland::default();
+    let mut out = Vec::new();
     let Ok(segs) = edge_spring::segments(mesh, &line) else {
         return out;
     };
@@ -133,14 +138,95 @@ pub(super) fn footing_island(
         }
         for (xi, wq) in G {
             let x = 0.5 * (a + b) + 0.5 * (b - a) * xi;
-            if let Some((w, t)) = edge_spring::edge_state(&line, &segs, sol.dofs(), x) {
-                let dx = 0.5 * (b - a) * 1e-6 * wq;
-                out.force_n += dx * ft.force_per_length(w, t, s0, s1);
-                out.strain_m2 += dx * ft.bottom_strain_integral_m(w, t, s0, s1);
+            if let Some((w, theta)) = edge_spring::edge_state(&line, &segs, sol.dofs(), x) {
+                // v at the segment's nodes, linear between them; towards the span is -outward.
+                let u = sol.membrane().map(|uv| {
+                    let s = (x - seg.t_um[0]) / (seg.t_um[1] - seg.t_um[0]);
+                    let [na, nb] = seg.nodes;
+                    -outward * ((1.0 - s) * uv[2 * na + 1] + s * uv[2 * nb + 1])
+                });
+                out.push(EdgeSample {
+                    x_um: x,
+                    dx_m: 0.5 * (b - a) * 1e-6 * wq,
+                    w,
+                    theta,
+                    u,
+                });
             }
         }
     }
     out
+}
+
+/// [`FootingIsland`] of an electrode: the foundation pressure under the support (Hetenyi's w(s)
+/// times k for the plate's w and slope at the clamp line) and the beam's bottom-fibre strain,
+/// each integrated over the island's extent from the footing's edge and along the wall.
+pub(super) fn footing_island(
+    g: &SensorGeometry,
+    ft: &SupportFooting,
+    sol: &PlateSolution,
+    side: ElectrodeSide,
+    e: &super::geometry::ElectrodeArea,
+) -> FootingIsland {
+    let (s0, s1) = match side {
+        ElectrodeSide::Support1 => {
+            let edge = g.etched.support_edge_y_um;
+            (edge - e.y1_um, edge - e.y0_um)
+        }
+        _ => {
+            let edge = g.width_um - g.etched.support_edge_y_um;
+            (e.y0_um - edge, e.y1_um - edge)
+        }
+    };
+    let mut out = FootingIsland::default();
+    for p in edge_samples(g, sol, side, e) {
+        out.force_n += p.dx_m * ft.force_per_length(p.w, p.theta, s0, s1);
+        out.strain_m2 += p.dx_m * ft.bottom_strain_integral_m(p.w, p.theta, s0, s1);
+    }
+    out
+}
+
+/// Charge (pC) of a support island under the solid section: the film charge per unit
+/// clamp-line motion over the island's width ([`SupportSection::island_charge`]) of the section
+/// at each point of the wall (a tooth standing on the support or not) times the plate's (w,
+/// theta, u) there, integrated over the island's length. The in-plane
+/// displacement is the plate's own where its large-deflection solve held the edge on the
+/// section's coupled spring (`held_in_plane`); elsewhere the plate had the section's condensed
+/// springs, membrane force zero at the edge, and u is what that leaves: -(k_uw w + k_ut theta) /
+/// k_uu. Loads straight onto the support add the laterally bonded film's d33 (as the footing's).
+fn section_island_charge_pc(
+    g: &SensorGeometry,
+    sections: &SupportSections,
+    sol: &PlateSolution,
+    side: ElectrodeSide,
+    e: &super::geometry::ElectrodeArea,
+    held_in_plane: bool,
+) -> f64 {
+    let (y0, y1, index) = match side {
+        ElectrodeSide::Support1 => (e.y0_um, e.y1_um, 0),
+        _ => (g.width_um - e.y1_um, g.width_um - e.y0_um, 1),
+    };
+    let charge = |s: &SupportSection| s.island_charge(y0, y1);
+    let (bare, tooth) = (
+        charge(&sections.bare),
+        sections.under_tooth.as_ref().map(charge),
+    );
+    edge_samples(g, sol, side, e)
+        .into_iter()
+        .map(|p| {
+            let s = sections.at(index, p.x_um);
+            let r = match (&sections.under_tooth, tooth) {
+                (Some(t), Some(r)) if std::ptr::eq(s, t) => r,
+                _ => bare,
+            };
+            let k = s.stiffness;
+            let u = match p.u {
+                Some(u) if held_in_plane => u,
+                _ => -(k[2][0] * p.w + k[2][1] * p.theta) / k[2][2],
+            };
+            p.dx_m * (r[0] * p.w + r[1] * p.theta + r[2] * u)
+        })
+        .sum()
 }
 
 /// Charge of a support island on the elastic footing (pC, the plate rungs' polarity: d33 times
@@ -155,15 +241,19 @@ pub(super) fn footing_island(
 fn footing_charge_pc(g: &SensorGeometry, island: FootingIsland, direct_n: f64) -> f64 {
     let nu = g.pvdf_nu;
     let e_plane = g.pvdf_e_pa / (1.0 - nu * nu);
-    let c = nu / (1.0 - nu);
     // The film's axis 1 is the drawn axis; the walls run along x.
     let (across, along) = match g.drawn_axis {
         Axis::Y => (g.d31_pc_per_n, g.d32_pc_per_n),
         Axis::X => (g.d32_pc_per_n, g.d31_pc_per_n),
     };
-    let d33_constrained = g.d33_pc_per_n + c * (g.d31_pc_per_n + g.d32_pc_per_n);
-    d33_constrained * (island.force_n + direct_n)
-        - (across + nu * along) * e_plane * island.strain_m2
+    bonded_d33(g) * (island.force_n + direct_n) - (across + nu * along) * e_plane * island.strain_m2
+}
+
+/// The film's d33 when it is bonded in plane and pressed through its thickness (pC/N): d33 + nu /
+/// (1 - nu) (d31 + d32), from s_in-plane = -c p with c = nu / (1 - nu) ([`footing_charge_pc`]).
+fn bonded_d33(g: &SensorGeometry) -> f64 {
+    let c = g.pvdf_nu / (1.0 - g.pvdf_nu);
+    g.d33_pc_per_n + c * (g.d31_pc_per_n + g.d32_pc_per_n)
 }
 
 /// Thickness mode Q = d33 F for support electrodes on the clamp (fe-validation.md, piezo
@@ -173,7 +263,12 @@ fn footing_charge_pc(g: &SensorGeometry, island: FootingIsland, direct_n: f64) -
 /// the plate's bottom surface (fe-validation.md takes the surface itself; the solid rung reads
 /// the film's own stresses and shows the film's mean strain is the one read, 27 % more on the
 /// bundled plate); V = Q / C, C = eps0 eps_r A / t.
-pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoad]) -> Readout {
+pub fn read(
+    g: &SensorGeometry,
+    sol: Option<&PlateSolution>,
+    direct: &[DirectLoad],
+    held_in_plane: bool,
+) -> Readout {
     let mut out = Vec::new();
     let (mut s1, mut s2) = (0.0, 0.0);
     // Reactions of edge segments outside every electrode still count towards the support totals.
@@ -195,6 +290,10 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
     }
     let ep = g.pvdf_e_pa / (1.0 - g.pvdf_nu * g.pvdf_nu);
     let footing = (g.support_model == SupportModel::ElasticFooting).then(|| SupportFooting::new(g));
+    let section = match (&g.support_model, &g.support_section) {
+        (SupportModel::SolidSection, Some(Ok(s))) => Some(s),
+        _ => None,
+    };
     for e in &g.electrodes {
         let c_f = g.capacitance_f(e.area_um2);
         let (charge_pc, force_n) = match e.side {
@@ -244,9 +343,13 @@ pub fn read(g: &SensorGeometry, sol: Option<&PlateSolution>, direct: &[DirectLoa
                     };
                 }
                 f += direct_n;
-                let charge = match island {
-                    Some(i) => footing_charge_pc(g, i, direct_n),
-                    None => g.d33_pc_per_n * f,
+                let charge = match (island, section, sol) {
+                    (Some(i), _, _) => footing_charge_pc(g, i, direct_n),
+                    (None, Some(sec), Some(s)) => {
+                        section_island_charge_pc(g, sec, s, side, e, held_in_plane)
+                            + bonded_d33(g) * direct_n
+                    }
+                    _ => g.d33_pc_per_n * f,
                 };
                 (charge, Some(f))
             }

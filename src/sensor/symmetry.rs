@@ -25,6 +25,33 @@ pub struct Mirror {
     pub at_um: f64,
 }
 
+/// True unless the supports' sections ([`super::support_section::SupportSections`]) break the
+/// mirror: across the span both supports must carry their teeth at the same x, along it each
+/// support's teeth must mirror about the die's middle.
+fn supports_symmetric(g: &SensorGeometry, m: Mirror) -> bool {
+    let Some(Ok(s)) = &g.support_section else {
+        return true;
+    };
+    let same = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(p, q)| (p[0] - q[0]).abs() < TOL_UM && (p[1] - q[1]).abs() < TOL_UM)
+    };
+    let [one, two] = &s.teeth_x_um;
+    match m.along {
+        FeAxis::X => same(one, two),
+        FeAxis::Y => [one, two].iter().all(|v| {
+            let mut mirrored: Vec<[f64; 2]> = v
+                .iter()
+                .map(|i| [2.0 * m.at_um - i[1], 2.0 * m.at_um - i[0]])
+                .collect();
+            mirrored.sort_by(|a, b| a[0].total_cmp(&b[0]));
+            same(v, &mirrored)
+        }),
+    }
+}
+
 impl Mirror {
     fn image(&self, (x, y): (f64, f64)) -> (f64, f64) {
         match self.along {
@@ -139,7 +166,7 @@ impl Symmetry {
         for m in candidates {
             let teeth = g.teeth.iter().all(|t| m.symmetric_region(t, &g.teeth));
             let loads = cases.iter().flatten().all(|l| m.symmetric_load(l));
-            if teeth && loads {
+            if teeth && loads && supports_symmetric(g, m) {
                 match m.along {
                     FeAxis::X => s.domain_um.3 = m.at_um,
                     FeAxis::Y => s.domain_um.1 = m.at_um,
