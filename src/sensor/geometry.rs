@@ -138,8 +138,9 @@ fn channel_depth_um(design: &Design) -> f64 {
 impl SensorGeometry {
     /// The sensor of a design: the teeth and electrodes the mask set draws, the plate the recipe
     /// leaves. A tooth is a square with the full tooth height on top of the plate, clipped to the
-    /// plate between the supports; its edges stand where the step bends as the {111} sidewall
-    /// (the etch plan's run-out) does ([`super::frustum_step::inset`]), not at mid-height.
+    /// plate between the supports. Its edges stand at the {111} frustum's mid-height (the etch
+    /// plan's run-out) on the clamp and the footing, and under `support_model: solid_section`
+    /// where the step bends as the sidewall does ([`super::frustum_step::inset`]).
     pub fn new(design: &Design) -> Self {
         let (p, plan) = (&design.process, &design.plan);
         let g = &p.geometry;
@@ -287,9 +288,9 @@ impl SensorGeometry {
     }
 }
 
-/// Footprints of the drawn teeth over the plate: the mask's tooth tops grown to the step that
-/// bends as the {111} sidewall ([`super::frustum_step::inset`]), `thickness_um` thick, clipped to the
-/// die in x and to the plate `(y0, y1)` in y.
+/// Footprints of the drawn teeth over the plate: the mask's tooth tops grown by the run-out less
+/// the step's `inset` on each side, `thickness_um` thick, clipped to the die in x and to the
+/// plate `(y0, y1)` in y.
 fn tooth_footprints(
     masks: &MaskSet,
     (run_out_um, inset): (f64, f64),

@@ -189,11 +189,11 @@ pub(super) fn footing_island(
 /// Charge (pC) of a support island under the solid section: the film charge per unit
 /// clamp-line motion over the island's width ([`SupportSection::island_charge`]) of the section
 /// at each point of the wall (a tooth standing on the support or not) times the plate's (w,
-/// theta, u) there, integrated over the island's length. The in-plane
-/// displacement is the plate's own where its large-deflection solve held the edge on the
-/// section's coupled spring (`held_in_plane`); elsewhere the plate had the section's condensed
-/// springs, membrane force zero at the edge, and u is what that leaves: -(k_uw w + k_ut theta) /
-/// k_uu. Loads straight onto the support add the laterally bonded film's d33 (as the footing's).
+/// theta, u) there, integrated over the island's length. The in-plane displacement is the
+/// plate's own where its large-deflection solve held the edge on the section's coupled spring
+/// (`held_in_plane`); elsewhere the plate had the section's condensed springs, membrane force
+/// zero at the edge, and u is what that leaves: -(k_uw w + k_ut theta) / k_uu. Loads straight
+/// onto the support add the laterally bonded film's d33 (as the footing's).
 fn section_island_charge_pc(
     g: &SensorGeometry,
     sections: &SupportSections,

@@ -197,6 +197,14 @@ impl SupportSection {
             GROWTH,
             0.25 * t * k,
         ));
+        // The wall: the logical line y0 at every height, mapped to the {111} slope below the plate.
+        let wall = PiecewiseLinear::new(vec![
+            (0.0, 0.0),
+            ((e1 - run).max(0.5 * e1), (e1 - run).max(0.5 * e1)),
+            (y0, e1),
+            (y0 + run, y0 + run),
+            (half_w, half_w),
+        ])?;
         // The support islands' edges (support 2's mirrored), so each film column is read whole.
         for el in &g.electrodes {
             let (a, b) = match el.side {
@@ -206,7 +214,7 @@ impl SupportSection {
             };
             for v in [a, b] {
                 if v > 0.0 && v < e1 {
-                    ys.push(if v <= e1 - run { v } else { y0 - (e1 - v) });
+                    ys.push(wall.invert(v));
                 }
             }
         }
@@ -256,13 +264,6 @@ impl SupportSection {
             }
             None => PiecewiseLinear::new(vec![(0.0, 0.0), (half_w, half_w)])?,
         };
-        let wall = PiecewiseLinear::new(vec![
-            (0.0, 0.0),
-            ((e1 - run).max(0.5 * e1), (e1 - run).max(0.5 * e1)),
-            (y0, e1),
-            (y0 + run, y0 + run),
-            (half_w, half_w),
-        ])?;
         let grid = grid.with_map(std::sync::Arc::new(move |[x, y, z]: [f64; 3]| {
             if z < plate_bottom {
                 let s = ((plate_bottom - z) / (plate_bottom - film_top)).min(1.0);
