@@ -32,6 +32,10 @@ pub const ARM_THICKNESSES: f64 = 6.0;
 const FINE_THICKNESSES: f64 = 0.1;
 const GROWTH: f64 = 1.4;
 
+/// The most elements of the coarse size across the section's length or height: bounds the work
+/// on a tall tooth over a thin plate (the bundled design's section is 31 across).
+const MAX_ELEMENTS_ACROSS: f64 = 40.0;
+
 /// Beam theory's inset: a ramp from thickness a to b = a + h over the run-out r turns under a
 /// moment by r (a + b) / (2 a^2 b^2) (the compliance integral of ds / t(s)^3), a step at c from
 /// the base by c / a^3 + (r - c) / b^3; equal where c / r = a (b + 2 a) / (2 (a^2 + a b +
@@ -127,7 +131,10 @@ fn turn_per_moment(
     let k = 0.5f64.powi(refine as i32);
     let arm = ARM_THICKNESSES * t;
     let (y_a, y_b) = (-arm, r + arm);
-    let (fine, coarse) = (FINE_THICKNESSES * t * k, 0.5 * t * k);
+    // Tall or long sidewalls against a thin plate get coarser far elements, so the section
+    // stays within about MAX_ELEMENTS_ACROSS elements each way whatever the design.
+    let coarse = (0.5 * t).max((h + r + 2.0 * arm) / MAX_ELEMENTS_ACROSS) * k;
+    let fine = (FINE_THICKNESSES * t * k).min(coarse);
     let mut ys = graded_lines(0.0, y_a, fine, GROWTH, coarse);
     ys.extend(graded_lines(0.0, y_b, fine, GROWTH, coarse));
     let mut zs = graded_lines(t, 0.0, fine, GROWTH, coarse);
