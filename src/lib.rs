@@ -68,6 +68,11 @@
 //!    The plate rungs answer the teeth's base edges from a section of the edge solved once per
 //!    design ([`sensor::edge_section`]) driven by their resultants there.
 //!    The footing's in-plane give holds the large-deflection plate's edges on the footing.
+//!    Under `support_model: solid_section` the supports are plane-strain solid sections
+//!    ([`sensor::support_section`]: bare, and under the teeth that stand on them) whose coupled
+//!    springs hold the plate's edges piece by piece and whose film reads the support islands,
+//!    and each tooth's step stands where it bends as the {111} sidewall
+//!    ([`sensor::frustum_step`]).
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown
