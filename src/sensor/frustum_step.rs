@@ -14,8 +14,7 @@
 use std::sync::Mutex;
 
 use crate::fe::solid::{
-    graded_lines, hex27, merged_lines, Constraint, HexGrid, NodeSet, Prescribed, SolidModel,
-    SolidProblem,
+    graded_lines, hex27, merged_lines, Constraint, HexGrid, NodeSet, SolidModel, SolidProblem,
 };
 use crate::fe::{FeError, FeResult};
 
@@ -161,7 +160,6 @@ fn turn_per_moment(
         }));
     }
     let mut problem = SolidProblem::new(grid, vec![silicon_elasticity(silicon)]);
-    let big = 1e9;
     problem.constraints.push(Constraint::clamp(
         "moved",
         NodeSet::Plane {
@@ -176,15 +174,9 @@ fn turn_per_moment(
             at_um: y_b,
         },
     ));
-    problem.constraints.push(Constraint {
-        group: "plane_strain".into(),
-        nodes: NodeSet::Box {
-            min_um: [-big; 3],
-            max_um: [big; 3],
-        },
-        fixed: [true, false, false],
-        value: Prescribed::Zero,
-    });
+    problem
+        .constraints
+        .push(Constraint::plane_strain_x("plane_strain"));
     let model = SolidModel::new(&problem)?;
     let tol = 1e-6 * t;
     let z_mid = 0.5 * t;

@@ -13,8 +13,8 @@
 //! corner's local give included.
 
 use crate::fe::solid::{
-    graded_lines, hex27, merged_lines, Axis3, Constraint, Elasticity, HexGrid, NodeSet, Prescribed,
-    SolidModel, SolidProblem, SolidSolution,
+    graded_lines, hex27, merged_lines, Axis3, Constraint, Elasticity, HexGrid, NodeSet, SolidModel,
+    SolidProblem, SolidSolution,
 };
 use crate::fe::{FeError, FeResult};
 
@@ -291,15 +291,9 @@ impl SupportSection {
                 max_um: [big, y_end, big],
             },
         ));
-        problem.constraints.push(Constraint {
-            group: "plane_strain".into(),
-            nodes: NodeSet::Box {
-                min_um: [-big; 3],
-                max_um: [big; 3],
-            },
-            fixed: [true, false, false],
-            value: Prescribed::Zero,
-        });
+        problem
+            .constraints
+            .push(Constraint::plane_strain_x("plane_strain"));
         if has_base {
             problem
                 .constraints

@@ -89,6 +89,20 @@ impl Constraint {
         }
     }
 
+    /// Plane strain across x: u_x held at zero at every node (a section one element thick).
+    pub fn plane_strain_x(group: &str) -> Self {
+        let big = 1e9;
+        Constraint {
+            group: group.into(),
+            nodes: NodeSet::Box {
+                min_um: [-big; 3],
+                max_um: [big; 3],
+            },
+            fixed: [true, false, false],
+            value: Prescribed::Zero,
+        }
+    }
+
     /// A symmetry plane `axis = at_um`: the normal component held at zero.
     pub fn symmetry(group: &str, axis: Axis3, at_um: f64) -> Self {
         let mut fixed = [false; 3];
