@@ -72,7 +72,9 @@
 //!    ([`sensor::support_section`]: bare, and under the teeth that stand on them) whose coupled
 //!    springs hold the plate's edges piece by piece and whose film reads the support islands,
 //!    and each tooth's step stands where it bends as the {111} sidewall
-//!    ([`sensor::frustum_step`]).
+//!    ([`sensor::frustum_step`]) with its mid-plane risen on the top face, so the
+//!    large-deflection plate couples the teeth's bending to its stretching
+//!    ([`fe::ThicknessRegion::rise_um`]).
 //! 9. [`report`] puts it together: the traveler (run sheet: steps with computed values and their
 //!    provenance, targets, hold points with a blank per reading, a cross-section per change of the
 //!    stack, checks, FE summary), laid out once as a [`report::doc::Doc`] and rendered as Markdown

@@ -133,12 +133,17 @@ impl PlateSolution {
                 }
             }
         }
-        let thickness_um = ym
-            .element
-            .iter()
-            .flat_map(|&j| xm.element.iter().map(move |&i| (i, j)))
-            .map(|(i, j)| ctx.thickness_um[half.element(i, j)])
-            .collect();
+        let whole_of = |v: &[f64]| -> Vec<f64> {
+            if v.is_empty() {
+                return Vec::new();
+            }
+            ym.element
+                .iter()
+                .flat_map(|&j| xm.element.iter().map(move |&i| (i, j)))
+                .map(|(i, j)| v[half.element(i, j)])
+                .collect()
+        };
+        let (thickness_um, rise_um) = (whole_of(&ctx.thickness_um), whole_of(&ctx.rise_um));
         let on_line = |r: &NodalReaction| {
             let c = match along {
                 Axis::X => r.y_um,
@@ -188,6 +193,7 @@ impl PlateSolution {
         let ctx = Arc::new(SolutionContext {
             mesh,
             thickness_um,
+            rise_um,
             material: ctx.material,
             groups,
         });

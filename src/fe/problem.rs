@@ -16,6 +16,11 @@ pub struct ThicknessRegion {
     pub x1_um: f64,
     pub y1_um: f64,
     pub thickness_um: f64,
+    /// Height of the region's own mid-plane above the base plate's (against +w): a tooth standing
+    /// on the top face rises (t - t_base) / 2, 0 is centred. The large-deflection plate couples
+    /// membrane and bending through it (its membrane strain is taken at the base mid-plane); the
+    /// linear plate has no membrane and ignores it.
+    pub rise_um: f64,
 }
 
 /// Support kind along a line.
@@ -271,19 +276,28 @@ impl PlateProblem {
     pub fn element_thickness_um(&self) -> Vec<f64> {
         (0..self.mesh.n_elements())
             .map(|e| {
-                let (x0, y0, x1, y1) = self.mesh.element_bounds_um(e);
-                let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
-                self.thickness_regions
-                    .iter()
-                    .rev()
-                    .find(|r| {
-                        cx >= r.x0_um.min(r.x1_um)
-                            && cx <= r.x0_um.max(r.x1_um)
-                            && cy >= r.y0_um.min(r.y1_um)
-                            && cy <= r.y0_um.max(r.y1_um)
-                    })
+                self.element_region(e)
                     .map_or(self.base_thickness_um, |r| r.thickness_um)
             })
             .collect()
+    }
+
+    /// Mid-plane rise (um, [`ThicknessRegion::rise_um`]) of every element, 0 on the base.
+    pub fn element_rise_um(&self) -> Vec<f64> {
+        (0..self.mesh.n_elements())
+            .map(|e| self.element_region(e).map_or(0.0, |r| r.rise_um))
+            .collect()
+    }
+
+    /// The last region covering element `e`'s centre.
+    fn element_region(&self, e: usize) -> Option<&ThicknessRegion> {
+        let (x0, y0, x1, y1) = self.mesh.element_bounds_um(e);
+        let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+        self.thickness_regions.iter().rev().find(|r| {
+            cx >= r.x0_um.min(r.x1_um)
+                && cx <= r.x0_um.max(r.x1_um)
+                && cy >= r.y0_um.min(r.y1_um)
+                && cy <= r.y0_um.max(r.y1_um)
+        })
     }
 }

@@ -19,6 +19,10 @@ pub const LINEAR_RANGE_LIMIT: f64 = 0.2;
 pub struct SolutionContext {
     pub mesh: RectMesh,
     pub thickness_um: Vec<f64>,
+    /// Mid-plane rise of each element's section ([`crate::fe::ThicknessRegion::rise_um`]) on a
+    /// von Karman solution, whose membrane strain is the reference plane's; empty otherwise (each
+    /// section about its own mid-plane).
+    pub rise_um: Vec<f64>,
     pub material: PlateMaterial,
     pub groups: Vec<String>,
 }
@@ -217,25 +221,43 @@ impl PlateSolution {
         let k = [-dot(&s[3]), -dot(&s[4]), -2.0 * dot(&s[5])];
         (k, self.membrane_strain_with(e, x, y, &s, &u))
     }
+    /// Distances (m) from the reference plane to element `e`'s bottom and top faces, at
+    /// z = t/2 - rise and -(t/2 + rise) along +w: t/2 each on a centred section.
+    fn face_depths_m(&self, e: usize) -> [f64; 2] {
+        self.face_depths_below_m(e, 0.0)
+    }
+
+    /// [`Self::face_depths_m`] with `below_um` added to each (one rounding, as before the rise).
+    fn face_depths_below_m(&self, e: usize, below_um: f64) -> [f64; 2] {
+        let (h, rise) = (
+            0.5 * self.ctx.thickness_um[e],
+            self.ctx.rise_um.get(e).copied().unwrap_or(0.0),
+        );
+        [(h - rise + below_um) * 1e-6, (h + rise + below_um) * 1e-6]
+    }
+
     /// Surface stresses (sigma_x, sigma_y, tau_xy) in Pa of element `e` at local (x, y) m:
-    /// [bottom, top], sigma = Q (eps0 +/- (t/2) kappa).
+    /// [bottom, top], sigma = Q (eps0 + z kappa) at the faces' z ([`Self::face_depths_m`]).
     pub(crate) fn surface_stresses(&self, e: usize, x: f64, y: f64) -> [[f64; 3]; 2] {
         let (k, m) = self.curvature_and_membrane_strain(e, x, y);
-        let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
-        [1.0, -1.0].map(|sign| {
-            self.ctx.material.stress(
-                m[0] + sign * h * k[0],
-                m[1] + sign * h * k[1],
-                m[2] + sign * h * k[2],
-            )
+        let [hb, ht] = self.face_depths_m(e);
+        [hb, -ht].map(|h| {
+            self.ctx
+                .material
+                .stress(m[0] + h * k[0], m[1] + h * k[1], m[2] + h * k[2])
         })
     }
     /// The plate's resultants at a point, from one element evaluation (None outside the
     /// plate): what a section of the structure there is driven by.
     pub fn resultants(&self, x_um: f64, y_um: f64) -> Option<Resultants> {
         let (e, lx, ly) = self.ctx.mesh.locate(x_um, y_um)?;
-        let (curvature, membrane_strain) = self.curvature_and_membrane_strain(e, lx, ly);
+        let (curvature, mut membrane_strain) = self.curvature_and_membrane_strain(e, lx, ly);
         let t = self.ctx.thickness_um[e] * 1e-6;
+        // The section's own mid-plane strain: eps0 + z kappa at z = -rise.
+        let [hb, ht] = self.face_depths_m(e);
+        if hb != ht {
+            (0..3).for_each(|c| membrane_strain[c] += 0.5 * (hb - ht) * curvature[c]);
+        }
         Some(Resultants {
             moments: bfs::moments(curvature, &self.ctx.material.bending_stiffness(t)),
             membrane_forces: self
@@ -327,7 +349,7 @@ impl PlateSolution {
     #[track_caller]
     pub fn bottom_strain(&self, x_um: f64, y_um: f64) -> [f64; 3] {
         let (e, _, k) = self.at(x_um, y_um);
-        let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+        let h = self.face_depths_m(e)[0];
         let (_, lx, ly) = self
             .ctx
             .mesh
@@ -382,7 +404,7 @@ impl PlateSolution {
         for (e, x0, x1, y0, y1) in self.clipped(&rect) {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
-            let h = (0.5 * self.ctx.thickness_um[e] + below_um) * 1e-6;
+            let h = self.face_depths_below_m(e, below_um)[0];
             let whole = |lo: f64, hi: f64, len: f64| {
                 lo.abs() <= 1e-9 * len && (hi - len).abs() <= 1e-9 * len
             };
@@ -429,7 +451,7 @@ impl PlateSolution {
         for (e, x0, x1, y0, y1) in self.clipped(&rect) {
             let (a, b) = self.element_size_m(e);
             let u = self.element_u(e);
-            let h = 0.5 * self.ctx.thickness_um[e] * 1e-6;
+            let [hb, ht] = self.face_depths_m(e);
             let (ex0, ey0, _, _) = m.element_bounds_um(e);
             for p in 0..5 {
                 for q in 0..5 {
@@ -437,17 +459,17 @@ impl PlateSolution {
                     let y = y0 + (y1 - y0) * q as f64 / 4.0;
                     let (_, k) = bfs::deflection_curvature(&u, x, y, a, b);
                     let m = self.membrane_strain(e, x, y);
-                    let principal = |sign: f64| {
+                    let principal = |h: f64| {
                         let s = self.ctx.material.stress(
-                            m[0] + sign * h * k[0],
-                            m[1] + sign * h * k[1],
-                            m[2] + sign * h * k[2],
+                            m[0] + h * k[0],
+                            m[1] + h * k[1],
+                            m[2] + h * k[2],
                         );
                         0.5 * (s[0] + s[1]) + (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt()
                     };
                     for (sigma, surface) in [
-                        (principal(1.0), Surface::Bottom),
-                        (principal(-1.0), Surface::Top),
+                        (principal(hb), Surface::Bottom),
+                        (principal(-ht), Surface::Top),
                     ] {
                         if sigma > best.sigma_pa {
                             best = StressPeak {

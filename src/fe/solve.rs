@@ -110,6 +110,7 @@ impl Factorised {
         let ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
             thickness_um: thickness,
+            rise_um: Vec::new(),
             material: problem.material,
             groups: dofs.groups.clone(),
         });
@@ -158,6 +159,7 @@ impl Factorised {
         self.ctx = Arc::new(SolutionContext {
             mesh: problem.mesh.clone(),
             thickness_um: thickness,
+            rise_um: Vec::new(),
             material: problem.material,
             groups: self.dofs.groups.clone(),
         });
@@ -210,6 +212,7 @@ impl Factorised {
         self.ctx = Arc::new(SolutionContext {
             mesh: mesh.clone(),
             thickness_um: thickness,
+            rise_um: Vec::new(),
             material: problem.material,
             groups: self.dofs.groups.clone(),
         });

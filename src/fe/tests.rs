@@ -527,6 +527,7 @@ fn missing_constraint_is_an_error_not_nan() {
         x1_um: 2000.0,
         y1_um: 2000.0,
         thickness_um: 0.0,
+        rise_um: 0.0,
     });
     assert!(matches!(p.solve(), Err(FeError::InvalidStiffness { .. })));
     // Support off the mesh lines.
@@ -564,6 +565,7 @@ fn checkerboard(level: usize) -> PlateProblem {
                     x1_um: x0 + 2500.0,
                     y1_um: y0 + 2500.0,
                     thickness_um: 3.0 * T_UM,
+                    rise_um: 0.0,
                 });
             }
         }
@@ -792,6 +794,7 @@ fn hard_load_on_node_line_and_step() {
         x1_um: x1,
         y1_um: 10_000.0,
         thickness_um: 200.0,
+        rise_um: 0.0,
     };
     let (thin, step, all) = (
         w_for(vec![]),
@@ -1077,6 +1080,7 @@ fn symmetric_plate(x1: f64, y1: f64, nx: usize, ny: usize) -> PlateProblem {
         x1_um: 7000.0,
         y1_um: 4000.0,
         thickness_um: 200.0,
+        rise_um: 0.0,
     });
     p.supports.push(LineSupport {
         group: "low".into(),

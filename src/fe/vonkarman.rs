@@ -131,6 +131,11 @@ struct ElementKind {
     am: [[[f64; 8]; 3]; 16],
     /// Membrane stiffness A = Q t (A11, A12, A22, A66) in N/m.
     a: [f64; 4],
+    /// Position (m, along +w) of the section's own mid-plane from the mesh's reference plane, and
+    /// the curvature (-w_xx, -w_yy, -2 w_xy) of the 16 bending functions at each Gauss point;
+    /// empty when the section is centred (ecc = 0).
+    ecc: f64,
+    kappa: Vec<[[f64; 16]; 3]>,
 }
 
 /// Derivatives (d/dx, d/dy) of the bilinear corner functions at local (x, y), corners in BFS order.
@@ -172,7 +177,7 @@ fn membrane_columns(a: &[f64; 4], mx: &[f64; 4], my: &[f64; 4]) -> [[f64; 8]; 3]
 }
 
 impl ElementKind {
-    fn new(a: f64, b: f64, t_m: f64, mat: &PlateMaterial, d: BendingStiffness) -> Self {
+    fn new(a: f64, b: f64, t_m: f64, ecc_m: f64, mat: &PlateMaterial, d: BendingStiffness) -> Self {
         let gx = bfs::gauss4_on(0.0, a);
         let gy = bfs::gauss4_on(0.0, b);
         let mut k = ElementKind {
@@ -191,11 +196,17 @@ impl ElementKind {
                 mat.q22_pa * t_m,
                 mat.q66_pa * t_m,
             ],
+            ecc: ecc_m,
+            kappa: Vec::new(),
         };
         for (p, &(x, wxg)) in gx.iter().enumerate() {
             for (q, &(y, wyg)) in gy.iter().enumerate() {
                 let g = 4 * p + q;
                 let s = bfs::shape(x, y, a, b);
+                if ecc_m != 0.0 {
+                    k.kappa
+                        .push([s[3].map(|v| -v), s[4].map(|v| -v), s[5].map(|v| -2.0 * v)]);
+                }
                 k.wx[g] = s[1];
                 k.wy[g] = s[2];
                 for i in 0..16 {
@@ -264,7 +275,15 @@ impl ElementKind {
                 vx += mx[c] * ue[17 + 2 * c];
                 vy += my[c] * ue[17 + 2 * c];
             }
-            let e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            let mut e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            // An eccentric section stretches at its own mid-plane: eps0 + ecc kappa.
+            let ek = self
+                .kappa
+                .get(g)
+                .map(|kb| kb.map(|row| self.ecc * (0..16).map(|i| row[i] * ue[i]).sum::<f64>()));
+            if let Some(ek) = ek {
+                (0..3).for_each(|c| e[c] += ek[c]);
+            }
             let n = [a11 * e[0] + a12 * e[1], a12 * e[0] + a22 * e[1], a66 * e[2]];
             let w = self.wt[g];
             // B_nl^T N on the w dofs; the membrane part's nonlinear share, B_m^T (N - A B_m u).
@@ -272,11 +291,21 @@ impl ElementKind {
             for i in 0..16 {
                 r[i] += fx * nx[i] + fy * ny[i];
             }
-            let nq = [
+            let mut nq = [
                 w * (a11 * 0.5 * wx * wx + a12 * 0.5 * wy * wy),
                 w * (a12 * 0.5 * wx * wx + a22 * 0.5 * wy * wy),
                 w * a66 * wx * wy,
             ];
+            if let Some(ek) = ek {
+                // ecc B_b^T N on the w dofs; A ecc kappa joins the membrane's nonlinear share.
+                let kb = &self.kappa[g];
+                for i in 0..16 {
+                    r[i] += w * self.ecc * (kb[0][i] * n[0] + kb[1][i] * n[1] + kb[2][i] * n[2]);
+                }
+                nq[0] += w * (a11 * ek[0] + a12 * ek[1]);
+                nq[1] += w * (a12 * ek[0] + a22 * ek[1]);
+                nq[2] += w * a66 * ek[2];
+            }
             for c in 0..4 {
                 r[16 + 2 * c] += mx[c] * nq[0] + my[c] * nq[2];
                 r[17 + 2 * c] += my[c] * nq[1] + mx[c] * nq[2];
@@ -288,6 +317,17 @@ impl ElementKind {
             let cyy = w * (a22 * wy * wy + a66 * wx * wx + n[1]);
             let cxy = w * ((a12 + a66) * wx * wy + n[2]);
             let s = &self.am[g];
+            if let (Some(kb), Some(k)) = (self.kappa.get(g), kt.as_deref_mut()) {
+                eccentric_tangent(
+                    k,
+                    w,
+                    self.ecc,
+                    kb,
+                    [a11, a12, a22, a66],
+                    (nx, ny, wx, wy),
+                    s,
+                );
+            }
             for i in 0..16 {
                 lw[i][g] = cxx * nx[i] + cxy * ny[i];
                 lw[i][16 + g] = cyy * ny[i] + cxy * nx[i];
@@ -327,6 +367,37 @@ impl ElementKind {
             }
         }
         r
+    }
+}
+
+/// An eccentric section's tangent terms at one Gauss point (weight `w`): with the strain's
+/// w-rows G = B_nl + ecc B_b (B_b the curvature rows `kb`), K_ww gains
+/// G^T A G - B_nl^T A B_nl and K_wm gains ecc B_b^T A B_m (`s` = A B_m), both mirrored.
+fn eccentric_tangent(
+    k: &mut [f64],
+    w: f64,
+    ecc: f64,
+    kb: &[[f64; 16]; 3],
+    [a11, a12, a22, a66]: [f64; 4],
+    (nx, ny, wx, wy): (&[f64; 16], &[f64; 16], f64, f64),
+    s: &[[f64; 8]; 3],
+) {
+    let a = |r: [f64; 3]| [a11 * r[0] + a12 * r[1], a12 * r[0] + a22 * r[1], a66 * r[2]];
+    let nl = |i: usize| [wx * nx[i], wy * ny[i], wx * ny[i] + wy * nx[i]];
+    let eb = |i: usize| [ecc * kb[0][i], ecc * kb[1][i], ecc * kb[2][i]];
+    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    for i in 0..16 {
+        let (bi, ai_b) = (eb(i), a(eb(i)));
+        let ai_nl = a(nl(i));
+        for j in 0..16 {
+            // G_i^T A G_j - nl_i^T A nl_j = b_i A nl_j + nl_i A b_j + b_i A b_j.
+            k[i * NE + j] += w * (dot(ai_b, nl(j)) + dot(ai_nl, eb(j)) + dot(ai_b, eb(j)));
+        }
+        for j in 0..8 {
+            let v = w * dot(bi, [s[0][j], s[1][j], s[2][j]]);
+            k[i * NE + 16 + j] += v;
+            k[(16 + j) * NE + i] += v;
+        }
     }
 }
 
@@ -532,7 +603,8 @@ impl VonKarman {
         let order = node_dof_order(&free_index, M, mesh.x_um.len(), mesh.y_um.len());
         let symbolic = SymbolicFactor::new(pattern.symbolic.as_ref(), &order)?;
         let thickness = problem.element_thickness_um();
-        let mut cache: HashMap<[u64; 3], u32> = HashMap::new();
+        let rise = problem.element_rise_um();
+        let mut cache: HashMap<[u64; 4], u32> = HashMap::new();
         let mut kinds = Vec::new();
         let mut kind = Vec::with_capacity(mesh.n_elements());
         for (e, &t) in thickness.iter().enumerate() {
@@ -545,12 +617,14 @@ impl VonKarman {
             let (x0, y0, x1, y1) = mesh.element_bounds_um(e);
             let (a, b) = ((x1 - x0) * 1e-6, (y1 - y0) * 1e-6);
             let id = *cache
-                .entry([a.to_bits(), b.to_bits(), t.to_bits()])
+                .entry([a.to_bits(), b.to_bits(), t.to_bits(), rise[e].to_bits()])
                 .or_insert_with(|| {
                     kinds.push(ElementKind::new(
                         a,
                         b,
                         t * 1e-6,
+                        // +w points down: a section rising above the reference sits at -rise.
+                        -rise[e] * 1e-6,
                         &problem.material,
                         problem.bending_stiffness(t * 1e-6),
                     ));
@@ -572,6 +646,7 @@ impl VonKarman {
             ctx: Arc::new(SolutionContext {
                 mesh: mesh.clone(),
                 thickness_um: thickness,
+                rise_um: rise,
                 material: problem.material,
                 groups: bending.groups,
             }),
@@ -1069,7 +1144,12 @@ mod element_tests {
                 vx += k.mx[g][c] * ue[17 + 2 * c];
                 vy += k.my[g][c] * ue[17 + 2 * c];
             }
-            let e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            let mut e = [ux + 0.5 * wx * wx, vy + 0.5 * wy * wy, uy + vx + wx * wy];
+            if let Some(kb) = k.kappa.get(g) {
+                for c in 0..3 {
+                    e[c] += k.ecc * (0..16).map(|i| kb[c][i] * ue[i]).sum::<f64>();
+                }
+            }
             u += 0.5
                 * k.wt[g]
                 * (a11 * e[0] * e[0]
@@ -1097,7 +1177,21 @@ mod element_tests {
     #[test]
     fn force_is_the_energy_gradient_and_tangent_its_hessian() {
         let mat = PlateMaterial::silicon(DieEdge::Along110);
-        let k = ElementKind::new(600e-6, 400e-6, 80e-6, &mat, mat.bending_stiffness(80e-6));
+        // Centred, and a tooth's section rising 100 um above the reference plane.
+        for ecc in [0.0, -100e-6] {
+            let k = ElementKind::new(
+                600e-6,
+                400e-6,
+                80e-6,
+                ecc,
+                &mat,
+                mat.bending_stiffness(80e-6),
+            );
+            check_force_and_tangent(&k);
+        }
+    }
+
+    fn check_force_and_tangent(k: &ElementKind) {
         let ue = state();
         let mut kt = vec![0.0; NE * NE];
         let r = k.evaluate(&ue, Some(&mut kt));
@@ -1115,7 +1209,7 @@ mod element_tests {
             up[j] += h;
             dn[j] -= h;
             // dU/du_j by central differences (exact for a quartic up to h^2 terms).
-            let g = (energy(&k, &up) - energy(&k, &dn)) / (2.0 * h);
+            let g = (energy(k, &up) - energy(k, &dn)) / (2.0 * h);
             worst_r = worst_r.max((g - r[j]).abs() / r[j].abs().max(1e-3 * r_max / scale(j)));
             let (rp, rn) = (k.evaluate(&up, None), k.evaluate(&dn, None));
             for i in 0..NE {

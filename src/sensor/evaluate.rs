@@ -1518,6 +1518,7 @@ pub(super) fn build_problem(
             y0_um: snap(t.y0_um, &base.1),
             y1_um: snap(t.y1_um, &base.1),
             thickness_um: t.thickness_um,
+            rise_um: t.rise_um,
         })
         .filter(|t| t.x1_um > t.x0_um && t.y1_um > t.y0_um)
         .collect();

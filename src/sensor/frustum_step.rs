@@ -269,6 +269,7 @@ mod tests {
                 x1_um: length,
                 y1_um: y1,
                 thickness_um: t,
+                rise_um: 0.0,
             })
             .collect();
         p.load_cases.push(vec![Load::Pressure {

@@ -153,15 +153,23 @@ impl SensorGeometry {
             Some(s) => (s.achieved_depth_um, s.sidewall_run_out_um),
             None => (t.height_um, t.height_um / 2f64.sqrt()),
         };
-        // The sidewall's step with the supports' sections; the clamp and the footing keep the
-        // mid-height step their validation tables were measured with.
-        let inset = match p.materials.base.support_model {
-            crate::process::SupportModel::SolidSection => {
-                super::frustum_step::inset(plate, height, run_out, silicon_stiffness(p))
-            }
-            _ => 0.5,
+        // With the supports' sections, the sidewall's measured step and the teeth standing on
+        // the top face (their mid-plane risen by half the tooth height, so the large-deflection
+        // plate couples their bending to its stretching); the clamp and the footing keep the
+        // centred mid-height step their validation tables were measured with.
+        let (inset, rise) = match p.materials.base.support_model {
+            crate::process::SupportModel::SolidSection => (
+                super::frustum_step::inset(plate, height, run_out, silicon_stiffness(p)),
+                0.5 * height,
+            ),
+            _ => (0.5, 0.0),
         };
-        let teeth = tooth_footprints(&design.masks, (run_out, inset), plate + height, (py0, py1));
+        let teeth = tooth_footprints(
+            &design.masks,
+            (run_out, inset),
+            (plate + height, rise),
+            (py0, py1),
+        );
         let top = design.masks.tooth_top_um;
         let etched = EtchedShape {
             tooth_tops_um: match design.masks.tooth_cell {
@@ -294,7 +302,7 @@ impl SensorGeometry {
 fn tooth_footprints(
     masks: &MaskSet,
     (run_out_um, inset): (f64, f64),
-    thickness_um: f64,
+    (thickness_um, rise_um): (f64, f64),
     (py0, py1): (f64, f64),
 ) -> Vec<ThicknessRegion> {
     if masks.tooth_cell.is_none() {
@@ -318,6 +326,7 @@ fn tooth_footprints(
                 x1_um: x1,
                 y1_um: y1,
                 thickness_um,
+                rise_um,
             })
         })
         .collect()
