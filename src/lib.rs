@@ -49,7 +49,8 @@
 //!    its edges, nested down to the critical distance on one factorisation).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the
-//!    supports' elastic footing, [`sensor::footing`]), and reads the electrodes: thickness mode
+//!    supports' elastic footing, [`sensor::footing`]), pressing the upward faces only as the solid
+//!    does (no load on the teeth's {111} sidewalls), and reads the electrodes: thickness mode
 //!    Q = d33 F under the supports (on the footing the film bonded under the island, with the
 //!    footing's pressure through it and the support's bottom strain in it), extension mode
 //!    Q = integral of (d31 s1 + d32 s2) under the plate, V = Q / C. It refines the mesh until

@@ -91,6 +91,40 @@ impl Mirror {
         })
     }
 
+    /// Whether another load of the same case is `load`'s mirror image with the same force (the
+    /// sidewall corrections of a pair of mirrored teeth, [`super::scene`]): polygons and lines.
+    fn has_image(&self, load: &Load, case: &[Load]) -> bool {
+        let shape = |l: &Load| -> Option<(Vec<(f64, f64)>, f64)> {
+            match l {
+                Load::Polygon {
+                    points_um,
+                    total_force_n,
+                } => Some((points_um.clone(), *total_force_n)),
+                Load::Line {
+                    x0_um,
+                    y0_um,
+                    x1_um,
+                    y1_um,
+                    total_force_n,
+                } => Some((vec![(*x0_um, *y0_um), (*x1_um, *y1_um)], *total_force_n)),
+                _ => None,
+            }
+        };
+        let Some((pts, f)) = shape(load) else {
+            return false;
+        };
+        let near = |a: (f64, f64), b: (f64, f64)| {
+            (a.0 - b.0).abs() <= TOL_UM && (a.1 - b.1).abs() <= TOL_UM
+        };
+        case.iter().filter_map(shape).any(|(q, g)| {
+            (g - f).abs() <= 1e-9 * f.abs()
+                && q.len() == pts.len()
+                && pts
+                    .iter()
+                    .all(|&p| q.iter().any(|&r| near(self.image(p), r)))
+        })
+    }
+
     /// Whether a plate load is its own mirror image.
     fn symmetric_load(&self, load: &Load) -> bool {
         match *load {
@@ -165,7 +199,10 @@ impl Symmetry {
         ];
         for m in candidates {
             let teeth = g.teeth.iter().all(|t| m.symmetric_region(t, &g.teeth));
-            let loads = cases.iter().flatten().all(|l| m.symmetric_load(l));
+            let loads = cases.iter().all(|case| {
+                case.iter()
+                    .all(|l| m.symmetric_load(l) || m.has_image(l, case))
+            });
             if teeth && loads && supports_symmetric(g, m) {
                 match m.along {
                     FeAxis::X => s.domain_um.3 = m.at_um,
@@ -316,6 +353,20 @@ impl Symmetry {
                         total_force_n: f,
                     }
                 }
+            })
+            // A load of a mirrored pair may lie wholly in the other part: its image is here.
+            .filter(|l| match l {
+                Load::Polygon { points_um, .. } => {
+                    points_um.len() >= 3 && polygon_area(points_um) != 0.0
+                }
+                Load::Line {
+                    x0_um,
+                    y0_um,
+                    x1_um,
+                    y1_um,
+                    ..
+                } => x0_um != x1_um || y0_um != y1_um,
+                _ => true,
             })
             .collect()
     }
