@@ -343,9 +343,9 @@ impl PlateSolution {
 
     /// Bottom-surface strain (eps_x, eps_y, gamma_xy) = (t/2) kappa (Kirchhoff kinematics eps = z
     /// kappa), t = local thickness: each section bends about its own mid-plane, so on a stepped
-    /// plate with a flat bottom the local neutral-axis offset is t/2; membrane coupling at
-    /// thickness steps is neglected.
-    /// On a von Karman solution the membrane strain is added: eps = eps0 + (t/2) kappa.
+    /// plate with a flat bottom the local neutral-axis offset is t/2 on the linear plate.
+    /// On a von Karman solution the membrane strain is added: eps = eps0 + z_b kappa, with the
+    /// bottom at z_b = t/2 - rise from the reference plane (`SolutionContext::rise_um`).
     #[track_caller]
     pub fn bottom_strain(&self, x_um: f64, y_um: f64) -> [f64; 3] {
         let (e, _, k) = self.at(x_um, y_um);

@@ -5,8 +5,10 @@
 //! Kinematics (von Karman; Reddy, Theory and Analysis of Elastic Plates and Shells, 2nd ed.,
 //! Eq. 3.3.10): membrane strain eps0 = (u_x + w_x^2 / 2, v_y + w_y^2 / 2, u_y + v_x + w_x w_y),
 //! curvature kappa = (-w_xx, -w_yy, -2 w_xy); resultants N = A eps0 with A = Q t, M = D kappa with
-//! D = Q t^3 / 12 (sections symmetric about their own mid-plane, as in the linear rung: no B
-//! coupling). The tangent stiffness (Reddy, An Introduction to Nonlinear FEM, 2nd ed., Eq. 7.3.21)
+//! D = Q t^3 / 12 for a section centred on the reference plane. A section whose own mid-plane
+//! sits at z from it (a tooth on the top face, [`crate::fe::ThicknessRegion::rise_um`]: z =
+//! -rise along +w) stretches there: N = A (eps0 + z kappa), i.e. B = A z and D + A z^2 about the
+//! reference (Reddy, Eq. 3.3.13). The tangent stiffness (Reddy, An Introduction to Nonlinear FEM, 2nd ed., Eq. 7.3.21)
 //! is int B^T A B + B_b^T D B_b + K_sigma dA with B = [B_m | B_nl(w)] and the initial-stress
 //! matrix K_sigma = int (N_x w,i_x w,j_x + N_y w,i_y w,j_y + N_xy (w,i_x w,j_y + w,i_y w,j_x)) dA.
 //!

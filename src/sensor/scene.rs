@@ -393,7 +393,7 @@ fn polygon_split(poly: &[(f64, f64)], force_n: f64, g: &SensorGeometry) -> Scene
     // The force per unit of the area pressed (the upward faces'), unless the load lies on
     // sidewalls alone (then over its whole area, as without teeth).
     let pressed: f64 = strips.iter().map(|s| s.2 - sidewall_area(&s.3)).sum();
-    let by_walls = strips.iter().any(|s| !s.3.is_empty()) && pressed > 1e-9 * area;
+    let by_walls = strips.iter().any(|s| !s.3.is_empty()) && pressed / area > 1e-9;
     let mut plate = Vec::new();
     let mut direct = Vec::new();
     for (side, c, a, on_walls) in strips {
