@@ -85,6 +85,11 @@ fn on_sidewalls(c: &[(f64, f64)], walls: &[([f64; 4], [f64; 4])], tol_um2: f64) 
         .collect()
 }
 
+/// No part of `poly` lies over a sidewall: a point or probe load may stay whole.
+fn clear_of_sidewalls(poly: &[(f64, f64)], g: &SensorGeometry) -> bool {
+    on_sidewalls(poly, &sidewalls(g), polygon_area(poly).abs()).is_empty()
+}
+
 /// Signed area of the sidewall parts [`on_sidewalls`] found.
 fn sidewall_area(parts: &[WallClip]) -> f64 {
     parts.iter().map(|p| p.1 - p.3).sum()
@@ -194,8 +199,7 @@ fn split_point(
     ];
     let mut s = polygon_split(&poly, force_n, g);
     let inside = y_um - h >= py0 && y_um + h <= py1 && x_um - h >= 0.0 && x_um + h <= l;
-    let area = polygon_area(&poly).abs();
-    if inside && on_sidewalls(&poly, &sidewalls(g), area).is_empty() {
+    if inside && clear_of_sidewalls(&poly, g) {
         s.plate = vec![Load::Point {
             x_um,
             y_um,
@@ -244,8 +248,7 @@ fn split_probe(
     let inside = poly
         .iter()
         .all(|&(x, y)| x >= 0.0 && x <= l && y >= py0 && y <= py1);
-    let area = polygon_area(&poly).abs();
-    if inside && on_sidewalls(&poly, &sidewalls(g), area).is_empty() {
+    if inside && clear_of_sidewalls(&poly, g) {
         s.plate = vec![Load::Probe {
             x_um,
             y_um,

@@ -69,11 +69,16 @@ impl Mirror {
     }
 
     fn symmetric_points(&self, pts: &[(f64, f64)]) -> bool {
+        self.maps_onto(pts, pts)
+    }
+
+    /// Every point of `from` has its image among `to`.
+    fn maps_onto(&self, from: &[(f64, f64)], to: &[(f64, f64)]) -> bool {
         let near = |a: (f64, f64), b: (f64, f64)| {
             (a.0 - b.0).abs() <= TOL_UM && (a.1 - b.1).abs() <= TOL_UM
         };
-        pts.iter()
-            .all(|&p| pts.iter().any(|&q| near(self.image(p), q)))
+        from.iter()
+            .all(|&p| to.iter().any(|&q| near(self.image(p), q)))
     }
 
     fn symmetric_region(&self, r: &ThicknessRegion, all: &[ThicknessRegion]) -> bool {
@@ -113,15 +118,8 @@ impl Mirror {
         let Some((pts, f)) = shape(load) else {
             return false;
         };
-        let near = |a: (f64, f64), b: (f64, f64)| {
-            (a.0 - b.0).abs() <= TOL_UM && (a.1 - b.1).abs() <= TOL_UM
-        };
         case.iter().filter_map(shape).any(|(q, g)| {
-            (g - f).abs() <= 1e-9 * f.abs()
-                && q.len() == pts.len()
-                && pts
-                    .iter()
-                    .all(|&p| q.iter().any(|&r| near(self.image(p), r)))
+            (g - f).abs() <= 1e-9 * f.abs() && q.len() == pts.len() && self.maps_onto(&pts, &q)
         })
     }
 
