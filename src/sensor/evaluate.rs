@@ -1393,7 +1393,12 @@ fn scene_report(
         quantities,
         touch_down: levels.touch[k].and_then(|c| c.touch_down(g, w_max.abs() * 1e6, f)),
         warnings,
-        convergence: convergence_records(history, &levels.cost, &levels.estimates[k]),
+        convergence: convergence_records(
+            history,
+            g.electrodes.len(),
+            &levels.cost,
+            &levels.estimates[k],
+        ),
         model: info,
     }
 }
@@ -1460,14 +1465,14 @@ fn scene_warnings(
 /// Per level: size, cost, the deflection and the largest electrode's charge, and the estimate.
 fn convergence_records(
     history: &[Vec<f64>],
+    n_electrodes: usize,
     cost: &[(f64, usize, usize, f64)],
     estimates: &[(Option<f64>, Option<f64>)],
 ) -> Vec<LevelRecord> {
-    // Charges are entries 1 ..= len - 3 (the last two are the reactions).
-    let largest = history.last().map(|q| {
-        (1..q.len().saturating_sub(2))
+    // Charges are entries 1 ..= n_electrodes ([`quantity_names`]: reactions and stresses follow).
+    let largest = history.last().and_then(|q| {
+        (1..=n_electrodes.min(q.len().saturating_sub(1)))
             .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
-            .unwrap_or(0)
     });
     cost.iter()
         .zip(history)

@@ -274,6 +274,18 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
     assert!(r.error_estimate.unwrap() >= est);
     let c = &r.convergence;
     assert!(c.len() >= 3);
+    // The history's charge column is the finest level's largest electrode (pC), not a stress.
+    let largest = r
+        .electrodes
+        .iter()
+        .map(|e| e.charge_pc)
+        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .unwrap();
+    assert!(
+        (c.last().unwrap().charge_pc - largest).abs() <= 1e-9 * largest.abs(),
+        "{} against {largest}",
+        c.last().unwrap().charge_pc
+    );
     for (k, w) in c.windows(2).enumerate() {
         // Level k splits every coarse interval SUBDIVISIONS[k] times in x and in y.
         let (n0, n1) = (SUBDIVISIONS[k], SUBDIVISIONS[k + 1]);
