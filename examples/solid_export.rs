@@ -8,7 +8,8 @@
 //! ```
 //!
 //! The model is built exactly as `tactfab fe PROCESS --scene SCENE --model solid` builds that
-//! level (the same `sensor::solid_mesh::build`, the same mirrors and base), then solved `runs`
+//! level (the same `sensor::solid_mesh::build`, the same mirrors and base, graded at the teeth
+//! the plate answer finds hottest), then solved `runs`
 //! times (median wall time of build + factorisation + solve + read-out) with faer on all cores.
 //! The peak resident memory of this process after the runs (`VmHWM`, before the export is
 //! assembled) is printed and stored as `results.peak_rss_mb`.
@@ -40,7 +41,7 @@ use std::path::PathBuf;
 use tactfab::design::Design;
 use tactfab::sensor::solid::MAX_SOLID_LEVELS;
 use tactfab::sensor::solid_export::export_scene;
-use tactfab::sensor::SensorGeometry;
+use tactfab::sensor::{evaluate, Accuracy, SensorGeometry};
 
 /// The process's peak resident set (`VmHWM` of /proc/self/status), MB; NaN where unreadable.
 fn peak_rss_mb() -> f64 {
@@ -84,7 +85,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or_else(|| format!("no scene `{}` in {}", pos[1], pos[0]))?
         .clone();
     let g = SensorGeometry::new(&design);
-    let mut e = export_scene(&g, &scene, g.base, level, symmetry, runs)?;
+    // Graded where `fe --model solid` grades: the teeth the plate answer finds hottest.
+    let plate = evaluate(&g, &scene, Accuracy::new(0.01, 8))?;
+    let mut e = export_scene(&g, &scene, g.base, level, symmetry, runs, &plate.hot_teeth)?;
     let rss = peak_rss_mb();
     e.results.peak_rss_mb = rss;
     std::fs::write(&out, serde_json::to_vec(&e)?)?;

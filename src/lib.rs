@@ -63,7 +63,9 @@
 //!    ([`sensor::TouchDown`]). [`sensor::solid`] is the top rung: the etched shape as a 3-D solid
 //!    (mapped {111} frusta and channel walls, the two PVDF films, the base), electrodes read from
 //!    their own film's stresses, solved linear or geometrically nonlinear as the ladder's plate
-//!    rung for the scene is, and compared quantity by quantity with that rung; the sharp {111}
+//!    rung for the scene is, graded at the base edges of the teeth that plate answer finds
+//!    hottest ([`sensor::SceneReport::hot_teeth`]), and compared quantity by quantity with that
+//!    rung; the sharp {111}
 //!    edges' and the teeth's base vertices' stress at the critical distance
 //!    ([`sensor::edge_stress`]) feeds its safety factor.
 //!    The plate rungs answer the teeth's base edges from a section of the edge solved once per

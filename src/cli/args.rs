@@ -207,9 +207,9 @@ pub struct FeArgs {
     /// Grade the coarsest mesh geometrically towards the load patches and tooth edges (by default
     /// only feature lines: on the bundled design grading cost 2.7x at 1 % and paid only for a
     /// centre load at 0.5 %). With `--model solid` or `--verify-solid` every solid level also
-    /// gets lines at 0.5 and 2 plate thicknesses either side of each tooth base edge: about 4x
-    /// the solid's dofs and memory, and its edge stresses and deflection where the uniform
-    /// levels leave them low (README).
+    /// gets lines at 0.5 and 2 plate thicknesses either side of every tooth's base edges: about
+    /// 4x the solid's dofs and memory (without it, only the teeth the plate finds hottest get
+    /// them, about 2x the uniform dofs: the worst edge where the plate ranks it, README).
     #[arg(long)]
     pub graded: bool,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)

@@ -76,9 +76,11 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     }
     if let Some(first) = built.solid_check.first() {
         let grading = if first.graded {
-            ", graded at the tooth base edges"
+            ", graded at the tooth base edges".to_string()
+        } else if first.graded_teeth > 0 {
+            ", graded at the plate's hottest teeth".to_string()
         } else {
-            " (uniform: can miss the worst tooth base; --graded)"
+            " (uniform: can miss the worst tooth base; --graded)".to_string()
         };
         out.push_str(&format!(
             "  solid rung: {} scenes on {} levels{grading}, in {}-solid-check.json\n",

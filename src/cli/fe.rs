@@ -368,11 +368,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             last.dofs,
             last.factor_entries as f64 * 8e-6,
             f(last.element_um, 0),
-            if r.graded {
-                ", graded at the tooth base edges"
-            } else {
-                ""
-            },
+            grading_text(r),
             secs
         );
         if r.contact_on_top_faces < 1.0 - 1e-9 {
@@ -525,7 +521,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 f(g.safety_factor, 2),
                 f(g.fracture_toughness_mpa_sqrt_m, 3)
             );
-            if !r.graded && r.levels.iter().any(|l| !l.readout.edge_stress.is_empty()) {
+            if r.graded_teeth == 0 && r.levels.iter().any(|l| !l.readout.edge_stress.is_empty()) {
                 // Measured on the bundled design: the uniform levels read the worst tooth base
                 // a third low, beyond their estimate (README, "--graded on the solid rung").
                 println!(
@@ -572,4 +568,18 @@ pub fn modes_text(m: &PlateModes) -> String {
         m.quasi_static_error_at_test
     ));
     s
+}
+
+/// How the solid's levels were graded, for its summary line (empty when uniform).
+fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
+    if r.graded {
+        ", graded at the tooth base edges".into()
+    } else if r.graded_teeth > 0 {
+        format!(
+            ", graded at the base edges of the {} teeth the plate finds hottest",
+            r.graded_teeth
+        )
+    } else {
+        String::new()
+    }
 }

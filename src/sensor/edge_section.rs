@@ -437,28 +437,26 @@ pub struct EdgeReading {
     pub at_um: [f64; 2],
 }
 
-/// The plate answer's largest tooth-base stress at L / 2: every base edge of every tooth in the
-/// part solved, at stations one submodel radius apart, the plate's drives read just on the street
-/// side of the edge. The stations keep two radii plus a run-out clear of the edge's ends: within
-/// a run-out of a base vertex the frustum's hip (two sidewalls meeting) makes the section 3-D,
-/// and the plate's step (where it bends as the sidewall) has its corner there, a plate-theory
-/// singularity that is not the structure's. What the vertices add is the section's model error,
-/// measured against the solid rung. Likewise the stations keep
-/// [`SECTION_CHANGE_CLEARANCE_THICKNESSES`] clear of where the support's section changes.
-pub fn plate_tooth_base_stress(
-    g: &SensorGeometry,
-    sol: &PlateSolution,
-    section: &EdgeSection,
-) -> Option<EdgeReading> {
+/// One station of [`plate_tooth_base_stress`]'s search: an upper bound of its stress (Pa), the
+/// plate's drives there, where it is (um) and the tooth (index into the etched tooth tops).
+struct Station {
+    bound_pa: f64,
+    drive: EdgeDrive,
+    at_um: [f64; 2],
+    tooth: usize,
+}
+
+/// Every station of the plate answer on the teeth's base edges, largest bound first (ties by
+/// place: the order is deterministic).
+fn stations(g: &SensorGeometry, sol: &PlateSolution, section: &EdgeSection) -> Vec<Station> {
     let ro = g.etched.tooth_run_out_um;
     let margin = 2.0 * section.radius_um + ro;
     let r = section.radius_um;
     let nudge = 1e-3 * g.plate_thickness_um;
     let changes = section_changes_um(g);
     let clearance = SECTION_CHANGE_CLEARANCE_THICKNESSES * g.plate_thickness_um;
-    // (bound, drive, where) per station; the exact stress only where the bound can still win.
-    let mut stations: Vec<(f64, EdgeDrive, [f64; 2])> = Vec::new();
-    let mut visit = |x: f64, y: f64, along_x: bool| {
+    let mut out: Vec<Station> = Vec::new();
+    let mut visit = |x: f64, y: f64, along_x: bool, tooth: usize| {
         if changes
             .iter()
             .any(|c| (c[0] - x).hypot(c[1] - y) < clearance)
@@ -476,9 +474,14 @@ pub fn plate_tooth_base_stress(
             p.curvature[t],
             p.membrane_strain[t],
         ];
-        stations.push((section.bound_pa(drive), drive, [x, y]));
+        out.push(Station {
+            bound_pa: section.bound_pa(drive),
+            drive,
+            at_um: [x, y],
+            tooth,
+        });
     };
-    for tt in &g.etched.tooth_tops_um {
+    for (tooth, tt) in g.etched.tooth_tops_um.iter().enumerate() {
         let (bx0, by0, bx1, by1) = (tt[0] - ro, tt[1] - ro, tt[2] + ro, tt[3] + ro);
         for (lo, hi, along_x) in [(bx0, bx1, true), (by0, by1, false)] {
             let (a, c) = (lo + margin, hi - margin);
@@ -489,34 +492,79 @@ pub fn plate_tooth_base_stress(
             for i in 0..=steps {
                 let v = a + (c - a) * i as f64 / steps as f64;
                 if along_x {
-                    visit(v, by0 - nudge, true);
-                    visit(v, by1 + nudge, true);
+                    visit(v, by0 - nudge, true, tooth);
+                    visit(v, by1 + nudge, true, tooth);
                 } else {
-                    visit(bx0 - nudge, v, false);
-                    visit(bx1 + nudge, v, false);
+                    visit(bx0 - nudge, v, false, tooth);
+                    visit(bx1 + nudge, v, false, tooth);
                 }
             }
         }
     }
-    stations.sort_by(|a, b| {
-        b.0.total_cmp(&a.0)
-            .then(a.2[0].total_cmp(&b.2[0]))
-            .then(a.2[1].total_cmp(&b.2[1]))
+    out.sort_by(|a, b| {
+        b.bound_pa
+            .total_cmp(&a.bound_pa)
+            .then(a.at_um[0].total_cmp(&b.at_um[0]))
+            .then(a.at_um[1].total_cmp(&b.at_um[1]))
     });
+    out
+}
+
+/// The plate answer's largest tooth-base stress at L / 2: every base edge of every tooth in the
+/// part solved, at stations one submodel radius apart, the plate's drives read just on the street
+/// side of the edge. The stations keep two radii plus a run-out clear of the edge's ends: within
+/// a run-out of a base vertex the frustum's hip (two sidewalls meeting) makes the section 3-D,
+/// and the plate's step (where it bends as the sidewall) has its corner there, a plate-theory
+/// singularity that is not the structure's. What the vertices add is the section's model error,
+/// measured against the solid rung. Likewise the stations keep
+/// [`SECTION_CHANGE_CLEARANCE_THICKNESSES`] clear of where the support's section changes.
+pub fn plate_tooth_base_stress(
+    g: &SensorGeometry,
+    sol: &PlateSolution,
+    section: &EdgeSection,
+) -> Option<EdgeReading> {
     let mut best: Option<EdgeReading> = None;
-    for (bound, drive, at_um) in stations {
-        if best.is_some_and(|b| bound <= b.stress_pa) {
+    // The exact stress only where the bound can still win.
+    for st in stations(g, sol, section) {
+        if best.is_some_and(|b| st.bound_pa <= b.stress_pa) {
             break;
         }
-        let s = section.stress_pa(drive);
+        let s = section.stress_pa(st.drive);
         if best.is_none_or(|b| s > b.stress_pa) {
             best = Some(EdgeReading {
                 stress_pa: s,
-                at_um,
+                at_um: st.at_um,
             });
         }
     }
     best
+}
+
+/// Teeth within this fraction of the plate's largest tooth-base stress are the solid rung's
+/// candidates for the worst edge \[choice\]: the plate's edge section reads the corner about a
+/// fifth low against the graded solid on the bundled design (README), so a tooth the plate puts
+/// a quarter below the largest may still be the solid's worst.
+pub const HOT_TOOTH_FRACTION: f64 = 0.75;
+
+/// The teeth (indices into the etched tooth tops, ascending) whose largest base-edge stress in
+/// the plate answer is at least [`HOT_TOOTH_FRACTION`] of the largest: where the solid rung
+/// grades its mesh by default.
+pub fn hot_teeth(g: &SensorGeometry, sol: &PlateSolution, section: &EdgeSection) -> Vec<usize> {
+    let all = stations(g, sol, section);
+    let mut best = 0f64;
+    let mut by_tooth = vec![0f64; g.etched.tooth_tops_um.len()];
+    for st in &all {
+        // Bounds fall: once one is under the fraction of the largest, no later station counts.
+        if st.bound_pa < HOT_TOOTH_FRACTION * best {
+            break;
+        }
+        let s = section.stress_pa(st.drive);
+        best = best.max(s);
+        by_tooth[st.tooth] = by_tooth[st.tooth].max(s);
+    }
+    (0..by_tooth.len())
+        .filter(|&i| best > 0.0 && by_tooth[i] >= HOT_TOOTH_FRACTION * best)
+        .collect()
 }
 
 #[cfg(test)]

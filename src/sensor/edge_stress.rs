@@ -609,6 +609,7 @@ mod tests {
             &[],
             Base::Rigid,
             SolidMeshOptions::level(2000.0, 0),
+            &[],
             None,
             None,
         )

@@ -200,6 +200,11 @@ pub struct SceneReport {
     pub warnings: Vec<Finding>,
     /// Per mesh level: size, cost, values and the estimate (`tactfab fe --convergence`).
     pub convergence: Vec<LevelRecord>,
+    /// The teeth (indices into the etched tooth tops) whose base-edge stress on the finest mesh
+    /// is within [`HOT_TOOTH_FRACTION`](super::edge_section::HOT_TOOTH_FRACTION) of the
+    /// largest: where the solid rung grades its mesh. Empty without the edge section.
+    #[serde(skip)]
+    pub hot_teeth: Vec<usize>,
 }
 
 /// Solves one scene; see [`evaluate_many`].
@@ -403,6 +408,7 @@ fn beam_report(
         touch_down: None,
         warnings: Vec::new(),
         convergence: Vec::new(),
+        hot_teeth: Vec::new(),
     }
 }
 
@@ -1399,6 +1405,11 @@ fn scene_report(
             &levels.cost,
             &levels.estimates[k],
         ),
+        hot_teeth: sol
+            .zip(levels.section.as_ref())
+            .map_or_else(Vec::new, |(s, section)| {
+                super::edge_section::hot_teeth(g, s, section)
+            }),
         model: info,
     }
 }

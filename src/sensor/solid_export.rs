@@ -164,7 +164,9 @@ fn face_name(axis: Axis3, outward: Outward) -> String {
 }
 
 /// Builds, solves (median of `runs` timed repeats) and exports `scene` at `level` as `fe --model
-/// solid` does (base `base`, mirrors where the die and the load allow unless `symmetry` is off).
+/// solid` does (base `base`, mirrors where the die and the load allow unless `symmetry` is off,
+/// graded at the base edges of `graded_teeth`: `fe` grades the plate answer's
+/// [`SceneReport::hot_teeth`](crate::sensor::SceneReport::hot_teeth)).
 /// Panics on a level of [`MAX_SOLID_LEVELS`] or more (misuse: callers check it); every failure of
 /// the model is an error.
 #[track_caller]
@@ -175,6 +177,7 @@ pub fn export_scene(
     level: usize,
     symmetry: bool,
     runs: usize,
+    graded_teeth: &[usize],
 ) -> Result<SolidExport, SensorError> {
     assert!(level < MAX_SOLID_LEVELS, "level {level} over the rung's");
     check_scene(scene, g)?;
@@ -193,8 +196,16 @@ pub fn export_scene(
     let mut phases_s = Vec::new();
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
-        let solid =
-            build(g, std::slice::from_ref(&loads), base, opts, mx, my).map_err(SensorError::Fe)?;
+        let solid = build(
+            g,
+            std::slice::from_ref(&loads),
+            base,
+            opts,
+            graded_teeth,
+            mx,
+            my,
+        )
+        .map_err(SensorError::Fe)?;
         let t1 = Instant::now();
         let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
         let t2 = Instant::now();

@@ -287,12 +287,15 @@ pub fn foundation_length_um(g: &SensorGeometry) -> f64 {
     (4.0 * dd / k).powf(0.25) * 1e6
 }
 
-/// Builds the solid model for the given top loads (one load case each).
+/// Builds the solid model for the given top loads (one load case each); the teeth in
+/// `graded_teeth` (indices into the etched tooth tops) get the [`TOOTH_EDGE_GRADING`] lines
+/// round their base edges, every tooth does under `opts.tooth_edge_grading`.
 pub fn build(
     g: &SensorGeometry,
     cases: &[Vec<TopLoad>],
     base: Base,
     opts: SolidMeshOptions,
+    graded_teeth: &[usize],
     mirror_x_um: Option<f64>,
     mirror_y_um: Option<f64>,
 ) -> FeResult<SensorSolid> {
@@ -373,14 +376,14 @@ pub fn build(
     }
     xs.extend(tx.from.iter().copied());
     ys.extend(ty.from.iter().copied());
-    if opts.tooth_edge_grading {
-        for k in TOOTH_EDGE_GRADING {
-            for e in &teeth.x {
-                xs.extend([e.0 - k * t, e.0 + k * t]);
-            }
-            for e in &teeth.y {
-                ys.extend([e.0 - k * t, e.0 + k * t]);
-            }
+    // `tooth_edges` lists each tooth's two edges in turn: edges 2 i and 2 i + 1 are tooth i's.
+    let graded = |edge: usize| opts.tooth_edge_grading || graded_teeth.contains(&(edge / 2));
+    for k in TOOTH_EDGE_GRADING {
+        for (_, e) in teeth.x.iter().enumerate().filter(|(i, _)| graded(*i)) {
+            xs.extend([e.0 - k * t, e.0 + k * t]);
+        }
+        for (_, e) in teeth.y.iter().enumerate().filter(|(i, _)| graded(*i)) {
+            ys.extend([e.0 - k * t, e.0 + k * t]);
         }
     }
     for case in cases {

@@ -1128,11 +1128,13 @@ fn the_support_sections_bring_the_bundled_plate_to_the_graded_solid() {
             "{force_n} N: S12 {}",
             q("S12")
         );
-        // Balanced to the Newton loop's tolerance (measured 3e-7).
+        // Balanced to the Newton loop's round-off floor: measured 3e-7 on the 25k-dof mesh,
+        // growing with the mesh under the sections' stiff coupled springs to 7.7e-5 on the 8th
+        // level (380k dofs; the clamp's 1.3e-8 there).
         rel_eq(
             r.reactions_n.support1 + r.reactions_n.support2,
             force_n,
-            1e-6,
+            2e-4,
         );
     };
     check(1.0, GRADED_SOLID_1N, [0.01, 0.01, 0.01, 0.02, 0.1]);
@@ -1150,4 +1152,34 @@ fn point_with_radius(force_n: f64, radius_um: f64) -> Scene {
         },
         limits: Limits::default(),
     }
+}
+
+#[test]
+fn the_plates_hot_teeth_hold_the_graded_solids_worst_tooth_base() {
+    // The solid rung grades its levels at the teeth the plate answer finds hottest. At 1 N on
+    // the centre the graded solid's worst tooth base is row 1's edge facing the street to row
+    // 0, at x 17.595, y 3.356 mm (README, "`--graded` on the solid rung"): that tooth must be
+    // among them, and not every tooth (else the grading is the 4x `--graded`).
+    let g = geometry(&[]);
+    let r = evaluate(&g, &point(15.0, 7.5, 1.0), Accuracy::new(0.01, 8)).unwrap();
+    let ro = g.etched.tooth_run_out_um;
+    let worst = g
+        .etched
+        .tooth_tops_um
+        .iter()
+        .position(|t| {
+            (t[1] - ro - 3355.66).abs() < 1.0 && t[0] - ro < 17595.0 && t[2] + ro > 17595.0
+        })
+        .expect("a tooth with that base edge");
+    assert!(r.hot_teeth.contains(&worst), "{:?}", r.hot_teeth);
+    assert!(
+        !r.hot_teeth.is_empty() && r.hot_teeth.len() < g.etched.tooth_tops_um.len() / 4,
+        "{:?}",
+        r.hot_teeth
+    );
+    assert!(r.hot_teeth.windows(2).all(|w| w[0] < w[1]));
+    // Without teeth the plate names none.
+    let plain = geometry(&["geometry.teeth.pattern=none"]);
+    let r = evaluate(&plain, &point(15.0, 7.5, 1.0), Accuracy::new(0.01, 8)).unwrap();
+    assert!(r.hot_teeth.is_empty());
 }

@@ -64,6 +64,7 @@ fn the_meshed_silicon_is_the_etched_silicon() {
         &[],
         base,
         SolidMeshOptions::level(2000.0, 0),
+        &[],
         None,
         None,
     )
@@ -104,8 +105,8 @@ fn supports_carry_the_load_and_each_scales_with_it() {
     // An off-centre load on a shortened die (three columns of teeth): equilibrium through the
     // films, the nearer support carrying more, and twice the force twice every reading.
     let g = geometry(&SHORT);
-    let one = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(1, true), &[]).unwrap();
-    let two = evaluate_solid(&g, &point(4500.0, 5000.0, 2.0), run(1, true), &[]).unwrap();
+    let one = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(1, true), &[], &[]).unwrap();
+    let two = evaluate_solid(&g, &point(4500.0, 5000.0, 2.0), run(1, true), &[], &[]).unwrap();
     let r1 = &one.levels[0].readout;
     let r2 = &two.levels[0].readout;
     assert!((r1.support1_n + r1.support2_n - 1.0).abs() < 1e-9, "{r1:?}");
@@ -141,8 +142,8 @@ fn edge_stress_follows_the_wedge_singularity_with_the_critical_distance() {
         .concat(),
     );
     let scene = point(4500.0, 5000.0, 1.0);
-    let a = evaluate_solid(&g, &scene, run(1, true), &[]).unwrap();
-    let b = evaluate_solid(&tough, &scene, run(1, true), &[]).unwrap();
+    let a = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
+    let b = evaluate_solid(&tough, &scene, run(1, true), &[], &[]).unwrap();
     let (ra, rb) = (&a.levels[0].readout, &b.levels[0].readout);
     for (x, y) in ra.edge_stress.iter().zip(&rb.edge_stress) {
         assert_eq!(x.kind, y.kind);
@@ -171,7 +172,7 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     // solution can only grow more compliant: the deflection under the load rises, and both
     // balance the load.
     let g = geometry(&SHORT);
-    let solve = |graded: bool| {
+    let solve = |graded: bool, teeth: &[usize]| {
         evaluate_solid(
             &g,
             &point(6000.0, 7500.0, 0.02),
@@ -180,11 +181,16 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
                 ..run(1, true)
             },
             &[],
+            teeth,
         )
         .unwrap()
     };
-    let (uniform, graded) = (solve(false), solve(true));
+    let (uniform, graded) = (solve(false, &[]), solve(true, &[]));
     assert!(!uniform.graded && graded.graded);
+    assert_eq!(
+        (uniform.graded_teeth, graded.graded_teeth),
+        (0, g.etched.tooth_tops_um.len())
+    );
     let (u, v) = (&uniform.levels[0], &graded.levels[0]);
     assert!(v.dofs > 2 * u.dofs, "{} {}", u.dofs, v.dofs);
     let (wu, wv) = (
@@ -192,7 +198,30 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
         v.readout.deflection_at_load_um,
     );
     assert!(wv > wu * (1.0 + 1e-3), "{wu} {wv}");
-    for r in [&u.readout, &v.readout] {
+    // One tooth graded (the one nearest the load, as the plate's hot teeth are): its lines only,
+    // between the two in dofs and in deflection (the spaces nest).
+    let near = (0..g.etched.tooth_tops_um.len())
+        .min_by(|&a, &b| {
+            let d = |i: usize| {
+                let t = g.etched.tooth_tops_um[i];
+                (0.5 * (t[0] + t[2]) - 6000.0).hypot(0.5 * (t[1] + t[3]) - 7500.0)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    let one = solve(false, &[near]);
+    assert!(!one.graded && one.graded_teeth == 1);
+    let o = &one.levels[0];
+    assert!(
+        u.dofs < o.dofs && o.dofs < v.dofs,
+        "{} {} {}",
+        u.dofs,
+        o.dofs,
+        v.dofs
+    );
+    let wo = o.readout.deflection_at_load_um;
+    assert!(wu < wo && wo < wv, "{wu} {wo} {wv}");
+    for r in [&u.readout, &o.readout, &v.readout] {
         let total = r.support1_n + r.support2_n;
         assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
     }
@@ -240,6 +269,7 @@ fn the_nonlinear_solid_stiffens_and_keeps_equilibrium_in_the_deformed_state() {
                 ..run(1, true)
             },
             &[],
+            &[],
         )
         .unwrap();
         assert_eq!(r.nonlinear, nonlinear);
@@ -279,7 +309,7 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     // Three levels refine in plane only; level 0 again with twice the bricks through the plate
     // measures what the thickness does to the edges' stresses, and their estimate includes it.
     let g = geometry(&SHORT);
-    let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[]).unwrap();
+    let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[], &[]).unwrap();
     assert_eq!(r.edge_thickness.len(), 3, "{:?}", r.edge_thickness);
     let lambda = tactfab::fe::solid::corner::williams_exponent(
         std::f64::consts::PI + 54.7356f64.to_radians(),
@@ -325,13 +355,13 @@ fn mirrored_parts_read_as_the_whole_die() {
     sets.push("geometry.teeth.pattern=matrix");
     let g = geometry(&sets);
     let scene = point(6000.0, 7500.0, 1.0);
-    let quarter = evaluate_solid(&g, &scene, run(1, true), &[]).unwrap();
+    let quarter = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
     assert!(
         quarter.part_solved.starts_with("quarter"),
         "{}",
         quarter.part_solved
     );
-    let whole = evaluate_solid(&g, &scene, run(1, false), &[]).unwrap();
+    let whole = evaluate_solid(&g, &scene, run(1, false), &[], &[]).unwrap();
     assert_eq!(whole.part_solved, "whole die");
     let (q, w) = (&quarter.levels[0].readout, &whole.levels[0].readout);
     let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-6 * scale;
@@ -378,6 +408,7 @@ fn contact_loads_find_the_tooth_tops() {
         &[loads],
         Base::Rigid,
         SolidMeshOptions::level(1000.0, 0),
+        &[],
         None,
         None,
     )
@@ -473,9 +504,11 @@ fn fe_model_solid_through_the_binary() {
         "{wall}"
     );
     assert!(!text.stdout.contains("safety factor -"), "{}", text.stdout);
-    // Uniform levels say what their edge estimate cannot see.
+    // The levels are graded where the plate finds the worst tooth base, and say so; the
+    // caveat of uniform levels is left out.
     assert!(
-        text.stdout.contains("can miss the worst tooth base"),
+        text.stdout.contains("teeth the plate finds hottest)")
+            && !text.stdout.contains("can miss the worst tooth base"),
         "{}",
         text.stdout
     );
@@ -568,7 +601,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     );
     assert!(
         run.stdout
-            .contains("solid rung: 4 scenes on 2 levels (uniform: can miss the worst tooth base"),
+            .contains("solid rung: 4 scenes on 2 levels, graded at the plate's hottest teeth"),
         "{}",
         run.stdout
     );
@@ -576,6 +609,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["scenes"].as_array().unwrap().len(), 4);
     assert_eq!(v["scenes"][0]["graded"], false);
+    assert!(v["scenes"][0]["graded_teeth"].as_u64().unwrap() > 0);
     let sf = &v["limits"][0][0];
     assert_eq!(sf["limit"], "min_safety_factor");
     assert_eq!(sf["passed"], false);

@@ -36,9 +36,9 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         nonlinear: false,
         graded: false,
     };
-    let rung = evaluate_solid(&g, &scene, run, &[]).unwrap();
+    let rung = evaluate_solid(&g, &scene, run, &[], &[]).unwrap();
     let r = &rung.levels[0].readout;
-    let ex = export_scene(&g, &scene, Base::Rigid, 0, true, 1).unwrap();
+    let ex = export_scene(&g, &scene, Base::Rigid, 0, true, 1, &[]).unwrap();
     let res = &ex.results;
     // The same model: bit-for-bit the same readings and dofs as the rung's level 0.
     assert_eq!(res.charge_pc, r.charge_pc);
