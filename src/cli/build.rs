@@ -79,8 +79,15 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             ", graded at the tooth base edges".to_string()
         } else if first.graded_teeth > 0 {
             ", graded at the plate's hottest teeth".to_string()
-        } else {
+        } else if first.levels.iter().any(|l| {
+            l.readout
+                .edge_stress
+                .iter()
+                .any(|e| e.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
+        }) {
             " (uniform: can miss the worst tooth base; --graded)".to_string()
+        } else {
+            String::new()
         };
         out.push_str(&format!(
             "  solid rung: {} scenes on {} levels{grading}, in {}-solid-check.json\n",

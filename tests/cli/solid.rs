@@ -688,6 +688,8 @@ fn the_support_section_brings_the_plain_plate_to_the_solid() {
         j["scenes"][0].clone()
     };
     let solid = read(&["--model", "solid", "--max-levels", "2"]);
+    // No teeth: nothing for the plate to rank, the solid's levels stay uniform.
+    assert_eq!(solid["graded_teeth"], 0);
     let q = |name: &str| {
         solid["quantities"]
             .as_array()
