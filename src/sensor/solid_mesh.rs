@@ -378,12 +378,24 @@ pub fn build(
     ys.extend(ty.from.iter().copied());
     // `tooth_edges` lists each tooth's two edges in turn: edges 2 i and 2 i + 1 are tooth i's.
     let graded = |edge: usize| opts.tooth_edge_grading || graded_teeth.contains(&(edge / 2));
+    // A listed tooth beyond a mirror is graded as its image in the part solved (the list may
+    // come from a plate solved whole or in another part).
+    let images = |v: f64, m: Option<f64>| -> [Option<f64>; 2] {
+        [
+            Some(v),
+            m.filter(|_| !opts.tooth_edge_grading).map(|m| 2.0 * m - v),
+        ]
+    };
     for k in TOOTH_EDGE_GRADING {
         for (_, e) in teeth.x.iter().enumerate().filter(|(i, _)| graded(*i)) {
-            xs.extend([e.0 - k * t, e.0 + k * t]);
+            for v in [e.0 - k * t, e.0 + k * t] {
+                xs.extend(images(v, mirror_x_um).into_iter().flatten());
+            }
         }
         for (_, e) in teeth.y.iter().enumerate().filter(|(i, _)| graded(*i)) {
-            ys.extend([e.0 - k * t, e.0 + k * t]);
+            for v in [e.0 - k * t, e.0 + k * t] {
+                ys.extend(images(v, mirror_y_um).into_iter().flatten());
+            }
         }
     }
     for case in cases {

@@ -166,6 +166,49 @@ fn edge_stress_follows_the_wedge_singularity_with_the_critical_distance() {
 }
 
 #[test]
+fn a_graded_tooth_beyond_the_mirror_grades_its_image() {
+    // The plate may name a tooth outside the part the solid solves: its mirror image in that
+    // part gets the lines, so either tooth of a mirrored pair grades the same mesh.
+    let g = geometry(&[]);
+    let w = g.width_um;
+    let tops = &g.etched.tooth_tops_um;
+    let (i, j) = (0..tops.len())
+        .find_map(|i| {
+            let t = tops[i];
+            (t[3] < 0.5 * w)
+                .then(|| {
+                    tops.iter().position(|u| {
+                        (u[0] - t[0]).abs() < 1e-6 && (u[1] - (w - t[3])).abs() < 1e-6
+                    })
+                })
+                .flatten()
+                .map(|j| (i, j))
+        })
+        .expect("a mirrored pair of teeth");
+    let lines = |teeth: &[usize]| {
+        let s = build(
+            &g,
+            &[],
+            Base::Rigid,
+            SolidMeshOptions::level(2000.0, 0),
+            teeth,
+            None,
+            Some(0.5 * w),
+        )
+        .unwrap();
+        let [x, y, _] = s.problem.grid.lines_um();
+        (x.to_vec(), y.to_vec())
+    };
+    let (below, above, none) = (lines(&[i]), lines(&[j]), lines(&[]));
+    assert_eq!(below.0.len(), above.0.len());
+    assert_eq!(below.1.len(), above.1.len());
+    for (a, b) in below.1.iter().zip(&above.1) {
+        assert!((a - b).abs() < 1e-6, "{a} {b}");
+    }
+    assert!(below.1.len() > none.1.len() && below.0.len() > none.0.len());
+}
+
+#[test]
 fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     // `--graded` adds grid lines round every tooth base edge: the graded mesh's space holds the
     // uniform one's (the lines split elements where the map is linear), so the conforming
