@@ -79,12 +79,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             ", graded at the tooth base edges".to_string()
         } else if first.graded_teeth > 0 {
             ", graded at the plate's hottest teeth".to_string()
-        } else if first.levels.iter().any(|l| {
-            l.readout
-                .edge_stress
-                .iter()
-                .any(|e| e.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
-        }) {
+        } else if first.reads_tooth_bases() {
             " (uniform: can miss the worst tooth base; --graded)".to_string()
         } else {
             String::new()

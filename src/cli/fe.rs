@@ -521,13 +521,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 f(g.safety_factor, 2),
                 f(g.fracture_toughness_mpa_sqrt_m, 3)
             );
-            let tooth_bases = r.levels.iter().any(|l| {
-                l.readout
-                    .edge_stress
-                    .iter()
-                    .any(|e| e.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
-            });
-            if r.graded_teeth == 0 && tooth_bases {
+            if r.graded_teeth == 0 && r.reads_tooth_bases() {
                 // Measured on the bundled design: the uniform levels read the worst tooth base
                 // a third low, beyond their estimate (README, "--graded on the solid rung").
                 println!(

@@ -360,6 +360,17 @@ impl super::SceneReport {
 }
 
 impl SolidReport {
+    /// True if a level read a tooth's base edge (the design has teeth whose corner the rung can
+    /// submodel): what the uniform levels' caveat is about.
+    pub fn reads_tooth_bases(&self) -> bool {
+        self.levels.iter().any(|l| {
+            l.readout
+                .edge_stress
+                .iter()
+                .any(|e| e.kind == EdgeKind::ToothBase)
+        })
+    }
+
     /// The stress the safety factor is judged on, on its unsafe side: the largest of
     /// [`SAFETY_STRESSES`], each extrapolated and raised by its own estimate, with its name
     /// (None if none was read).
