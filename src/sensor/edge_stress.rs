@@ -28,6 +28,7 @@
 //! on the sphere of L / 2 round the vertex and on the cylinders of L / 2 round its two edges out
 //! to 0.6 of the largest model's half-size (0.54 min(t, h)), where the edges' stations begin.
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fe::solid::corner::{
@@ -323,8 +324,8 @@ pub fn edge_stresses(
     read_um: f64,
 ) -> FeResult<Vec<EdgeStress>> {
     let all = edges(g, s);
-    let mut out = Vec::new();
-    for kind in [EdgeKind::ToothBase, EdgeKind::SupportEdge] {
+    let per_kind = |kind: EdgeKind| -> FeResult<Vec<EdgeStress>> {
+        let mut out = Vec::new();
         // (indicator, edge, station), the highest first.
         let mut ranked: Vec<(f64, &Edge, f64)> = all
             .iter()
@@ -338,26 +339,52 @@ pub fn edge_stresses(
         ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
         // Mirror images of a station rank alike: one of them stands for all.
         ranked.dedup_by(|b, a| (a.0 - b.0).abs() <= 1e-7 * a.0.abs());
-        let mut best: Option<EdgeStress> = None;
-        for &(_, edge, at) in ranked.iter().take(SECTIONS_PER_KIND) {
-            let (fine, c) = section(edge, at, read_um, RINGS_FINE, sol)?;
-            if best.as_ref().is_some_and(|b| b.stress_mpa >= fine * 1e-6) {
-                continue;
-            }
+        // The best sections in parallel (independent submodels on one field); the first
+        // largest answer is kept, as in rank order, and only it gets the coarser section.
+        let fine: Vec<(f64, CornerSolution)> = ranked
+            .par_iter()
+            .take(SECTIONS_PER_KIND)
+            .map(|&(_, edge, at)| section(edge, at, read_um, RINGS_FINE, sol))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect::<FeResult<_>>()?;
+        let top = fine
+            .iter()
+            .enumerate()
+            .fold(None, |b: Option<usize>, (i, f)| match b {
+                Some(j) if fine[j].0 >= f.0 => Some(j),
+                _ => Some(i),
+            });
+        if let Some(i) = top {
+            let (_, edge, at) = ranked[i];
+            let (value, c) = &fine[i];
             let (coarse, _) = section(edge, at, read_um, RINGS_COARSE, sol)?;
-            best = Some(EdgeStress {
+            out.push(EdgeStress {
                 kind,
-                stress_mpa: fine * 1e-6,
-                submodel_error_mpa: (fine - coarse).abs() * 1e-6,
+                stress_mpa: value * 1e-6,
+                submodel_error_mpa: (value - coarse).abs() * 1e-6,
                 at_um: edge.frame(at).origin_um,
                 read_at_um: read_um,
                 radius_um: c.rings_um().last().copied().unwrap_or(edge.radius_um),
                 along_edge_um: None,
             });
         }
-        out.extend(best);
-    }
-    out.extend(vertex_stress(g, s, sol, read_um)?);
+        Ok(out)
+    };
+    // The edges and the vertices at once.
+    let (edges, vertex) = rayon::join(
+        || {
+            [EdgeKind::ToothBase, EdgeKind::SupportEdge]
+                .par_iter()
+                .map(|&kind| per_kind(kind))
+                .collect::<Vec<_>>()
+                .into_iter()
+                .collect::<FeResult<Vec<_>>>()
+        },
+        || vertex_stress(g, s, sol, read_um),
+    );
+    let mut out: Vec<EdgeStress> = edges?.into_iter().flatten().collect();
+    out.extend(vertex?);
     Ok(out)
 }
 
@@ -508,9 +535,16 @@ fn vertex_stress(
         )?
         .critical_stress(read_um, rings, &die, only)
     };
+    // The best-ranked vertices in parallel; the first largest reading kept, as in rank order.
+    let fine: Vec<(VertexReading, VertexFrame)> = ranked
+        .par_iter()
+        .take(VERTICES_SUBMODELLED)
+        .map(|&(_, frame)| Ok((read(frame, VertexGrading::Fine, RINGS_FINE, None)?, frame)))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect::<FeResult<_>>()?;
     let mut best: Option<(VertexReading, VertexFrame)> = None;
-    for &(_, frame) in ranked.iter().take(VERTICES_SUBMODELLED) {
-        let r = read(frame, VertexGrading::Fine, RINGS_FINE, None)?;
+    for (r, frame) in fine {
         if best.as_ref().is_none_or(|b| r.stress_pa > b.0.stress_pa) {
             best = Some((r, frame));
         }

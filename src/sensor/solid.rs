@@ -13,7 +13,7 @@ use crate::process::{Scene, SceneLoad};
 use super::check::{check_scene, SensorError};
 use super::edge_stress::{thickness_checks, EdgeKind, EdgeThicknessCheck};
 use super::geometry::{ElectrodeSide, SensorGeometry};
-use super::solid_mesh::{build, Base, SolidMeshOptions, TopLoad};
+use super::solid_mesh::{build, Base, SensorSolid, SolidMeshOptions, TopLoad};
 use super::solid_readout::{read, SolidReadout};
 
 /// Coarsest in-plane element of the solid rung (um) \[choice\]: the tooth pitch's third, so the
@@ -399,6 +399,86 @@ impl SolidReport {
     }
 }
 
+/// A scene as the solid rung meshes it: its top loads, where its deflection is read, its
+/// contact patch and the mirrors of the part solved. [`evaluate_solid`] and the export
+/// ([`super::solid_export::export_scene`]) both start here, so the export is one of the rung's
+/// levels by construction.
+pub(crate) struct SceneModel {
+    pub loads: Vec<TopLoad>,
+    /// Where the deflection is read (um).
+    pub at_um: (f64, f64),
+    /// The contact patch (x0, y0, x1, y1), um.
+    pub patch_um: [f64; 4],
+    pub mirror_x_um: Option<f64>,
+    pub mirror_y_um: Option<f64>,
+}
+
+impl SceneModel {
+    /// The scene checked against the design; mirrored where `symmetry` and the die and load
+    /// allow.
+    pub(crate) fn new(
+        g: &SensorGeometry,
+        scene: &Scene,
+        symmetry: bool,
+    ) -> Result<Self, SensorError> {
+        check_scene(scene, g)?;
+        let (loads, at_um) = top_loads(g, &scene.load);
+        let p = super::scene::split(&scene.load, g).patch;
+        let (mirror_x_um, mirror_y_um) = if symmetry {
+            mirrors(g, &loads)
+        } else {
+            (None, None)
+        };
+        Ok(SceneModel {
+            loads,
+            at_um,
+            patch_um: [p.x0_um, p.y0_um, p.x1_um, p.y1_um],
+            mirror_x_um,
+            mirror_y_um,
+        })
+    }
+
+    /// The total force of the loads (N).
+    pub(crate) fn force_n(&self) -> f64 {
+        self.loads
+            .iter()
+            .map(|l| match l {
+                TopLoad::Patch { force_n, .. } | TopLoad::Point { force_n, .. } => *force_n,
+            })
+            .sum()
+    }
+
+    /// The solid of one mesh, graded at the base edges of `graded_teeth`.
+    pub(crate) fn build(
+        &self,
+        g: &SensorGeometry,
+        base: Base,
+        opts: SolidMeshOptions,
+        graded_teeth: &[usize],
+    ) -> Result<SensorSolid, SensorError> {
+        build(
+            g,
+            std::slice::from_ref(&self.loads),
+            base,
+            opts,
+            graded_teeth,
+            self.mirror_x_um,
+            self.mirror_y_um,
+        )
+        .map_err(SensorError::Fe)
+    }
+
+    /// The read-out of a solved solid of this scene.
+    pub(crate) fn read(
+        &self,
+        g: &SensorGeometry,
+        solid: &SensorSolid,
+        sol: &impl crate::fe::solid::SolidField,
+    ) -> Result<SolidReadout, SensorError> {
+        read(g, solid, sol, self.at_um, self.patch_um).map_err(SensorError::Fe)
+    }
+}
+
 /// How the solid rung is run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolidRun {
@@ -426,23 +506,10 @@ pub fn evaluate_solid(
     plate: &[(String, f64)],
     graded_teeth: &[usize],
 ) -> Result<SolidReport, SensorError> {
-    check_scene(scene, g)?;
+    let scene_model = SceneModel::new(g, scene, run.symmetry)?;
     let (base, tol) = (run.base, run.tol);
     let levels = run.levels.clamp(1, MAX_SOLID_LEVELS);
-    let (loads, at) = top_loads(g, &scene.load);
-    let p = super::scene::split(&scene.load, g).patch;
-    let patch = [p.x0_um, p.y0_um, p.x1_um, p.y1_um];
-    let (mx, my) = if run.symmetry {
-        mirrors(g, &loads)
-    } else {
-        (None, None)
-    };
-    let force_n = loads
-        .iter()
-        .map(|l| match l {
-            TopLoad::Patch { force_n, .. } | TopLoad::Point { force_n, .. } => *force_n,
-        })
-        .sum();
+    let force_n = scene_model.force_n();
     let mut out = Vec::new();
     let mut contact = 1.0f64;
     // One mesh solved and read; the nonlinear solve starts from a coarser field where there is
@@ -452,16 +519,7 @@ pub fn evaluate_solid(
          coarser: Option<&crate::fe::solid::TlSolution>|
          -> Result<(SolidLevel, f64, Option<crate::fe::solid::TlSolution>), SensorError> {
             let start = Instant::now();
-            let solid = build(
-                g,
-                std::slice::from_ref(&loads),
-                base,
-                opts,
-                graded_teeth,
-                mx,
-                my,
-            )
-            .map_err(SensorError::Fe)?;
+            let solid = scene_model.build(g, base, opts, graded_teeth)?;
             let (readout, dofs, factor_entries, newton, field) = if run.nonlinear {
                 let model =
                     TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
@@ -472,7 +530,7 @@ pub fn evaluate_solid(
                 }
                 .map_err(SensorError::Fe)?;
                 (
-                    read(g, &solid, &sol, at, patch).map_err(SensorError::Fe)?,
+                    scene_model.read(g, &solid, &sol)?,
                     model.n_free_dofs(),
                     model.factor_len(),
                     Some(sol.stats()),
@@ -484,7 +542,7 @@ pub fn evaluate_solid(
                     .solve(&solid.problem.load_cases)
                     .map_err(SensorError::Fe)?;
                 (
-                    read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?,
+                    scene_model.read(g, &solid, &sol[0])?,
                     model.n_free_dofs(),
                     model.factor_len(),
                     None,
@@ -576,7 +634,7 @@ pub fn evaluate_solid(
         .iter()
         .filter(|q| q.name != "max_principal_stress")
         .all(|q| q.discretisation.is_some_and(|d| d <= tol));
-    let part_solved = match (mx, my) {
+    let part_solved = match (scene_model.mirror_x_um, scene_model.mirror_y_um) {
         (None, None) => "whole die".to_string(),
         (Some(x), None) => format!("half, mirror x = {:.3} mm", x * 1e-3),
         (None, Some(y)) => format!("half, mirror y = {:.3} mm", y * 1e-3),

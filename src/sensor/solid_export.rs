@@ -17,11 +17,10 @@ use crate::fe::solid::dofs::SolidDofs;
 use crate::fe::solid::{hex27, Axis3, Outward, SolidLoad, SolidModel};
 use crate::process::{Axis, Scene};
 
-use super::check::{check_scene, SensorError};
+use super::check::SensorError;
 use super::geometry::{ElectrodeSide, SensorGeometry};
-use super::solid::{mirrors, top_loads, COARSE_ELEMENT_UM, MAX_SOLID_LEVELS};
-use super::solid_mesh::{build, Base, SolidMeshOptions, BASE, PVDF, SILICON};
-use super::solid_readout::read;
+use super::solid::{SceneModel, COARSE_ELEMENT_UM, MAX_SOLID_LEVELS};
+use super::solid_mesh::{Base, SolidMeshOptions, BASE, PVDF, SILICON};
 
 /// One material of the model.
 #[derive(Debug, Clone, Serialize)]
@@ -180,15 +179,7 @@ pub fn export_scene(
     graded_teeth: &[usize],
 ) -> Result<SolidExport, SensorError> {
     assert!(level < MAX_SOLID_LEVELS, "level {level} over the rung's");
-    check_scene(scene, g)?;
-    let (loads, at) = top_loads(g, &scene.load);
-    let p = super::scene::split(&scene.load, g).patch;
-    let patch = [p.x0_um, p.y0_um, p.x1_um, p.y1_um];
-    let (mx, my) = if symmetry {
-        mirrors(g, &loads)
-    } else {
-        (None, None)
-    };
+    let scene_model = SceneModel::new(g, scene, symmetry)?;
     let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
     // The same sequence as one level of `evaluate_solid`, timed whole.
     let mut times = Vec::new();
@@ -196,16 +187,7 @@ pub fn export_scene(
     let mut phases_s = Vec::new();
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
-        let solid = build(
-            g,
-            std::slice::from_ref(&loads),
-            base,
-            opts,
-            graded_teeth,
-            mx,
-            my,
-        )
-        .map_err(SensorError::Fe)?;
+        let solid = scene_model.build(g, base, opts, graded_teeth)?;
         let t1 = Instant::now();
         let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
         let t2 = Instant::now();
@@ -213,7 +195,7 @@ pub fn export_scene(
             .solve(&solid.problem.load_cases)
             .map_err(SensorError::Fe)?;
         let t3 = Instant::now();
-        let readout = read(g, &solid, &sol[0], at, patch).map_err(SensorError::Fe)?;
+        let readout = scene_model.read(g, &solid, &sol[0])?;
         let t4 = Instant::now();
         times.push((t4 - t0).as_secs_f64());
         let b = model.timings();
@@ -407,8 +389,8 @@ pub fn export_scene(
         scene: scene.name.clone(),
         level,
         element_um: opts.element_um,
-        mirror_x_um: mx,
-        mirror_y_um: my,
+        mirror_x_um: scene_model.mirror_x_um,
+        mirror_y_um: scene_model.mirror_y_um,
         node_order: "a + 3 b + 9 c at (xi, eta, zeta) = (a - 1, b - 1, c - 1), xi along x",
         voigt_order: ["xx", "yy", "zz", "yz", "xz", "xy"],
         nodes_um,
@@ -435,7 +417,7 @@ pub fn export_scene(
             die_centre_y_um: 0.5 * g.width_um,
         },
         electrodes,
-        deflection_point_um: [at.0, at.1, lay.plate_mid_um()],
+        deflection_point_um: [scene_model.at_um.0, scene_model.at_um.1, lay.plate_mid_um()],
         results: ExportResults {
             free_dofs: model.n_free_dofs(),
             factor_entries: model.factor_len(),

@@ -10,7 +10,8 @@ use crate::fe::solid::principal::principal_stresses_pa;
 use crate::fe::solid::solution::{PrincipalPeak, SolidSolution};
 
 /// A solved displacement field on a [`HexGrid`] with a stress at every material point.
-pub trait SolidField {
+/// `Sync`: the read-outs' submodels run in parallel on one field.
+pub trait SolidField: Sync {
     /// The grid solved.
     fn grid(&self) -> &HexGrid;
     /// Undeformed node positions (after the node map), um.

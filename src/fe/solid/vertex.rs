@@ -28,6 +28,7 @@ use crate::fe::solid::problem::{Axis3, Constraint, NodeSet, SolidProblem};
 use crate::fe::solid::solution::SolidSolution;
 use crate::fe::solid::solve::SolidModel;
 use crate::fe::{FeError, FeResult};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A vertex's frame in the solid: the vertex and its axes (x, y along the two edges into the
@@ -557,15 +558,21 @@ impl VertexChain<'_> {
             stations.push(s);
             s *= 0.5;
         }
-        for edge in 0..2 {
-            for &s in &stations {
-                let place = VertexPlace::Edge { edge, s_um: s };
-                if wanted(place) {
-                    let v =
-                        self.section(edge, s, SECTION_RADIUS * s, read_um, rings, material_die)?;
-                    take(v, place);
-                }
-            }
+        // Independent submodels: solved in parallel, taken in order (the first largest wins).
+        let places: Vec<(usize, f64)> = (0..2)
+            .flat_map(|edge| stations.iter().map(move |&s| (edge, s)))
+            .filter(|&(edge, s)| wanted(VertexPlace::Edge { edge, s_um: s }))
+            .collect();
+        let values: Vec<f64> = places
+            .par_iter()
+            .map(|&(edge, s)| {
+                self.section(edge, s, SECTION_RADIUS * s, read_um, rings, material_die)
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect::<FeResult<_>>()?;
+        for (&(edge, s), v) in places.iter().zip(values) {
+            take(v, VertexPlace::Edge { edge, s_um: s });
         }
         if best.stress_pa.is_finite() {
             Ok(best)
