@@ -1,7 +1,8 @@
 //! The solid rung's model of one scene at one mesh level, written out for an independent code
 //! (issue 16: `benches/solid_peer.py` re-solves it with scikit-fem). Built exactly as
-//! `fe --model solid` builds that level (the same [`build`], the same mirrors), then solved and
-//! read by tactfab, whose results travel with the model.
+//! `fe --model solid` builds that level (both start from the rung's scene model: the same loads,
+//! mirrors and [`super::solid_mesh::build`]), then solved and read by tactfab, whose results
+//! travel with the model.
 //!
 //! The file is one JSON object ([`SolidExport`]); units are in the field names (um, Pa, N, m,
 //! pC/N). Node order of an element: tactfab's [`hex27`] local order, node `a + 3 b + 9 c` at the
