@@ -77,6 +77,9 @@ const MIN_STEP: f64 = 1e-4;
 /// once (52 kB each) while keeping both cores busy.
 const CHUNK: usize = 256;
 
+/// One element's nodes, internal force and (if asked) tangent, 81 x 81 row-major.
+type ElementForce = ([usize; NODES], [f64; DOFS], Option<Vec<f64>>);
+
 /// Newton and load-stepping controls.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TlOptions {
@@ -236,8 +239,10 @@ impl TlSolid {
         let mut magnitude = vec![0.0; u.len()];
         let mut vals = with_tangent.then(|| vec![0.0; self.pattern.nnz()]);
         let mut product = apply.map(|_| vec![0.0; u.len()]);
-        for chunk in self.active.chunks(CHUNK) {
-            let done: Vec<_> = chunk
+        // Each chunk's element forces and tangents in parallel, added in element order (so the
+        // sums do not depend on the threads) while the next chunk is computed.
+        let compute = |chunk: &[usize]| -> Result<Vec<_>, StepFailure> {
+            chunk
                 .par_iter()
                 .map(|&e| {
                     let nodes = grid.element_nodes(e);
@@ -255,7 +260,9 @@ impl TlSolid {
                             )
                         })
                 })
-                .collect::<Result<_, _>>()?;
+                .collect::<Result<_, _>>()
+        };
+        let mut add = |done: Vec<ElementForce>| {
             for (nodes, f, k) in done {
                 for (i, v) in f.iter().enumerate() {
                     let d = 3 * nodes[i / 3] + i % 3;
@@ -274,6 +281,15 @@ impl TlSolid {
                     self.scatter(vals, &nodes, &k);
                 }
             }
+        };
+        let mut pending = None;
+        for chunk in self.active.chunks(CHUNK) {
+            let last = pending.take();
+            let (_, next) = rayon::join(|| last.map(&mut add), || compute(chunk));
+            pending = Some(next?);
+        }
+        if let Some(done) = pending {
+            add(done);
         }
         Ok(Internal {
             force: r,
@@ -283,26 +299,40 @@ impl TlSolid {
         })
     }
 
-    /// Adds an element matrix into the lower-triangle values.
+    /// Adds an element matrix into the lower-triangle values: the element's free dofs sorted by
+    /// row, each column's rows merged with them in one pass (a binary search per entry made the
+    /// scatter 1.5 s of a 2 s tangent on the sensor's 333k-dof level, 1.0 s now, and it runs
+    /// while the next chunk's element tangents are computed).
     fn scatter(&self, vals: &mut [f64], nodes: &[usize; NODES], k: &[f64]) {
         let dofs = &self.ctx.dofs;
         let nf = dofs.n_free();
         let col_ptr = self.pattern.symbolic.col_ptr();
         let row_idx = self.pattern.symbolic.row_idx();
-        for q in 0..DOFS {
-            let c = dofs.free_index[3 * nodes[q / 3] + q % 3];
-            if c >= nf {
-                continue;
+        // (free index, local dof) of the element's free dofs, by free index.
+        let mut free = [(0usize, 0usize); DOFS];
+        let mut n = 0;
+        for p in 0..DOFS {
+            let r = dofs.free_index[3 * nodes[p / 3] + p % 3];
+            if r < nf {
+                free[n] = (r, p);
+                n += 1;
             }
+        }
+        let free = &mut free[..n];
+        free.sort_unstable();
+        for (i, &(c, q)) in free.iter().enumerate() {
             let (s, t) = (col_ptr[c], col_ptr[c + 1]);
             let rows = &row_idx[s..t];
-            for p in 0..DOFS {
-                let r = dofs.free_index[3 * nodes[p / 3] + p % 3];
-                if r >= nf || r < c {
-                    continue;
+            let mut at = 0;
+            // Rows r >= c: this column's lower triangle.
+            // K_e is symmetric: row q read for column q (contiguous).
+            let kq = &k[q * DOFS..(q + 1) * DOFS];
+            for &(r, p) in &free[i..] {
+                while at < rows.len() && rows[at] < r {
+                    at += 1;
                 }
-                if let Ok(at) = rows.binary_search(&r) {
-                    vals[s + at] += k[p * DOFS + q];
+                if rows.get(at) == Some(&r) {
+                    vals[s + at] += kq[p];
                 }
             }
         }
