@@ -323,10 +323,10 @@ impl TlSolid {
         for (i, &(c, q)) in free.iter().enumerate() {
             let (s, t) = (col_ptr[c], col_ptr[c + 1]);
             let rows = &row_idx[s..t];
+            // K_e is symmetric (bit for bit): row q read for column q, contiguous.
+            let kq = &k[q * DOFS..(q + 1) * DOFS];
             let mut at = 0;
             // Rows r >= c: this column's lower triangle.
-            // K_e is symmetric: row q read for column q (contiguous).
-            let kq = &k[q * DOFS..(q + 1) * DOFS];
             for &(r, p) in &free[i..] {
                 while at < rows.len() && rows[at] < r {
                     at += 1;
