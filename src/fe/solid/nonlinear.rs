@@ -74,7 +74,8 @@ fn solve_with(llt: &CholeskyFactor, b: &[f64]) -> Vec<f64> {
 const MIN_STEP: f64 = 1e-4;
 
 /// Elements per parallel chunk of the assembly \[choice\]: bounds the element tangents held at
-/// once (52 kB each) while keeping both cores busy.
+/// once (52 kB each; two chunks, one added while the next is computed) while keeping both cores
+/// busy.
 const CHUNK: usize = 256;
 
 /// One element's nodes, internal force and (if asked) tangent, 81 x 81 row-major.
