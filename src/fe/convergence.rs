@@ -108,9 +108,14 @@ pub fn richardson_ratios(f3: f64, f2: f64, f1: f64, r32: f64, r21: f64) -> Richa
 /// judge their meshes by it.
 ///
 /// The limit is Richardson's f_ext ([`richardson_ratios`]); the error of a value f on one of the
-/// three meshes is max(|f - f_ext|, |f_ext - f1|, |f1 - f2| / (r21 - 1)). The last term is the
-/// first-order estimate of the finest mesh: an observed order above 1 is never trusted (Roache,
-/// 1998: use min(observed, formal) with the formal order of a corner-singular plate taken as 1).
+/// three meshes is max(|f - f_ext|, |f_ext - f1|, |f1 - f2| / (r21 - 1), |f2 - f3| / (r21 (r32 -
+/// 1))). The last two terms are the first-order estimates of the finest mesh from each pair of
+/// meshes: an observed order above 1 is never trusted (Roache, 1998: use min(observed, formal)
+/// with the formal order of a corner-singular plate taken as 1). With f = f_ext + C h^p and p <= 1
+/// the fine error is |f2 - f3| / (r21^p (r32^p - 1)) >= |f2 - f3| / (r21 (r32 - 1)), so the
+/// coarse pair bounds it too: that catches a plateau (f2 = f1 by chance, as the bundled design's
+/// tooth-base stress reads 1742, 1753, 1753, then 1771 and 1787 MPa on finer meshes), which the
+/// fine pair alone takes for convergence.
 /// Tooth corners keep the sensor pre-asymptotic on cheap meshes: on the bundled design the
 /// observed order of the deflection is 1.8 on subdivisions 1-2-3 but 1.2 on 4-8-16, so Richardson
 /// with the early order under-estimates the error of subdivision 3 about 2x (0.34 % against a
@@ -120,7 +125,8 @@ pub struct ThreeMesh {
     pub richardson: Richardson,
     /// Values on the coarse, medium and fine mesh.
     pub values: [f64; 3],
-    /// max(|f_ext - f1|, |f1 - f2| / (r21 - 1)): no value is closer to the limit than this.
+    /// max(|f_ext - f1|, |f1 - f2| / (r21 - 1), |f2 - f3| / (r21 (r32 - 1))): no value is closer
+    /// to the limit than this.
     floor: f64,
 }
 
@@ -129,7 +135,10 @@ impl ThreeMesh {
     #[track_caller]
     pub fn new(f3: f64, f2: f64, f1: f64, r32: f64, r21: f64) -> Self {
         let richardson = richardson_ratios(f3, f2, f1, r32, r21);
-        let floor = richardson.error_estimate.max((f1 - f2).abs() / (r21 - 1.0));
+        let floor = richardson
+            .error_estimate
+            .max((f1 - f2).abs() / (r21 - 1.0))
+            .max((f2 - f3).abs() / (r21 * (r32 - 1.0)));
         ThreeMesh {
             richardson,
             values: [f3, f2, f1],
@@ -186,6 +195,20 @@ mod tests {
         let e = richardson_ratios(1.0, 1.1, 1.17, 2.0, 1.5);
         assert_eq!(e.kind, ConvergenceKind::Divergent);
         assert!((e.error_estimate - 0.14).abs() < 1e-12);
+    }
+
+    /// A plateau (the bundled design's tooth-base stress on subdivisions 2, 3, 4; 1771 and then
+    /// 1787 MPa followed) is not convergence: the coarse pair's first-order estimate bounds the
+    /// fine error. For f = f_ext + C h that bound is exact.
+    #[test]
+    fn a_plateau_keeps_the_coarse_pairs_first_order_estimate() {
+        let (r32, r21) = (1.5, 4.0 / 3.0);
+        let e = ThreeMesh::new(1742.0, 1753.0, 1753.0, r32, r21);
+        assert!((e.fine_error() - 11.0 / (r21 * (r32 - 1.0))).abs() < 1e-9);
+        assert!(e.relative_error_of(1753.0) > 0.009, "{e:?}");
+        let f = |n: f64| 2.0 + 1.0 / n;
+        let e = ThreeMesh::new(f(2.0), f(3.0), f(4.0), r32, r21);
+        assert!((e.fine_error() - 0.25).abs() < 1e-12, "{e:?}");
     }
 
     #[test]

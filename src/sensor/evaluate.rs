@@ -586,7 +586,7 @@ fn evaluate_plate(
                 .collect::<Vec<_>>()
         };
     if acc.model == ModelChoice::LargeDeflection {
-        let levels = solve_levels(g, &loads, tol, max_levels, mesh, nonlinear)?;
+        let levels = solve_levels_per_part(g, &loads, tol, max_levels, mesh, nonlinear)?;
         return Ok(report_all(&levels, None, &|_| {
             "forced by --model large-deflection".into()
         }));
@@ -597,7 +597,11 @@ fn evaluate_plate(
     // needed for it; the linear ladder is climbed below only by the scenes that stay linear.
     let linear0 = solve_levels(g, &loads, tol, 1, mesh, Rung::Linear)?;
     let estimate = solve_levels(g, &loads, tol, 1, mesh, Rung::Estimate(opts))?;
-    let h0 = estimate.cost.first().map_or(0.0, |c| c.0);
+    let h0 = estimate
+        .cost
+        .first()
+        .and_then(|c| c.first())
+        .map_or(0.0, |c| c.0);
     let mut model: Vec<Vec<f64>> = (0..scenes.len())
         .map(|k| {
             linear_model_error(
@@ -625,7 +629,7 @@ fn evaluate_plate(
         None
     } else {
         let sub: Vec<SceneLoads> = climb_now.iter().map(|&k| loads[k].clone()).collect();
-        let levels = solve_levels(g, &sub, tol, max_levels, mesh, nonlinear)?;
+        let levels = solve_levels_per_part(g, &sub, tol, max_levels, mesh, nonlinear)?;
         for (j, &k) in climb_now.iter().enumerate() {
             model[k] = linear_model_error(
                 g,
@@ -740,7 +744,7 @@ fn evaluate_plate(
         return Ok(reports);
     }
     let sub: Vec<SceneLoads> = climb.iter().map(|&k| loads[k].clone()).collect();
-    let levels = solve_levels(g, &sub, tol, max_levels, mesh, nonlinear)?;
+    let levels = solve_levels_per_part(g, &sub, tol, max_levels, mesh, nonlinear)?;
     for (j, &k) in climb.iter().enumerate() {
         let why = reason(k, Some(&reports[k]));
         reports[k] = scene_report(g, &scenes[k], &sub[j], j, &levels, tol, None, why);
@@ -756,8 +760,8 @@ struct Levels {
     history: Vec<Vec<Vec<f64>>>,
     /// Per scene, per level: (worst discretisation estimate, observed order) after that level.
     estimates: Vec<Vec<(Option<f64>, Option<f64>)>>,
-    /// Per level: (element size, elements, dofs, ms).
-    cost: Vec<(f64, usize, usize, f64)>,
+    /// Per scene, per level solved: (element size, elements, dofs, ms).
+    cost: Vec<Vec<(f64, usize, usize, f64)>>,
     /// Per scene: the time of the levels it was solved on, its model, last solution and readings
     /// (a large-deflection scene stops at the level that meets the tolerance, the others go on).
     elapsed_ms: Vec<f64>,
@@ -770,6 +774,24 @@ struct Levels {
     /// scene the last level's worst tooth-base station.
     section: Option<super::edge_section::EdgeSection>,
     edges: Vec<Option<super::edge_section::EdgeReading>>,
+}
+
+impl Levels {
+    /// Nothing solved yet for `n` scenes.
+    fn new(n: usize) -> Self {
+        Levels {
+            history: vec![Vec::new(); n],
+            estimates: vec![Vec::new(); n],
+            cost: vec![Vec::new(); n],
+            elapsed_ms: vec![0.0; n],
+            solutions: vec![None; n],
+            info: vec![ModelInfo::direct(); n],
+            readouts: vec![None; n],
+            touch: vec![None; n],
+            section: None,
+            edges: vec![None; n],
+        }
+    }
 }
 
 /// The touch-down found on the coarsest mesh: that mesh's largest deflection at the scene's
@@ -810,6 +832,54 @@ fn latest(est: &[(Option<f64>, Option<f64>)]) -> (Option<f64>, Option<f64>) {
     est.last().copied().unwrap_or((None, None))
 }
 
+/// [`solve_levels`] for the large-deflection plate, each scene on the part of the plate its own
+/// mirrors allow. Its Newton solves are its own, so a symmetric scene need not solve the whole
+/// plate because another scene breaks a mirror (on the bundled design `line-y5mm` would double
+/// `centre-1n`'s dofs on its nine levels). The linear plate's scenes share one multi-column
+/// solve, and so one part: [`solve_levels`].
+fn solve_levels_per_part(
+    g: &SensorGeometry,
+    loads: &[SceneLoads],
+    tol: f64,
+    max_levels: usize,
+    mesh: MeshOptions,
+    rung: Rung,
+) -> Result<Levels, SensorError> {
+    let mut parts: Vec<(Symmetry, Vec<usize>)> = Vec::new();
+    if mesh.symmetry {
+        for (k, l) in loads.iter().enumerate() {
+            let sym = Symmetry::detect(g, std::slice::from_ref(&l.plate));
+            match parts.iter_mut().find(|(s, _)| *s == sym) {
+                Some((_, ks)) => ks.push(k),
+                None => parts.push((sym, vec![k])),
+            }
+        }
+    }
+    if parts.len() <= 1 {
+        return solve_levels(g, loads, tol, max_levels, mesh, rung);
+    }
+    let mut out = Levels::new(loads.len());
+    for (_, ks) in parts {
+        let sub: Vec<SceneLoads> = ks.iter().map(|&k| loads[k].clone()).collect();
+        let mut part = solve_levels(g, &sub, tol, max_levels, mesh, rung)?;
+        if part.section.is_some() {
+            out.section = part.section.take();
+        }
+        for (j, k) in ks.into_iter().enumerate() {
+            out.history[k] = std::mem::take(&mut part.history[j]);
+            out.estimates[k] = std::mem::take(&mut part.estimates[j]);
+            out.cost[k] = std::mem::take(&mut part.cost[j]);
+            out.elapsed_ms[k] = part.elapsed_ms[j];
+            out.solutions[k] = part.solutions[j].take();
+            out.info[k] = std::mem::replace(&mut part.info[j], ModelInfo::direct());
+            out.readouts[k] = part.readouts[j].take();
+            out.touch[k] = part.touch[j];
+            out.edges[k] = part.edges[j];
+        }
+    }
+    Ok(out)
+}
+
 /// Solves all scenes on the shared mesh sequence until every plate scene's discretisation
 /// estimate is under `tol` or `max_levels` ran.
 fn solve_levels(
@@ -829,18 +899,7 @@ fn solve_levels(
     };
     let part_cases: Vec<Vec<_>> = cases.iter().map(|c| sym.restrict(c)).collect();
     let n = loads.len();
-    let mut out = Levels {
-        history: vec![Vec::new(); n],
-        estimates: vec![Vec::new(); n],
-        cost: Vec::new(),
-        elapsed_ms: vec![0.0; n],
-        solutions: vec![None; n],
-        info: vec![ModelInfo::direct(); n],
-        readouts: vec![None; n],
-        touch: vec![None; n],
-        section: None,
-        edges: vec![None; n],
-    };
+    let mut out = Levels::new(n);
     if needs_plate {
         out.section = super::edge_section::tooth_base_section(g)?;
     }
@@ -885,8 +944,9 @@ fn solve_levels(
             vec![ctx.solve(level, &out.solutions, &active)?]
         };
         for solved in batch {
-            out.cost
-                .push((solved.h_um, solved.elements, solved.dofs, solved.ms));
+            for c in &mut out.cost {
+                c.push((solved.h_um, solved.elements, solved.dofs, solved.ms));
+            }
             for (k, (l, sol)) in loads.iter().zip(solved.solutions).enumerate() {
                 // Scenes without a plate load are read at every level (directly, no plate).
                 if l.plate.is_empty() || active[k] {
@@ -1402,7 +1462,7 @@ fn scene_report(
         convergence: convergence_records(
             history,
             g.electrodes.len(),
-            &levels.cost,
+            &levels.cost[k],
             &levels.estimates[k],
         ),
         hot_teeth: sol
