@@ -3,7 +3,7 @@
 use tactfab::report::{build, summary, Options, SolidCheck};
 
 use super::args::BuildArgs;
-use super::{design, origin, write_dir, Outcome, Progress};
+use super::{design, origin, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS};
 
 /// The summary's name.
 pub const SUMMARY: &str = "build.json";
@@ -16,7 +16,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
         verify_solid: args.verify_solid.then_some(SolidCheck {
-            levels: 2,
+            levels: VERIFY_SOLID_LEVELS.min(usize::from(args.accuracy.max_levels)),
             graded: args.graded,
         }),
     };
@@ -85,9 +85,10 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             String::new()
         };
         out.push_str(&format!(
-            "  solid rung: {} scenes on {} levels{grading}, in {}-solid-check.json\n",
+            "  solid rung: {} scenes on {} level{}{grading}, in {}-solid-check.json\n",
             built.solid_check.len(),
             first.levels.len(),
+            if first.levels.len() == 1 { "" } else { "s" },
             s.device
         ));
     }

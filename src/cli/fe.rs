@@ -86,7 +86,8 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     })
 }
 
-/// `--verify-solid`: each scene on the solid rung (2 levels, as `build --verify-solid`), whose
+/// `--verify-solid`: each scene on the solid rung ([`super::VERIFY_SOLID_LEVELS`] levels, fewer
+/// when `--max-levels` is lower, as `build --verify-solid`), whose
 /// differences become the plate answers' model error where the solid was compared with the rung
 /// that answered.
 fn verify_solid(
@@ -103,7 +104,7 @@ fn verify_solid(
         progress.message(solid_stage(&s.name, i, scenes.len()));
         let run = SolidRun {
             base: g.base,
-            levels: 2,
+            levels: super::VERIFY_SOLID_LEVELS.min(acc.max_levels),
             tol: acc.tol_rel,
             symmetry: !args.no_symmetry,
             nonlinear: false,

@@ -39,6 +39,10 @@ impl From<Outcome> for std::process::ExitCode {
     }
 }
 
+/// Solid levels of `--verify-solid` (`fe` and `build`), fewer when `--max-levels` is lower: the
+/// second takes minutes on the bundled design, a third would take tens of minutes.
+const VERIFY_SOLID_LEVELS: usize = 2;
+
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {
     let cli = Cli::parse();

@@ -735,11 +735,30 @@ fn evaluate_plate(
         .into_iter()
         .map(|r| r.expect("every scene reported"))
         .collect();
-    let climb: Vec<usize> = (0..scenes.len())
+    let unconverged: Vec<usize> = (0..scenes.len())
         .filter(|&k| !climb_now.contains(&k))
         .filter(|&k| !loads[k].plate.is_empty() && !reports[k].converged)
-        .filter(|&k| worst_model(k) > 0.0)
         .collect();
+    let (climb, stay_short): (Vec<usize>, Vec<usize>) = unconverged
+        .into_iter()
+        .partition(|&k| the_model_is_the_miss(&reports[k], tol));
+    for &k in &stay_short {
+        reports[k].model.reason = format!(
+            "auto: the linear plate stays, though it misses the tolerance {tol:.0e}: the miss \
+             is discretisation ({}), which the large-deflection plate on the same meshes would \
+             not close ({}); {}",
+            reports[k]
+                .error
+                .discretisation
+                .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}")),
+            basis(k),
+            if max_levels < SUBDIVISIONS.len() {
+                "more levels would (--max-levels)"
+            } else {
+                "the ladder's finest level is reached"
+            }
+        );
+    }
     if climb.is_empty() {
         return Ok(reports);
     }
@@ -750,6 +769,22 @@ fn evaluate_plate(
         reports[k] = scene_report(g, &scenes[k], &sub[j], j, &levels, tol, None, why);
     }
     Ok(reports)
+}
+
+/// Whether climbing to the large-deflection plate can bring the linear plate's unconverged scene
+/// closer to the tolerance: some quantity that misses it has a model error that either alone
+/// tips it over (its discretisation meets the tolerance, or is unknown: one level) or is the
+/// larger part of its error. A miss that is discretisation is not closed by another model on
+/// the same meshes, at several times the cost per level.
+fn the_model_is_the_miss(r: &SceneReport, tol: f64) -> bool {
+    r.quantities
+        .iter()
+        .filter(|q| q.name != STRESS_PEAK && !q.converged)
+        .any(|q| match (q.error.discretisation, q.error.model) {
+            (Some(d), Some(m)) => m > 0.0 && (d < tol || m >= d),
+            (None, Some(m)) => m > 0.0,
+            _ => false,
+        })
 }
 
 /// What the level loop leaves: per scene the history of its quantities
