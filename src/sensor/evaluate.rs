@@ -717,9 +717,7 @@ fn evaluate_plate(
             basis(k),
             linear.map_or_else(String::new, |r| format!(
                 ", discretisation {}",
-                r.error
-                    .discretisation
-                    .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}"))
+                discretisation_text(r)
             ))
         )
     };
@@ -747,10 +745,7 @@ fn evaluate_plate(
             "auto: the linear plate stays, though it misses the tolerance {tol:.0e}: the miss \
              is discretisation ({}), which the large-deflection plate on the same meshes would \
              not close ({}); {}",
-            reports[k]
-                .error
-                .discretisation
-                .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}")),
+            discretisation_text(&reports[k]),
             basis(k),
             if max_levels < SUBDIVISIONS.len() {
                 "more levels would (--max-levels)"
@@ -769,6 +764,13 @@ fn evaluate_plate(
         reports[k] = scene_report(g, &scenes[k], &sub[j], j, &levels, tol, None, why);
     }
     Ok(reports)
+}
+
+/// A report's worst discretisation estimate as the rung's reason prints it.
+fn discretisation_text(r: &SceneReport) -> String {
+    r.error
+        .discretisation
+        .map_or_else(|| "unknown".to_string(), |d| format!("{d:.2e}"))
 }
 
 /// Whether climbing to the large-deflection plate can bring the linear plate's unconverged scene
@@ -979,14 +981,12 @@ fn solve_levels(
             vec![ctx.solve(level, &out.solutions, &active)?]
         };
         for solved in batch {
-            for c in &mut out.cost {
-                c.push((solved.h_um, solved.elements, solved.dofs, solved.ms));
-            }
             for (k, (l, sol)) in loads.iter().zip(solved.solutions).enumerate() {
                 // Scenes without a plate load are read at every level (directly, no plate).
                 if l.plate.is_empty() || active[k] {
                     newton[k] += solved.iterations[k];
                     out.elapsed_ms[k] += solved.ms;
+                    out.cost[k].push((solved.h_um, solved.elements, solved.dofs, solved.ms));
                     out.info[k] = if needs_plate {
                         ModelInfo {
                             kind,
