@@ -3,6 +3,7 @@
 use tactfab::report::{build, summary, Options, SolidCheck};
 
 use super::args::BuildArgs;
+use super::output::count;
 use super::{design, origin, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS};
 
 /// The summary's name.
@@ -85,10 +86,9 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             String::new()
         };
         out.push_str(&format!(
-            "  solid rung: {} scenes on {} level{}{grading}, in {}-solid-check.json\n",
-            built.solid_check.len(),
-            first.levels.len(),
-            if first.levels.len() == 1 { "" } else { "s" },
+            "  solid rung: {} on {}{grading}, in {}-solid-check.json\n",
+            count(built.solid_check.len(), "scene"),
+            count(first.levels.len(), "level"),
             s.device
         ));
     }

@@ -10,7 +10,7 @@ use tactfab::sensor::{
 };
 
 use super::args::FeArgs;
-use super::output::f;
+use super::output::{count, f};
 use super::{design, Outcome};
 
 pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
@@ -137,8 +137,8 @@ fn solid_line(r: &SceneReport, solid: &tactfab::sensor::solid::SolidReport) -> S
         .next()
         .map_or_else(String::new, |(n, d)| format!("; the largest, {n}: {d:.1e}"));
     format!(
-        "  solid check ({} levels, {}): model error taken from the solid{worst}\n",
-        solid.levels.len(),
+        "  solid check ({}, {}): model error taken from the solid{worst}\n",
+        count(solid.levels.len(), "level"),
         if solid.nonlinear {
             "nonlinear"
         } else {
@@ -215,13 +215,13 @@ fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
 
 fn text(r: &SceneReport, failures: &[String]) -> String {
     let mut s = format!(
-        "scene `{}` ({} N): {} model, {} elements, {} dofs, {} levels, {} ms, estimated error {}\n",
+        "scene `{}` ({} N): {} model, {} elements, {} dofs, {}, {} ms, estimated error {}\n",
         r.scene,
         r.force_n,
         r.model.kind,
         r.model.elements,
         r.model.dofs,
-        r.model.levels,
+        count(r.model.levels, "level"),
         f(r.solve_ms, 1),
         r.error_estimate
             .map(|e| format!("{e:.1e}"))
@@ -349,7 +349,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         let last = r.levels.last().expect("a level");
         let secs: f64 = r.levels.iter().map(|l| l.seconds).sum();
         println!(
-            "scene `{}` ({} N): solid model ({}), {}; base {}; {} levels, {} dofs and {:.0} MB \
+            "scene `{}` ({} N): solid model ({}), {}; base {}; {}, {} dofs and {:.0} MB \
              of factor on the last (h {} um{}), {:.1} s",
             r.scene,
             f(r.force_n, 3),
@@ -358,14 +358,16 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 let fac: usize = r.levels.iter().filter_map(|l| l.factorisations).sum();
                 format!(
                     "geometrically nonlinear: Total Lagrangian, St. Venant-Kirchhoff, dead load; \
-                     {its} Newton iterations, {fac} factorisations"
+                     {}, {}",
+                    count(its, "Newton iteration"),
+                    count(fac, "factorisation")
                 )
             } else {
                 "linear".to_string()
             },
             r.part_solved,
             r.base,
-            r.levels.len(),
+            count(r.levels.len(), "level"),
             last.dofs,
             last.factor_entries as f64 * 8e-6,
             f(last.element_um, 0),
@@ -547,9 +549,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
 pub fn modes_text(m: &PlateModes) -> String {
     let mut s = format!(
         "natural frequencies: whole plate clamped at the supports, teeth and the PVDF film's \
-         mass ({} kg/m^2) included, {} levels, {} dofs\n",
+         mass ({} kg/m^2) included, {}, {} dofs\n",
         f(m.film_kg_per_m2, 4),
-        m.levels,
+        count(m.levels, "level"),
         m.dofs
     );
     for (i, mode) in m.modes.iter().enumerate() {

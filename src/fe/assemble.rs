@@ -74,6 +74,33 @@ impl ElementStiffness {
         }
         y
     }
+
+    /// [`Self::apply_on`] with each element's w taken less its mean corner deflection: the
+    /// same product in exact arithmetic (K annihilates a rigid translation), without the
+    /// round-off of |K| w_mean that on fine meshes adds up to a phantom vertical force (the
+    /// large-deflection plate's internal force does the same, `fe::vonkarman`).
+    pub fn apply_on_mean_free(
+        &self,
+        mesh: &RectMesh,
+        x: &[f64],
+        elements: impl IntoIterator<Item = usize>,
+    ) -> Vec<f64> {
+        let mut y = vec![0.0; x.len()];
+        for e in elements {
+            let k = &self.matrices[self.kind[e] as usize];
+            let dofs = element_dofs(mesh, e);
+            let mut xe: [f64; 16] = std::array::from_fn(|j| x[dofs[j]]);
+            let wbar = 0.25 * (xe[0] + xe[4] + xe[8] + xe[12]);
+            for c in 0..4 {
+                xe[4 * c] -= wbar;
+            }
+            for i in 0..16 {
+                let s: f64 = (0..16).map(|j| k[i][j] * xe[j]).sum();
+                y[dofs[i]] += s;
+            }
+        }
+        y
+    }
 }
 
 /// Sparsity pattern (CSC, lower triangle) of the free-free stiffness, built directly from the 3x3

@@ -1548,7 +1548,11 @@ fn scene_warnings(
             ),
             _ => Finding::warning(
                 SceneCode::NoErrorEstimate,
-                format!("{} mesh level(s) give no three-mesh estimate", info.levels),
+                if info.levels == 1 {
+                    "1 mesh level gives no three-mesh estimate".to_string()
+                } else {
+                    format!("{} mesh levels give no three-mesh estimate", info.levels)
+                },
             ),
         });
     }

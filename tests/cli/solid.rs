@@ -798,7 +798,7 @@ fn build_verify_solid_graded_grades_every_solid_level() {
     assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
     assert!(
         run.stdout
-            .contains("solid rung: 1 scenes on 2 levels, graded at the tooth base edges"),
+            .contains("solid rung: 1 scene on 2 levels, graded at the tooth base edges"),
         "{}",
         run.stdout
     );
