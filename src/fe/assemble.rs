@@ -63,16 +63,7 @@ impl ElementStiffness {
         x: &[f64],
         elements: impl IntoIterator<Item = usize>,
     ) -> Vec<f64> {
-        let mut y = vec![0.0; x.len()];
-        for e in elements {
-            let k = &self.matrices[self.kind[e] as usize];
-            let dofs = element_dofs(mesh, e);
-            for i in 0..16 {
-                let s: f64 = (0..16).map(|j| k[i][j] * x[dofs[j]]).sum();
-                y[dofs[i]] += s;
-            }
-        }
-        y
+        self.product(mesh, x, elements, false)
     }
 
     /// [`Self::apply_on`] with each element's w taken less its mean corner deflection: the
@@ -85,14 +76,26 @@ impl ElementStiffness {
         x: &[f64],
         elements: impl IntoIterator<Item = usize>,
     ) -> Vec<f64> {
+        self.product(mesh, x, elements, true)
+    }
+
+    fn product(
+        &self,
+        mesh: &RectMesh,
+        x: &[f64],
+        elements: impl IntoIterator<Item = usize>,
+        mean_free: bool,
+    ) -> Vec<f64> {
         let mut y = vec![0.0; x.len()];
         for e in elements {
             let k = &self.matrices[self.kind[e] as usize];
             let dofs = element_dofs(mesh, e);
             let mut xe: [f64; 16] = std::array::from_fn(|j| x[dofs[j]]);
-            let wbar = 0.25 * (xe[0] + xe[4] + xe[8] + xe[12]);
-            for c in 0..4 {
-                xe[4 * c] -= wbar;
+            if mean_free {
+                let wbar = 0.25 * (xe[0] + xe[4] + xe[8] + xe[12]);
+                for c in 0..4 {
+                    xe[4 * c] -= wbar;
+                }
             }
             for i in 0..16 {
                 let s: f64 = (0..16).map(|j| k[i][j] * xe[j]).sum();
