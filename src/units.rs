@@ -18,3 +18,13 @@ pub fn kelvin(temp_c: f64) -> f64 {
 pub fn fixed(x: f64, decimals: usize) -> String {
     format!("{x:.decimals$}")
 }
+
+/// `1 level`, `3 levels`: a count with its noun, plural when it is not one.
+///
+/// ```
+/// assert_eq!(tactfab::units::count(1, "level"), "1 level");
+/// assert_eq!(tactfab::units::count(3, "problem"), "3 problems");
+/// ```
+pub fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}

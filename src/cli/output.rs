@@ -12,7 +12,5 @@ pub fn checks(checks: &[Finding]) -> String {
 /// Fixed-decimal formatting so text output is stable.
 pub use tactfab::units::fixed as f;
 
-/// `1 level`, `3 levels`: a count with its noun, plural when it is not one.
-pub fn count(n: usize, noun: &str) -> String {
-    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
-}
+/// Counts with their nouns in text output.
+pub use tactfab::units::count;

@@ -11,7 +11,7 @@ use crate::fe::problem::{EdgeSpring, Load, PlateProblem};
 use crate::fe::solution::NodalReaction;
 use crate::fe::solution::{GroupReaction, PlateSolution, SolutionContext};
 use faer::sparse::SparseColMat;
-use faer::{Mat, MatMut};
+use faer::{Mat, MatMut, MatRef};
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -244,6 +244,16 @@ impl Factorised {
         self.dofs.n_free()
     }
 
+    /// Every dof's value for load case `c`: the prescribed ones, then column `c` of the free
+    /// solution `x`.
+    fn full_field(&self, u_fixed: &[f64], x: MatRef<'_, f64>, c: usize) -> Vec<f64> {
+        let mut u = u_fixed.to_vec();
+        for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
+            u[d] = x[(i, c)];
+        }
+        u
+    }
+
     /// One step of iterative refinement for a plate on edge springs, whose reactions are the
     /// springs' forces K_s u rather than a clamp's f - K u: the residual f - K u at the free
     /// dofs with each element's product taken on w less its mean corner deflection
@@ -256,10 +266,7 @@ impl Factorised {
         let free = &self.dofs.free_dofs;
         let mut res = Mat::<f64>::zeros(free.len(), forces.len());
         for (c, f) in forces.iter().enumerate() {
-            let mut u = u_fixed.to_vec();
-            for (i, &d) in free.iter().enumerate() {
-                u[d] = x[(i, c)];
-            }
+            let u = self.full_field(u_fixed, x.as_ref(), c);
             let mut ku = self.kel.apply_on_mean_free(mesh, &u, 0..mesh.n_elements());
             edge_spring::add_forces(&self.springs, &u, 4, &mut ku);
             for (i, &d) in free.iter().enumerate() {
@@ -304,10 +311,7 @@ impl Factorised {
         (0..load_cases.len())
             .into_par_iter()
             .map(|c| {
-                let mut u = u_fixed.clone();
-                for (i, &d) in self.dofs.free_dofs.iter().enumerate() {
-                    u[d] = rhs[(i, c)];
-                }
+                let u = self.full_field(&u_fixed, rhs.as_ref(), c);
                 if u.iter().any(|v| !v.is_finite()) {
                     return Err(FeError::NonFinite {
                         hint: "check material constants, thickness and load values for NaN/inf",

@@ -127,9 +127,9 @@ fn format_problems(problems: &[Problem]) -> String {
         out.push_str(&format!("... and {} more\n", n - MAX_PROBLEMS_SHOWN));
     }
     out.push_str(&format!(
-        "{n} problem{} found; nothing was written\n  hint: fix every line above; `tactfab check \
-         FILE` re-validates",
-        if n == 1 { "" } else { "s" }
+        "{} found; nothing was written\n  hint: fix every line above; `tactfab check FILE` \
+         re-validates",
+        crate::units::count(n, "problem")
     ));
     out
 }
