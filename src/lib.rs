@@ -74,6 +74,8 @@
 //!    Under `support_model: solid_section` the supports are plane-strain solid sections
 //!    ([`sensor::support_section`]: bare, and under the teeth that stand on them) whose coupled
 //!    springs hold the plate's edges piece by piece and whose film reads the support islands,
+//!    with a Pasternak term along the wall from a slab of the section moved as a wave along it
+//!    (the base spreading the load along the die, which plane strain cannot see),
 //!    and each tooth's step stands where it bends as the {111} sidewall
 //!    ([`sensor::frustum_step`]) with its mid-plane risen on the top face, so the
 //!    large-deflection plate couples the teeth's bending to its stretching

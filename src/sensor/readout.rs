@@ -120,6 +120,7 @@ fn edge_samples(
         stiffness: [[0.0; 2]; 2],
         normal_in_plane_pa: None,
         coupled: None,
+        along_wall: None,
     };
     let mut out = Vec::new();
     let Ok(segs) = edge_spring::segments(mesh, &line) else {
