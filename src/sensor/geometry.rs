@@ -66,7 +66,8 @@ pub struct SensorGeometry {
     pub base: Base,
     /// How the plate rungs hold the plate where the etched walls meet it.
     pub support_model: crate::process::SupportModel,
-    /// The supports' plane-strain section (`support_model: solid_section`), solved once here.
+    /// The supports' plane-strain sections and their stiffness along the wall (`support_model:
+    /// solid_section`), solved once here.
     #[serde(skip)]
     pub support_section:
         Option<Result<super::support_section::SupportSections, crate::fe::FeError>>,
