@@ -91,11 +91,11 @@ pub struct EdgeSpring {
     /// `stiffness` and `normal_in_plane_pa` there. The linear plate has no in-plane dofs and
     /// keeps `stiffness`.
     pub coupled: Option<[[f64; 3]; 3]>,
-    /// A Pasternak term along the line (Kerr 1964): the energy 1/2 int q'^T G q' dt of the
-    /// edge's motion q = (w, theta, u) along it, G per unit length [[N, N m, N], [N m, N m^2, N
-    /// m], [N, N m, N]] (symmetric, positive semi-definite): a support that spreads a motion
-    /// varying along the wall (the sensor's support sections measure it). The linear plate
-    /// takes its (w, theta) block.
+    /// A Pasternak term along the line (Pasternak's shear layer, reviewed by Kerr 1964): the
+    /// energy 1/2 int q'^T G q' dt of the edge's motion q = (w, theta, u) along it, G per unit
+    /// length [[N, N m, N], [N m, N m^2, N m], [N, N m, N]] (symmetric, positive
+    /// semi-definite): a support that spreads a motion varying along the wall (the sensor's
+    /// support sections measure it). The linear plate takes its (w, theta) block.
     pub along_wall: Option<[[f64; 3]; 3]>,
 }
 

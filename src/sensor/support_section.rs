@@ -582,7 +582,7 @@ fn edge_from_end(g: &SensorGeometry, k_end: [[f64; 3]; 3], stub: f64) -> FeResul
     let p = FLIP;
     let stiffness = std::array::from_fn(|i| std::array::from_fn(|j| p[i] * p[j] * k_s[i][j]));
     // The end's motion for a clamp-line motion d0: the clamp line's forces k_s d0 carried to
-    // the end over the stub (f_end = T^-T f0, T^-1 = RIGID_LINK^-1), then the end's compliance.
+    // the end over the stub (f_end = T^-T f0, T^-1 = `link_inverse`), then the end's compliance.
     let ti = link_inverse(l);
     let a: [[f64; 3]; 3] = std::array::from_fn(|i| {
         std::array::from_fn(|j| {
@@ -622,8 +622,9 @@ fn edge_stiffness(
 }
 
 /// Element sizes of the slab's section against the plane-strain section's \[choice\]: the
-/// difference K(k) - K(0) cancels most of the corner's error, so G moves by under 0.5 % from
-/// eight times coarser to one (`tests`; 4 s against 35 s, 0.5 GB against 1.7 GB at four).
+/// difference K(k) - K(0) cancels most of the corner's error, so G moves by under 1 % between
+/// eight times coarser and the section's own sizes (`tests` check four: 0.3 %). The slab takes
+/// 4 s at eight, 8 s and a 1.7 GB peak at four (the optimised dev build).
 const SLAB_SCALE: f64 = 8.0;
 
 /// Elements of the slab along its half wavelength \[choice\]: 27-node bricks; 16 move the
@@ -637,9 +638,10 @@ const SLAB_ELEMENTS: usize = 6;
 /// Cheung 1976) and by the same uniformly; the stub's own part is taken away with the stub
 /// alone on the same slab (clamped at the clamp line), and the edge's stiffness per unit
 /// length rises from K(0) to K(k). The plate takes the rise as a Pasternak term along its clamp
-/// line, K(k) = K(0) + k^2 G (Kerr 1964, Eq. 4's shear layer): G (plate signs; [[N, N m, N],
-/// [N m, N m^2, N m], [N, N m, N]] on (w', theta', u')) measured at the wavenumber of the
-/// channel floor's width as the half wavelength, the span's first mode along the wall.
+/// line, K(k) = K(0) + k^2 G (Pasternak's shear layer, as Kerr 1964 reviews it): G (plate
+/// signs; [[N, N m, N], [N m, N m^2, N m], [N, N m, N]] on (w', theta', u')) measured at the
+/// wavenumber of the channel floor's width as the half wavelength, the span's first mode along
+/// the wall.
 pub fn along_wall_stiffness(g: &SensorGeometry, scale: f64) -> FeResult<[[f64; 3]; 3]> {
     along_wall_on(g, scale, SLAB_ELEMENTS)
 }
