@@ -266,20 +266,51 @@ fn combine(v: &[Vec<f64>], q: &[Vec<f64>]) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The reduced problem K_r Q = M_r Q Lambda: M_r = L L^T (Cholesky), C = L^-1 K_r L^-T is
-/// symmetric with eigenvectors U, Q = L^-T U (so Q^T M_r Q = I). Eigenvalues ascending;
-/// `Q[k][j]` is row k of column j.
+/// The reduced problem K_r Q = M_r Q Lambda ([`definite_eigen`]), every eigenvalue positive.
 fn ritz(kr: &[Vec<f64>], mr: &[Vec<f64>]) -> FeResult<(Vec<f64>, Vec<Vec<f64>>)> {
+    let (lambda, qm) = definite_eigen(kr, mr).map_err(|e| match e {
+        DefiniteEigenError::NotDefinite => FeError::Eigen {
+            detail: "the trial vectors became linearly dependent".into(),
+            hint: "ask for fewer modes than the plate has free dofs",
+        },
+        DefiniteEigenError::Solver(detail) => FeError::Eigen {
+            detail,
+            hint: "check the plate's material, thickness and density for extreme values",
+        },
+    })?;
+    if lambda.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(FeError::Eigen {
+            detail: "a Ritz eigenvalue is not positive".into(),
+            hint: "the plate must be supported: a free plate has zero-frequency rigid modes",
+        });
+    }
+    Ok((lambda, qm))
+}
+
+/// Why [`definite_eigen`] failed.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum DefiniteEigenError {
+    /// B is not positive definite.
+    NotDefinite,
+    /// The dense symmetric eigen solver failed (its message).
+    Solver(String),
+}
+
+/// The symmetric-definite eigenproblem A Q = B Q Lambda (B positive definite): B = L L^T
+/// (Cholesky), C = L^-1 A L^-T is symmetric with eigenvectors U, Q = L^-T U (so Q^T B Q = I
+/// and Q^T A Q = Lambda; Golub & Van Loan, sec. 8.7.2). Eigenvalues ascending, of any sign;
+/// `Q[k][j]` is row k of column j.
+pub(crate) fn definite_eigen(
+    a: &[Vec<f64>],
+    b: &[Vec<f64>],
+) -> Result<(Vec<f64>, Vec<Vec<f64>>), DefiniteEigenError> {
+    let (kr, mr) = (a, b);
     let q = kr.len();
-    let dependent = || FeError::Eigen {
-        detail: "the trial vectors became linearly dependent".into(),
-        hint: "ask for fewer modes than the plate has free dofs",
-    };
     let mut l = vec![vec![0.0; q]; q];
     for j in 0..q {
         let d = mr[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
         if !(d > 0.0 && d.is_finite()) {
-            return Err(dependent());
+            return Err(DefiniteEigenError::NotDefinite);
         }
         l[j][j] = d.sqrt();
         for i in j + 1..q {
@@ -300,20 +331,11 @@ fn ritz(kr: &[Vec<f64>], mr: &[Vec<f64>]) -> FeResult<(Vec<f64>, Vec<Vec<f64>>)>
         .map(|c| forward(&(0..q).map(|k| z[k][c]).collect::<Vec<_>>()))
         .collect();
     let c = Mat::from_fn(q, q, |i, j| 0.5 * (c_cols[j][i] + c_cols[i][j]));
-    let eig = c
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| FeError::Eigen {
-            detail: format!("the reduced eigenproblem failed: {e:?}"),
-            hint: "check the plate's material, thickness and density for extreme values",
-        })?;
+    let eig = c.self_adjoint_eigen(Side::Lower).map_err(|e| {
+        DefiniteEigenError::Solver(format!("the reduced eigenproblem failed: {e:?}"))
+    })?;
     let (u, s) = (eig.U(), eig.S().column_vector());
     let lambda: Vec<f64> = (0..q).map(|i| s[i]).collect();
-    if lambda.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(FeError::Eigen {
-            detail: "a Ritz eigenvalue is not positive".into(),
-            hint: "the plate must be supported: a free plate has zero-frequency rigid modes",
-        });
-    }
     // Q = L^-T U by back substitution per column.
     let mut qm = vec![vec![0.0; q]; q];
     for j in 0..q {

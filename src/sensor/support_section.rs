@@ -128,15 +128,12 @@ impl SupportSection {
     fn solve(g: &SensorGeometry, refine: u32, tooth: Option<([f64; 2], bool)>) -> FeResult<Self> {
         let (problem, fr) = section_problem(g, 0.5f64.powi(refine as i32), tooth, None, false)?;
         let model = SolidModel::new(&problem)?;
-        let t = g.plate_thickness_um;
         let film_top = fr.film_top;
-        let (y_end, z_mid, floor_bottom, stub) = (fr.y_end, fr.z_mid, fr.floor_bottom, fr.stub);
-        let tol = 1e-6 * t;
-        let is_end = |p: [f64; 3]| (p[1] - y_end).abs() < tol && p[2] > floor_bottom - tol;
+        let is_end = |p: [f64; 3]| fr.is_end(p);
         // Film charge per column per unit end motion (pC/m).
         let mut film: Vec<(f64, f64, [f64; 3])> = Vec::new();
         let width_um = fr.length_um;
-        let k_end = end_stiffness(&model, "end", is_end, z_mid, width_um, |j, q, sol| {
+        let k_end = end_stiffness(&model, "end", is_end, fr.z_mid, width_um, |j, q, sol| {
             for (c, (y_lo, y_hi, charge)) in film_charges(g, sol, film_top)?.into_iter().enumerate()
             {
                 if j == 0 {
@@ -146,7 +143,7 @@ impl SupportSection {
             }
             Ok(())
         })?;
-        let (stiffness, a) = edge_from_end(g, k_end, stub)?;
+        let (stiffness, a) = edge_from_end(g, k_end, fr.stub)?;
         let p = FLIP;
         let film = film
             .into_iter()
@@ -314,6 +311,15 @@ struct SectionFrame {
     stub: f64,
     /// The section's length along the wall.
     length_um: f64,
+    /// Position tolerance (um).
+    tol_um: f64,
+}
+
+impl SectionFrame {
+    /// True at a node of the stub's end (the plate and the film under it).
+    fn is_end(&self, p: [f64; 3]) -> bool {
+        (p[1] - self.y_end).abs() < self.tol_um && p[2] > self.floor_bottom - self.tol_um
+    }
 }
 
 /// The section's solid problem: plane strain (`slab` None) or a slab `slab.0` um long along the
@@ -515,6 +521,7 @@ fn section_problem(
         y_end,
         stub,
         length_um: xs[xs.len() - 1] - xs[0],
+        tol_um: 1e-6 * t,
     };
     let big = 1e9;
     let mut end = Constraint::clamp(
@@ -652,13 +659,10 @@ fn along_wall_on(g: &SensorGeometry, scale: f64, n_x: usize) -> FeResult<[[f64; 
     let k = std::f64::consts::PI / (half_um * 1e-6);
     // [whole, stub] x [uniform, wave] end compliances.
     let mut c = [[[[0.0; 3]; 3]; 2]; 2];
-    let mut frame = None;
     for (part, stub_only) in [false, true].into_iter().enumerate() {
         let (problem, fr) = section_problem(g, scale, None, Some((half_um, n_x)), stub_only)?;
         let model = SolidModel::new(&problem)?;
-        let tol = 1e-6 * g.plate_thickness_um;
-        let (y_end, floor_bottom) = (fr.y_end, fr.floor_bottom);
-        let is_end = |p: [f64; 3]| (p[1] - y_end).abs() < tol && p[2] > floor_bottom - tol;
+        let is_end = |p: [f64; 3]| fr.is_end(p);
         for (wave, c) in c[part].iter_mut().enumerate() {
             let kx = if wave == 1 { k * 1e-6 } else { 0.0 };
             let norm = if wave == 1 { 0.5 * half_um } else { half_um };
@@ -674,9 +678,8 @@ fn along_wall_on(g: &SensorGeometry, scale: f64, n_x: usize) -> FeResult<[[f64; 
                 hint: "the support slab's end stiffness is singular",
             })?;
         }
-        frame = Some(fr);
     }
-    let l = frame.map_or(0.0, |f| f.stub * 1e-6);
+    let l = STUB_THICKNESSES * g.plate_thickness_um * 1e-6;
     let k0 = edge_stiffness(c[0][0], c[1][0], l)?;
     let kk = edge_stiffness(c[0][1], c[1][1], l)?;
     let p = FLIP;
@@ -695,41 +698,15 @@ fn semi_definite_part(g: [[f64; 3]; 3], k0: [[f64; 3]; 3]) -> FeResult<[[f64; 3]
         hint: "the support section's along-wall stiffness has no semi-definite part: refine the \
                section",
     };
-    // K0 = L L^T.
-    let mut l = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..=i {
-            let s = k0[i][j] - (0..j).map(|m| l[i][m] * l[j][m]).sum::<f64>();
-            if i == j {
-                if !(s > 0.0 && s.is_finite()) {
-                    return Err(fail());
-                }
-                l[i][i] = s.sqrt();
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    let li = hex27::inverse3(&l, hex27::det3(&l));
-    let sym = faer::Mat::from_fn(3, 3, |i, j| {
-        let a = |i: usize, j: usize| {
-            (0..3)
-                .map(|m| (0..3).map(|n| li[i][m] * g[m][n] * li[j][n]).sum::<f64>())
-                .sum::<f64>()
-        };
-        0.5 * (a(i, j) + a(j, i))
-    });
-    let eig = sym
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|_| fail())?;
-    let (v, lambda) = (eig.U(), eig.S().column_vector());
-    // L V max(Lambda, 0) V^T L^T.
-    let lv: [[f64; 3]; 3] =
-        std::array::from_fn(|i| std::array::from_fn(|c| (0..3).map(|m| l[i][m] * v[(m, c)]).sum()));
+    let rows = |m: [[f64; 3]; 3]| m.iter().map(|r| r.to_vec()).collect::<Vec<_>>();
+    let (lambda, q) = crate::fe::modal::definite_eigen(&rows(g), &rows(k0)).map_err(|_| fail())?;
+    // Q^T K0 Q = I and Q^T G Q = Lambda, so G = K0 Q Lambda Q^T K0: keep max(Lambda, 0).
+    let kq: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|c| (0..3).map(|m| k0[i][m] * q[m][c]).sum()));
     let out: [[f64; 3]; 3] = std::array::from_fn(|i| {
         std::array::from_fn(|j| {
             (0..3)
-                .map(|c| lambda[c].max(0.0) * lv[i][c] * lv[j][c])
+                .map(|c| lambda[c].max(0.0) * kq[i][c] * kq[j][c])
                 .sum()
         })
     });
@@ -830,9 +807,7 @@ mod tests {
         let end = |slab: Option<(f64, usize)>| {
             let (problem, fr) = section_problem(&g, SLAB_SCALE, None, slab, false).unwrap();
             let model = SolidModel::new(&problem).unwrap();
-            let tol = 1e-6 * g.plate_thickness_um;
-            let is_end =
-                |p: [f64; 3]| (p[1] - fr.y_end).abs() < tol && p[2] > fr.floor_bottom - tol;
+            let is_end = |p: [f64; 3]| fr.is_end(p);
             end_stiffness(&model, "end", is_end, fr.z_mid, fr.length_um, |_, _, _| {
                 Ok(())
             })
