@@ -4,6 +4,7 @@ use anyhow::{bail, Context};
 
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::report::limit_failures;
+use tactfab::sensor::support_stiffness::SupportStiffness;
 use tactfab::sensor::{
     convergence_svg, evaluate_many_with, plate_modes, MeshOptions, PlateModes, SceneReport,
     SensorGeometry, MODAL_LEVELS, MODES_REPORTED,
@@ -43,6 +44,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     };
     let modes = plate_modes(&g, MODES_REPORTED, MODAL_LEVELS)
         .context("natural frequencies of the plate")?;
+    let supports = SupportStiffness::of(&g).context("the supports' stiffness")?;
     let failed = reports.iter().zip(&scenes).any(|(r, s)| {
         !limit_failures(r, &s.limits).is_empty()
             || r.warnings
@@ -54,7 +56,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         if !args.timings {
             strip_timings(&mut scenes);
         }
-        let mut v = serde_json::json!({ "scenes": scenes, "modes": modes });
+        let mut v = serde_json::json!({ "scenes": scenes, "modes": modes, "supports": supports });
         if args.verify_solid {
             v["solid"] = serde_json::to_value(&solid)?;
         }
@@ -69,6 +71,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
                 print!("{}", convergence_table(r));
             }
         }
+        print!("{}", supports.text());
         print!("{}", modes_text(&modes));
     }
     if args.convergence {

@@ -12,6 +12,7 @@ use crate::export::svg::path_data;
 use crate::export::{nm, um_text, ExportError};
 use crate::layout::{LayerKind, LayoutError, MaskSet};
 use crate::process::Loaded;
+use crate::sensor::support_stiffness::SupportStiffness;
 use crate::sensor::{
     evaluate_many, plate_modes, Accuracy, SceneReport, SensorGeometry, MODAL_LEVELS, MODES_REPORTED,
 };
@@ -267,6 +268,7 @@ pub fn build(
                 !opts.allow_unconverged,
             );
             summary.modes = Some(plate_modes(&g, MODES_REPORTED, MODAL_LEVELS)?);
+            summary.supports = Some(SupportStiffness::of(&g)?);
             summary.tissue = Some(crate::hidden::summary::tissue_summary(&g, o)?);
             (reports, Some(summary))
         }

@@ -80,6 +80,10 @@ pub struct FeSummary {
     /// quasi-static right?); None when the scenes were not solved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub modes: Option<crate::sensor::PlateModes>,
+    /// The edge stiffness the plate rungs stood on (`support_model`); None when the scenes were
+    /// not solved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub supports: Option<crate::sensor::support_stiffness::SupportStiffness>,
     /// Paper 002's default lump and void through the sensor (hidden features in grasped
     /// tissue); None when the scenes were not solved.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -236,6 +240,7 @@ pub fn summarise(
         scenes,
         skipped: None,
         modes: None,
+        supports: None,
         tissue: None,
     }
 }
@@ -249,6 +254,7 @@ pub fn skipped(tol_rel: f64, max_levels: usize, why: String) -> FeSummary {
         scenes: Vec::new(),
         skipped: Some(why),
         modes: None,
+        supports: None,
         tissue: None,
     }
 }

@@ -8,6 +8,7 @@
 //! When the teeth and every load are mirror-symmetric it solves half (or a quarter) of the plate
 //! ([`Symmetry`]) and reads the electrodes on the mirrored whole-plate field. [`plate_modes`]
 //! gives the plate's lowest natural frequencies: how far above the loading quasi-static holds.
+//! [`support_stiffness::SupportStiffness`] states the edge stiffness the plate stood on.
 
 mod beam_model;
 mod check;
@@ -32,6 +33,7 @@ pub mod solid_export;
 pub mod solid_mesh;
 pub mod solid_readout;
 pub mod support_section;
+pub mod support_stiffness;
 
 pub use beam_model::{beam_answer, beam_applies, beam_error_estimate, BeamAnswer};
 pub use check::{check_scene, SensorError, MAX_PATCHES, MAX_SOLUTION_VALUES};

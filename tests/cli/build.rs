@@ -193,6 +193,9 @@ fn build_writes_everything_and_the_html_renders() {
     assert!(f(1, "m2_feature_mv") < f(1, "m2_background_mv"), "{tissue}");
     let md = String::from_utf8_lossy(&files["mis-grasper-traveler.md"]);
     assert!(md.contains("Hidden features in grasped tissue"));
+    // What the plate stood on: the bundled file clamps it, so no springs to state.
+    assert_eq!(s["fe"]["supports"]["support_model"], "clamped");
+    assert!(s["fe"]["supports"].get("bare").is_none(), "{}", s["fe"]);
     // Every listed file's hash is the file's (an independent SHA-256: the sha256sum tool when
     // present).
     let listed = s["files"].as_array().unwrap();

@@ -66,7 +66,7 @@ fn plate_without_teeth_is_the_clamped_clamped_strip_and_teeth_stay_within_bounds
 }
 
 #[test]
-fn fe_reports_the_frequencies_in_text_and_json() {
+fn fe_reports_the_frequencies_and_the_supports_in_text_and_json() {
     let args = ["fe", REFERENCE, "--model", "plate", "--max-levels", "1"];
     let r = tactfab(&args);
     r.expect_code(0);
@@ -76,6 +76,12 @@ fn fe_reports_the_frequencies_in_text_and_json() {
         r.stdout
     );
     assert!(r.stdout.contains("x the 5 Hz test force"), "{}", r.stdout);
+    assert!(
+        r.stdout
+            .contains("supports: `support_model: clamped`: w and the slope held"),
+        "{}",
+        r.stdout
+    );
     let mut json = args.to_vec();
     json.push("--json");
     let j = tactfab(&json);
@@ -86,4 +92,16 @@ fn fe_reports_the_frequencies_in_text_and_json() {
     let f1 = modes[0]["freq_hz"].as_f64().unwrap();
     assert!(f1 > 1e3, "{f1}");
     assert!((v["modes"]["above_test"].as_f64().unwrap() - f1 / 5.0).abs() < 1e-9 * f1);
+    assert_eq!(v["supports"]["support_model"], "clamped");
+    // The footing's springs, through the binary: finite, positive, in the YAML's spelling.
+    let mut footing = json.clone();
+    footing.extend(["--set", "materials.base.support_model=elastic_footing"]);
+    let f = tactfab(&footing);
+    f.expect_code(0);
+    let v: serde_json::Value = serde_json::from_str(&f.stdout).unwrap();
+    assert_eq!(v["supports"]["support_model"], "elastic_footing");
+    for k in ["k_w_w_pa", "k_theta_theta_n", "rotation_n", "in_plane_pa"] {
+        let x = v["supports"]["bare"][k].as_f64().unwrap();
+        assert!(x.is_finite() && x > 0.0, "{k} {x}");
+    }
 }
