@@ -551,8 +551,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
 /// The plate's natural frequencies and the quasi-static check.
 pub fn modes_text(m: &PlateModes) -> String {
     let mut s = format!(
-        "natural frequencies: whole plate clamped at the supports, teeth and the PVDF film's \
-         mass ({} kg/m^2) included, {}, {} dofs\n",
+        "natural frequencies: whole plate held at the supports as `support_model: {}` says, \
+         teeth and the PVDF film's mass ({} kg/m^2) included, {}, {} dofs\n",
+        tactfab::spelling::yaml(&m.support_model),
         f(m.film_kg_per_m2, 4),
         count(m.levels, "level"),
         m.dofs

@@ -498,13 +498,18 @@ fn materials(v: &mut V, m: &Materials) {
     v.positive("materials.pvdf.e_gpa", f.e_gpa, 100.0, "GPa");
     v.range("materials.pvdf.nu", f.nu, 0.0, 0.499, false, "");
     let b = &m.base;
-    v.positive(
+    // Floors [choice]: the supports' section meshes the base; a base thinner than 1 um or
+    // softer than 1 kPa (softer than any gel) is a typo, and below them it stops being a solid
+    // the section can resolve (1e-9 um collapsed its lines, 1e-12 GPa made it singular).
+    v.range(
         "materials.base.thickness_um",
         b.thickness_um,
+        1.0,
         100_000.0,
+        false,
         "um",
     );
-    v.positive("materials.base.e_gpa", b.e_gpa, 1000.0, "GPa");
+    v.range("materials.base.e_gpa", b.e_gpa, 1e-6, 1000.0, false, "GPa");
     v.range("materials.base.nu", b.nu, 0.0, 0.499, false, "");
     v.positive(
         "materials.pvdf.density_g_per_cm3",

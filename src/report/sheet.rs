@@ -454,11 +454,12 @@ fn fe(fe: Option<&FeSummary>) -> Section {
     s.push(Block::List(scene_warnings(fe)));
     if let Some(m) = &fe.modes {
         s.push(Block::Para(Rich::text(format!(
-            "Natural frequencies (is quasi-static right?): the whole plate clamped at the \
-             supports, teeth and the PVDF film's mass ({:.4} kg/m²) included, silicon {:.0} \
-             kg/m³, {} levels, {} dofs. The first is {:.0}x the 5 Hz test force and {:.0}x the \
-             1 Hz pulse: a single mode driven at 5 Hz departs from its static answer by {:.1e}. \
-             The air in the gap under the plate is not modelled.",
+            "Natural frequencies (is quasi-static right?): the whole plate held at the \
+             supports as `support_model: {}` says, teeth and the PVDF film's mass ({:.4} kg/m²) \
+             included, silicon {:.0} kg/m³, {} levels, {} dofs. The first is {:.0}x the 5 Hz \
+             test force and {:.0}x the 1 Hz pulse: a single mode driven at 5 Hz departs from its \
+             static answer by {:.1e}. The air in the gap under the plate is not modelled.",
+            crate::spelling::yaml(&m.support_model),
             m.film_kg_per_m2,
             m.si_density_kg_per_m3,
             m.levels,

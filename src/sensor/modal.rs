@@ -2,11 +2,12 @@
 //! meshes the static answers use, with a three-mesh error per frequency, against the papers' 5 Hz
 //! test force and a ~1 Hz pulse.
 //!
-//! The whole plate is solved (a mode need not share the load's mirror symmetry): clamped along
-//! the inner support edges, free at the ends, teeth as thicker regions with their own mass, the
-//! PVDF film under the plate as a mass without stiffness. Not modelled: the air in the 175 um
-//! gap under the plate (squeeze-film damping and added mass lower the frequencies somewhat) and
-//! the compliance of the supports on their film and base.
+//! The whole plate is solved (a mode need not share the load's mirror symmetry) as the static
+//! scenes build it: held where the etched walls meet it as `support_model` says (clamped, or the
+//! footing's or the sections' springs, the bonded film's stiffness with the sections), free at
+//! the ends, teeth as thicker regions with their own mass, the PVDF film under the plate as a
+//! mass. Not modelled: the air in the 175 um gap under the plate (squeeze-film damping and added
+//! mass lower the frequencies somewhat) and, under the clamp, the supports' compliance.
 
 use serde::Serialize;
 
@@ -47,6 +48,8 @@ pub struct ModeFrequency {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PlateModes {
     pub modes: Vec<ModeFrequency>,
+    /// How the plate is held at the supports (the static scenes' `support_model`).
+    pub support_model: crate::process::SupportModel,
     pub si_density_kg_per_m3: f64,
     /// The PVDF film's areal mass carried with the plate, kg/m^2.
     pub film_kg_per_m2: f64,
@@ -120,6 +123,7 @@ pub fn plate_modes(
     let f1 = modes[0].freq_hz;
     let r = TEST_FREQ_HZ / f1;
     Ok(PlateModes {
+        support_model: g.support_model,
         si_density_kg_per_m3: g.si_density_kg_per_m3,
         film_kg_per_m2,
         elements,

@@ -374,12 +374,15 @@ fn section_problem(
     let mut zs = Vec::new();
     let h_base = match g.base {
         Base::Elastic { thickness_um, .. } => {
+            // Across the base: a quarter of its thickness, never finer than the stub's
+            // elements (a thin base is a Winkler layer under the support; a base of 1e-9 um
+            // asked for 3e13 lines).
             ys.extend(graded_lines(
                 y_end,
                 half_w,
                 0.5 * t * k,
                 GROWTH,
-                0.25 * thickness_um * k,
+                (0.25 * thickness_um).max(0.5 * t) * k,
             ));
             zs.extend(graded_lines(
                 0.0,
@@ -695,8 +698,9 @@ fn along_wall_on(g: &SensorGeometry, scale: f64, n_x: usize) -> FeResult<[[f64; 
 /// the energy without bound.
 fn semi_definite_part(g: [[f64; 3]; 3], k0: [[f64; 3]; 3]) -> FeResult<[[f64; 3]; 3]> {
     let fail = || FeError::NonFinite {
-        hint: "the support section's along-wall stiffness has no semi-definite part: refine the \
-               section",
+        hint: "the support section's edge stiffness is not positive definite (or its along-wall \
+               rise not finite): the section's silicon, film and base stiffnesses differ by more \
+               than its solve resolves; check materials.*",
     };
     let rows = |m: [[f64; 3]; 3]| m.iter().map(|r| r.to_vec()).collect::<Vec<_>>();
     let (lambda, q) = crate::fe::modal::definite_eigen(&rows(g), &rows(k0)).map_err(|_| fail())?;

@@ -111,6 +111,36 @@ fn bad_override_points_at_the_argument() {
     run.expect_code(2);
 }
 
+/// A base thinner than 1 um or softer than 1 kPa is refused at the flag: at 1e-9 um the
+/// supports' section asked for 3e13 grid lines (the machine's memory, before the section was
+/// bounded by its stub's elements), at 1e-12 GPa it was singular.
+#[test]
+fn a_base_too_thin_or_too_soft_is_refused_at_the_flag() {
+    for (set, says) in [
+        (
+            "materials.base.thickness_um=1e-9",
+            "materials.base.thickness_um: 0.000000001 um is out of range (expected a number in \
+             [1, 100000] um)",
+        ),
+        (
+            "materials.base.e_gpa=1e-12",
+            "materials.base.e_gpa: 0.000000000001 GPa is out of range (expected a number in \
+             [0.000001, 1000] GPa)",
+        ),
+    ] {
+        let run = tactfab(&[
+            "fe",
+            REFERENCE,
+            "--set",
+            "materials.base.support_model=solid_section",
+            "--set",
+            set,
+        ]);
+        run.expect_code(2);
+        assert!(run.stderr.contains(says), "{}", run.stderr);
+    }
+}
+
 #[test]
 fn unknown_subcommand_and_flag_are_usage_errors() {
     tactfab(&["frobnicate"]).expect_code(2);

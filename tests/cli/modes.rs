@@ -78,6 +78,12 @@ fn fe_reports_the_frequencies_and_the_supports_in_text_and_json() {
     assert!(r.stdout.contains("x the 5 Hz test force"), "{}", r.stdout);
     assert!(
         r.stdout
+            .contains("held at the supports as `support_model: clamped` says"),
+        "{}",
+        r.stdout
+    );
+    assert!(
+        r.stdout
             .contains("supports: `support_model: clamped`: w and the slope held"),
         "{}",
         r.stdout
@@ -100,6 +106,11 @@ fn fe_reports_the_frequencies_and_the_supports_in_text_and_json() {
     f.expect_code(0);
     let v: serde_json::Value = serde_json::from_str(&f.stdout).unwrap();
     assert_eq!(v["supports"]["support_model"], "elastic_footing");
+    // The modes stand on the same springs: softer than the clamp, so lower (Rayleigh), and
+    // they say so.
+    assert_eq!(v["modes"]["support_model"], "elastic_footing");
+    let f1_footing = v["modes"]["modes"][0]["freq_hz"].as_f64().unwrap();
+    assert!(f1_footing < 0.995 * f1, "{f1_footing} against {f1} clamped");
     for k in ["k_w_w_pa", "k_theta_theta_n", "rotation_n", "in_plane_pa"] {
         let x = v["supports"]["bare"][k].as_f64().unwrap();
         assert!(x.is_finite() && x > 0.0, "{k} {x}");
