@@ -494,7 +494,17 @@ fn materials(v: &mut V, m: &Materials) {
         "g/cm3",
     );
     let f = &m.pvdf;
-    v.positive("materials.pvdf.thickness_um", f.thickness_um, 1000.0, "um");
+    // Floor [choice]: below 0.1 um a film is not a piezoelectric layer, and at 1e-9 um the
+    // solid rung's film bricks (aspect 1e11) kept one scene's solve running past 400 s where
+    // 0.1 and 0.001 um take the usual 65 s.
+    v.range(
+        "materials.pvdf.thickness_um",
+        f.thickness_um,
+        0.1,
+        1000.0,
+        false,
+        "um",
+    );
     v.positive("materials.pvdf.e_gpa", f.e_gpa, 100.0, "GPa");
     v.range("materials.pvdf.nu", f.nu, 0.0, 0.499, false, "");
     let b = &m.base;

@@ -228,17 +228,28 @@ impl SupportSections {
             (None, Some(t)) => Some([w - t[3], w - t[1]]),
             _ => None,
         };
-        let bare = SupportSection::solve(g, refine, top.map(|t| (t, false)))?;
-        let along_wall = semi_definite_part(along_wall_stiffness(g, SLAB_SCALE)?, bare.stiffness)?;
-        let Some(top) = top else {
+        // The slab is about half the cost and independent of the two sections: solved beside
+        // them.
+        let (sections, slab) = rayon::join(
+            || -> FeResult<_> {
+                let bare = SupportSection::solve(g, refine, top.map(|t| (t, false)))?;
+                let under_tooth = top
+                    .map(|t| SupportSection::solve(g, refine, Some((t, true))))
+                    .transpose()?;
+                Ok((bare, under_tooth))
+            },
+            || along_wall_stiffness(g, SLAB_SCALE),
+        );
+        let (bare, under_tooth) = sections?;
+        let along_wall = semi_definite_part(slab?, bare.stiffness)?;
+        if under_tooth.is_none() {
             return Ok(SupportSections {
                 bare,
-                under_tooth: None,
+                under_tooth,
                 teeth_x_um: [Vec::new(), Vec::new()],
                 along_wall,
             });
-        };
-        let under_tooth = Some(SupportSection::solve(g, refine, Some((top, true)))?);
+        }
         let grow = et.tooth_run_out_um * (1.0 - et.tooth_step_inset);
         let intervals = |r: &[[f64; 4]]| -> Vec<[f64; 2]> {
             let mut v: Vec<[f64; 2]> = r

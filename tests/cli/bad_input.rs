@@ -111,12 +111,18 @@ fn bad_override_points_at_the_argument() {
     run.expect_code(2);
 }
 
-/// A base thinner than 1 um or softer than 1 kPa is refused at the flag: at 1e-9 um the
-/// supports' section asked for 3e13 grid lines (the machine's memory, before the section was
-/// bounded by its stub's elements), at 1e-12 GPa it was singular.
+/// A base thinner than 1 um or softer than 1 kPa, or a film thinner than 0.1 um, is refused at
+/// the flag: at 1e-9 um the supports' section asked for 3e13 grid lines (the machine's memory,
+/// before the section was bounded by its stub's elements), at 1e-12 GPa it was singular, and a
+/// 1e-9 um film kept the solid rung's solve running past 400 s.
 #[test]
-fn a_base_too_thin_or_too_soft_is_refused_at_the_flag() {
+fn a_base_or_film_too_thin_or_too_soft_is_refused_at_the_flag() {
     for (set, says) in [
+        (
+            "materials.pvdf.thickness_um=1e-9",
+            "materials.pvdf.thickness_um: 0.000000001 um is out of range (expected a number in \
+             [0.1, 1000] um)",
+        ),
         (
             "materials.base.thickness_um=1e-9",
             "materials.base.thickness_um: 0.000000001 um is out of range (expected a number in \
