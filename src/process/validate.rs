@@ -508,9 +508,10 @@ fn materials(v: &mut V, m: &Materials) {
     v.positive("materials.pvdf.e_gpa", f.e_gpa, 100.0, "GPa");
     v.range("materials.pvdf.nu", f.nu, 0.0, 0.499, false, "");
     let b = &m.base;
-    // Floors [choice]: the supports' section meshes the base; a base thinner than 1 um or
-    // softer than 1 kPa (softer than any gel) is a typo, and below them it stops being a solid
-    // the section can resolve (1e-9 um collapsed its lines, 1e-12 GPa made it singular).
+    // Floors [choice]: the supports' section meshes the base; a base thinner than 1 um is a
+    // typo (1e-9 um collapsed the section's lines), and one softer than 1 MPa (soft rubber) lets
+    // the supports punch into it: at 1e-12 GPa the section was singular, at 1 kPa the solid
+    // rung's Newton ground on past 300 s, at 1 MPa it converges in the usual minute.
     v.range(
         "materials.base.thickness_um",
         b.thickness_um,
@@ -519,7 +520,7 @@ fn materials(v: &mut V, m: &Materials) {
         false,
         "um",
     );
-    v.range("materials.base.e_gpa", b.e_gpa, 1e-6, 1000.0, false, "GPa");
+    v.range("materials.base.e_gpa", b.e_gpa, 1e-3, 1000.0, false, "GPa");
     v.range("materials.base.nu", b.nu, 0.0, 0.499, false, "");
     v.positive(
         "materials.pvdf.density_g_per_cm3",

@@ -653,7 +653,13 @@ pub fn evaluate_solid(
             Base::Elastic {
                 thickness_um, e_pa, ..
             } => {
-                format!("elastic, {thickness_um:.0} um, E {:.2} GPa", e_pa * 1e-9)
+                // MPa below 1 GPa: a 1 MPa rubber base read "E 0.00 GPa".
+                let e = if e_pa >= 1e9 {
+                    format!("{:.2} GPa", e_pa * 1e-9)
+                } else {
+                    format!("{:.2} MPa", e_pa * 1e-6)
+                };
+                format!("elastic, {thickness_um:.0} um, E {e}")
             }
         },
         nonlinear: run.nonlinear,

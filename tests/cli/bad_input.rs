@@ -111,10 +111,10 @@ fn bad_override_points_at_the_argument() {
     run.expect_code(2);
 }
 
-/// A base thinner than 1 um or softer than 1 kPa, or a film thinner than 0.1 um, is refused at
+/// A base thinner than 1 um or softer than 1 MPa, or a film thinner than 0.1 um, is refused at
 /// the flag: at 1e-9 um the supports' section asked for 3e13 grid lines (the machine's memory,
-/// before the section was bounded by its stub's elements), at 1e-12 GPa it was singular, and a
-/// 1e-9 um film kept the solid rung's solve running past 400 s.
+/// before the section was bounded by its stub's elements), at 1e-12 GPa it was singular, at
+/// 1 kPa the solid rung's Newton ran past 300 s, and a 1e-9 um film past 400 s.
 #[test]
 fn a_base_or_film_too_thin_or_too_soft_is_refused_at_the_flag() {
     for (set, says) in [
@@ -129,9 +129,9 @@ fn a_base_or_film_too_thin_or_too_soft_is_refused_at_the_flag() {
              [1, 100000] um)",
         ),
         (
-            "materials.base.e_gpa=1e-12",
-            "materials.base.e_gpa: 0.000000000001 GPa is out of range (expected a number in \
-             [0.000001, 1000] GPa)",
+            "materials.base.e_gpa=1e-6",
+            "materials.base.e_gpa: 0.000001 GPa is out of range (expected a number in [0.001, \
+             1000] GPa)",
         ),
     ] {
         let run = tactfab(&[
