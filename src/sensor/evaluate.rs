@@ -1645,13 +1645,7 @@ pub(super) fn build_problem(
             Some((ft.edge_stiffness(), ft.in_plane_pa, None))
         }
         crate::process::SupportModel::SolidSection => {
-            let Some(sections) = &g.support_section else {
-                return Err(crate::fe::FeError::SolidInput {
-                    detail: "support_model solid_section without its section".into(),
-                    hint: "build the sensor with SensorGeometry::new, which solves the section",
-                });
-            };
-            let sections = sections.as_ref().map_err(Clone::clone)?;
+            let sections = g.support_sections()?;
             // The film the section bonds under the plate is part of the plate's stiffness too.
             p.bonded_film = Some(crate::fe::BondedFilm {
                 material: crate::fe::PlateMaterial::isotropic(g.pvdf_e_pa, g.pvdf_nu),

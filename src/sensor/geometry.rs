@@ -267,6 +267,20 @@ impl SensorGeometry {
         out
     }
 
+    /// The supports' sections under `support_model: solid_section`: their solve's error if it
+    /// failed, an error if the geometry was not built by [`Self::new`] (which solves them).
+    pub fn support_sections(
+        &self,
+    ) -> crate::fe::FeResult<&super::support_section::SupportSections> {
+        match &self.support_section {
+            Some(s) => s.as_ref().map_err(Clone::clone),
+            None => Err(crate::fe::FeError::SolidInput {
+                detail: "support_model solid_section without its section".into(),
+                hint: "build the sensor with SensorGeometry::new, which solves the section",
+            }),
+        }
+    }
+
     /// Lines every mesh keeps exactly: plate edges, electrode edges.
     pub fn exact_lines(&self) -> (Vec<f64>, Vec<f64>) {
         let mut xs = vec![0.0, self.length_um];

@@ -667,9 +667,15 @@ pub fn along_wall_stiffness(g: &SensorGeometry, scale: f64) -> FeResult<[[f64; 3
     along_wall_on(g, scale, SLAB_ELEMENTS)
 }
 
+/// The half wavelength along the wall [`along_wall_stiffness`] measures at (um): the channel
+/// floor's width, the span's first mode along the wall.
+pub fn along_wall_half_wavelength_um(g: &SensorGeometry) -> f64 {
+    g.plate_y1_um - g.plate_y0_um
+}
+
 /// [`along_wall_stiffness`] with `n_x` elements along the slab.
 fn along_wall_on(g: &SensorGeometry, scale: f64, n_x: usize) -> FeResult<[[f64; 3]; 3]> {
-    let half_um = g.plate_y1_um - g.plate_y0_um;
+    let half_um = along_wall_half_wavelength_um(g);
     let k = std::f64::consts::PI / (half_um * 1e-6);
     // [whole, stub] x [uniform, wave] end compliances.
     let mut c = [[[[0.0; 3]; 3]; 2]; 2];

@@ -114,13 +114,7 @@ impl SupportStiffness {
                 ));
             }
             SupportModel::SolidSection => {
-                let Some(sections) = &g.support_section else {
-                    return Err(crate::fe::FeError::SolidInput {
-                        detail: "support_model solid_section without its section".into(),
-                        hint: "build the sensor with SensorGeometry::new, which solves the section",
-                    });
-                };
-                let s = sections.as_ref().map_err(Clone::clone)?;
+                let s = g.support_sections()?;
                 let edge = |x: &super::support_section::SupportSection| {
                     EdgeStiffness::coupled(&x.stiffness, x.in_plane_pa())
                 };
@@ -134,7 +128,7 @@ impl SupportStiffness {
                     g_u_u_n: g_[2][2],
                     g_w_u_n: g_[0][2],
                     g_theta_u_n_m: g_[1][2],
-                    half_wavelength_um: g.plate_y1_um - g.plate_y0_um,
+                    half_wavelength_um: super::support_section::along_wall_half_wavelength_um(g),
                 });
             }
         }
@@ -200,7 +194,7 @@ mod tests {
     fn the_report_carries_the_springs_the_plate_gets() {
         let g = geometry(&["materials.base.support_model=solid_section"]);
         let r = SupportStiffness::of(&g).unwrap();
-        let s = g.support_section.as_ref().unwrap().as_ref().unwrap();
+        let s = g.support_sections().unwrap();
         let bare = r.bare.unwrap();
         // The same numbers the plate's edge springs take (evaluate::build_problem).
         assert_eq!(bare.k_w_w_pa, s.bare.stiffness[0][0]);
@@ -214,6 +208,7 @@ mod tests {
         assert_eq!(r.under_tooth.is_some(), s.under_tooth.is_some());
         let a = r.along_wall.unwrap();
         assert_eq!(a.g_u_u_n, s.along_wall[2][2]);
+        // The channel floor's width (the span's first mode along the wall).
         assert_eq!(a.half_wavelength_um, g.plate_y1_um - g.plate_y0_um);
         // A stiff edge: positive diagonal, in-plane with w, theta free below k_uu.
         assert!(bare.k_w_w_pa > 0.0 && bare.k_theta_theta_n > 0.0 && bare.k_u_u_pa > 0.0);
