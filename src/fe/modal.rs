@@ -304,29 +304,28 @@ pub(crate) fn definite_eigen(
     a: &[Vec<f64>],
     b: &[Vec<f64>],
 ) -> Result<(Vec<f64>, Vec<Vec<f64>>), DefiniteEigenError> {
-    let (kr, mr) = (a, b);
-    let q = kr.len();
+    let q = a.len();
     let mut l = vec![vec![0.0; q]; q];
     for j in 0..q {
-        let d = mr[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
+        let d = b[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
         if !(d > 0.0 && d.is_finite()) {
             return Err(DefiniteEigenError::NotDefinite);
         }
         l[j][j] = d.sqrt();
         for i in j + 1..q {
-            l[i][j] = (mr[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / l[j][j];
+            l[i][j] = (b[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / l[j][j];
         }
     }
-    let forward = |b: &[f64]| {
+    let forward = |v: &[f64]| {
         let mut y = vec![0.0; q];
         for i in 0..q {
-            y[i] = (b[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
+            y[i] = (v[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
         }
         y
     };
-    // Z = L^-1 K_r column by column; K_r symmetric, so column c is row c.
-    let z: Vec<Vec<f64>> = (0..q).map(|c| forward(&kr[c])).collect(); // z[c] = column c
-                                                                      // C = L^-1 Z^T: column c of C is L^-1 (row c of Z).
+    // Z = L^-1 A column by column; A symmetric, so column c is row c.
+    let z: Vec<Vec<f64>> = (0..q).map(|c| forward(&a[c])).collect(); // z[c] = column c
+                                                                     // C = L^-1 Z^T: column c of C is L^-1 (row c of Z).
     let c_cols: Vec<Vec<f64>> = (0..q)
         .map(|c| forward(&(0..q).map(|k| z[k][c]).collect::<Vec<_>>()))
         .collect();

@@ -113,6 +113,11 @@ fn wave_end_stiffness(
     Ok(k)
 }
 
+/// A (w, theta, u) stiffness condensed to (w, theta) with u free: the 3 x 3's Schur complement.
+pub fn with_in_plane_free(k: &[[f64; 3]; 3]) -> [[f64; 2]; 2] {
+    std::array::from_fn(|i| std::array::from_fn(|j| k[i][j] - k[i][2] * k[2][j] / k[2][2]))
+}
+
 /// The inverse of a 3 x 3 stiffness or compliance; None if it is singular.
 fn inverse3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     let det = hex27::det3(&m);
@@ -178,8 +183,7 @@ impl SupportSection {
     /// Stiffness on (w, theta) with the in-plane displacement free (the plate's membrane force
     /// zero at the edge, as the linear plate has it): the 3 x 3's Schur complement.
     pub fn bending_stiffness(&self) -> [[f64; 2]; 2] {
-        let k = &self.stiffness;
-        std::array::from_fn(|i| std::array::from_fn(|j| k[i][j] - k[i][2] * k[2][j] / k[2][2]))
+        with_in_plane_free(&self.stiffness)
     }
 
     /// In-plane stiffness (N/m^2) with w and theta free: the reciprocal of the compliance's

@@ -40,7 +40,7 @@ impl EdgeStiffness {
             k_u_u_pa: k[2][2],
             k_w_u_pa: k[0][2],
             k_theta_u_n_per_m: k[1][2],
-            rotation_n: k[1][1] - k[1][2] * k[1][2] / k[2][2],
+            rotation_n: super::support_section::with_in_plane_free(k)[1][1],
             in_plane_pa,
         }
     }
