@@ -60,13 +60,19 @@ pub fn uniform_lines(from_um: f64, to_um: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// More lines in one direction than any grid within [`MAX_LATTICE_NODES`] can have (the other
+/// two directions at their least, two lines each).
+const MAX_GRADED_LINES: usize = MAX_LATTICE_NODES / 18 + 2;
+
 /// Lines from `from` to `to` (either order) starting at `h0` next to `from` and growing by
 /// `growth` up to `h_max`; the last interval ends exactly at `to` (it may be up to 1.5 steps).
+/// Sizes that would need more lines than any grid can take (a tiny `h_max`, or a `growth` of 1
+/// from a tiny `h0`) stop there, before allocating the rest: [`HexGrid::new`] refuses the result.
 pub fn graded_lines(from_um: f64, to_um: f64, h0_um: f64, growth: f64, h_max_um: f64) -> Vec<f64> {
     let (len, dir) = ((to_um - from_um).abs(), (to_um - from_um).signum());
     let mut out = vec![from_um];
     let (mut at, mut step) = (0.0, h0_um.min(len));
-    while step > 0.0 && at + 1.5 * step < len {
+    while step > 0.0 && at + 1.5 * step < len && out.len() <= MAX_GRADED_LINES {
         at += step;
         out.push(from_um + dir * at);
         step = (step * growth).min(h_max_um);

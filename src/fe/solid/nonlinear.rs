@@ -103,6 +103,67 @@ pub struct TlOptions {
     /// sets it from the factor's size, where a factorisation costs more than that many CG
     /// steps (large 3-D meshes: one factorisation per solve), else full Newton.
     pub krylov_iterations: Option<usize>,
+    /// The most work one solve may take, in numeric factorisations of the tangent (a
+    /// conjugate-gradient step counts as its share, as it does in choosing CG): a load the
+    /// solid cannot carry ends in a bounded time, not after every step and iteration allowed
+    /// (64 x 20 factorisations: hours on the sensor's mesh). Never less than
+    /// `min_budget_flops` of factorisation, so small meshes keep the full step budget.
+    pub max_factorisations: f64,
+    /// The floor of that budget, in floating-point operations of factorisation
+    /// ([`factorisation_flops`]).
+    pub min_budget_flops: f64,
+}
+
+/// Work one solve may take by default, in factorisations \[choice\]: the sensor's levels take 1-2
+/// (one factorisation, then preconditioned CG), a load stepped down to small steps a dozen.
+pub const MAX_FACTORISATIONS: f64 = 24.0;
+
+/// The budget's floor in flops \[choice\]: about 35 s of factorisation at the 2.9e10 flop/s
+/// measured on 2 cores (below), so meshes under ~150k dofs are bounded by the step and
+/// iteration counts alone, as before.
+pub const MIN_BUDGET_FLOPS: f64 = 1e12;
+
+/// Floating-point operations of one numeric factorisation with `factor_len` entries over `n`
+/// columns, (entries / n)^2 per column \[estimate\]: on the sensor's half die (333k dofs, 299M
+/// entries) 2.7e11, which took 9.2 s (README, "Where a solid level's time goes").
+pub fn factorisation_flops(factor_len: usize, n: usize) -> f64 {
+    let (l, n) = (factor_len as f64, n.max(1) as f64);
+    l * l / n
+}
+
+/// The work a solve has taken (its counts, and in factorisations) and may take.
+struct Work {
+    stats: NewtonStats,
+    used: f64,
+    limit: f64,
+    /// One conjugate-gradient step's share of a factorisation.
+    cg_step: f64,
+}
+
+impl Work {
+    /// One numeric factorisation done.
+    fn factorised(&mut self) {
+        self.stats.factorisations += 1;
+        self.used += 1.0;
+    }
+
+    /// Whether the budget is spent; the error that says so, with how far the load got.
+    fn check(&self, lambda: f64) -> FeResult<()> {
+        if self.used <= self.limit {
+            return Ok(());
+        }
+        Err(FeError::Newton {
+            detail: format!(
+                "stopped at {:.1} % of the load when its work passed the budget of {:.0} \
+                 factorisations of the tangent ({:.1} spent)",
+                100.0 * lambda,
+                self.limit,
+                self.used
+            ),
+            hint: "the solid may buckle or snap at this load, or Newton stalls: lower the load \
+                   or refine the grid where it bends most",
+        })
+    }
 }
 
 impl Default for TlOptions {
@@ -114,6 +175,8 @@ impl Default for TlOptions {
             max_load_steps: 64,
             first_step: 1.0,
             krylov_iterations: None,
+            max_factorisations: MAX_FACTORISATIONS,
+            min_budget_flops: MIN_BUDGET_FLOPS,
         }
     }
 }
@@ -172,10 +235,15 @@ impl TlSolid {
             || opts.max_iterations == 0
             || opts.max_load_steps == 0
             || !(opts.first_step > 0.0 && opts.first_step <= 1.0)
+            || opts.max_factorisations.is_nan()
+            || opts.max_factorisations < 1.0
+            || !(opts.min_budget_flops >= 0.0 && opts.min_budget_flops.is_finite())
         {
             return Err(FeError::SolidInput {
                 detail: format!("invalid Newton options {opts:?}"),
-                hint: "tolerances in (0, 1), at least one iteration and step, first step in (0, 1]",
+                hint:
+                    "tolerances in (0, 1), at least one iteration and step, first step in (0, 1], \
+                       a budget of at least one factorisation and a finite floor",
             });
         }
         let grid = &problem.grid;
@@ -362,20 +430,23 @@ impl TlSolid {
                 }
             }
         }
-        let mut stats = NewtonStats {
-            load_steps: 0,
-            iterations: 0,
-            factorisations: 0,
-        };
-        match self.newton(&mut u, &f, 1.0, &mut None, &mut stats) {
+        let mut work = self.work();
+        match self.newton(&mut u, &f, 1.0, &mut None, &mut work) {
             Ok(history) => {
-                stats.load_steps = 1;
-                self.solution(u, &f, stats, history)
+                work.stats.load_steps = 1;
+                self.solution(u, &f, work.stats, history)
             }
             Err(_) => {
-                let mut fresh = self.solve(loads)?;
-                fresh.stats.iterations += stats.iterations;
-                fresh.stats.factorisations += stats.factorisations;
+                work.check(0.0)?;
+                let tried = work.stats;
+                work.stats = NewtonStats {
+                    load_steps: 0,
+                    iterations: 0,
+                    factorisations: 0,
+                };
+                let mut fresh = self.stepped(loads, work)?;
+                fresh.stats.iterations += tried.iterations;
+                fresh.stats.factorisations += tried.factorisations;
                 Ok(fresh)
             }
         }
@@ -387,14 +458,35 @@ impl TlSolid {
     /// a step that converged in at most 4 iterations. Errors ([`FeError::Newton`]) when the step
     /// falls under 1e-4 of the load or after `max_load_steps` tries.
     pub fn solve(&self, loads: &[SolidLoad]) -> FeResult<TlSolution> {
+        self.stepped(loads, self.work())
+    }
+
+    /// A solve's work budget ([`TlOptions::max_factorisations`]).
+    fn work(&self) -> Work {
+        let (len, n) = (self.symbolic.factor_len(), self.n_free_dofs());
+        let flops = factorisation_flops(len, n);
+        let floor = if flops > 0.0 {
+            self.opts.min_budget_flops / flops
+        } else {
+            f64::INFINITY
+        };
+        Work {
+            stats: NewtonStats {
+                load_steps: 0,
+                iterations: 0,
+                factorisations: 0,
+            },
+            used: 0.0,
+            limit: self.opts.max_factorisations.max(floor),
+            cg_step: (ENTRIES_PER_DOF_PER_STEP * n.max(1)) as f64 / len.max(1) as f64,
+        }
+    }
+
+    /// [`Self::solve`] with the work already spent on it.
+    fn stepped(&self, loads: &[SolidLoad], mut work: Work) -> FeResult<TlSolution> {
         let c = &self.ctx;
         let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
         let mut u = vec![0.0; f.len()];
-        let mut stats = NewtonStats {
-            load_steps: 0,
-            iterations: 0,
-            factorisations: 0,
-        };
         let mut history = Vec::new();
         let (mut lambda, mut step) = (0.0f64, self.opts.first_step);
         let mut previous: Option<(f64, Vec<f64>)> = None;
@@ -404,6 +496,7 @@ impl TlSolid {
         let mut why = String::new();
         let prescribed = c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0);
         while lambda < 1.0 {
+            work.check(lambda)?;
             tries += 1;
             if tries > self.opts.max_load_steps {
                 return Err(FeError::Newton {
@@ -422,7 +515,7 @@ impl TlSolid {
             // state, which carries their increment into the interior (a prescribed rigid
             // rotation lands on the rigid field); else extrapolation along the last step.
             let predicted = if prescribed {
-                self.tangent_predictor(&u, &f, lambda, target, &mut lagged, &mut stats)
+                self.tangent_predictor(&u, &f, lambda, target, &mut lagged, &mut work)
             } else {
                 let mut trial = u.clone();
                 if let Some((l0, u0)) = &previous {
@@ -434,7 +527,7 @@ impl TlSolid {
                 Ok(trial)
             };
             let step_result = predicted.and_then(|mut trial| {
-                self.newton(&mut trial, &f, target, &mut lagged, &mut stats)
+                self.newton(&mut trial, &f, target, &mut lagged, &mut work)
                     .map(|h| (trial, h))
             });
             match step_result {
@@ -443,7 +536,7 @@ impl TlSolid {
                     history = res;
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
-                    stats.load_steps += 1;
+                    work.stats.load_steps += 1;
                     if fast {
                         step *= 2.0;
                     }
@@ -466,7 +559,7 @@ impl TlSolid {
                 }
             }
         }
-        self.solution(u, &f, stats, history)
+        self.solution(u, &f, work.stats, history)
     }
 
     /// The Euler predictor from the converged state `u` at `lambda` to `target`: the constrained
@@ -480,7 +573,7 @@ impl TlSolid {
         lambda: f64,
         target: f64,
         lagged: &mut Option<CholeskyFactor>,
-        stats: &mut NewtonStats,
+        work: &mut Work,
     ) -> Result<Vec<f64>, StepFailure> {
         let dofs = &self.ctx.dofs;
         let mut dc = vec![0.0; u.len()];
@@ -502,8 +595,8 @@ impl TlSolid {
             .map_err(|e| {
                 format!("tangent not positive definite at {lambda:.3} of the load: {e}")
             })?;
-        stats.factorisations += 1;
-        stats.iterations += 1;
+        work.factorised();
+        work.stats.iterations += 1;
         let rhs: Vec<f64> = dofs
             .free_dofs
             .iter()
@@ -535,7 +628,7 @@ impl TlSolid {
         f: &[f64],
         lambda: f64,
         lagged: &mut Option<CholeskyFactor>,
-        stats: &mut NewtonStats,
+        work: &mut Work,
     ) -> Result<Vec<NewtonIterate>, StepFailure> {
         let dofs = &self.ctx.dofs;
         let residual = |r_int: &[f64]| -> Vec<f64> {
@@ -555,6 +648,9 @@ impl TlSolid {
         let mut first_energy: Option<f64> = None;
         let mut last_energy = f64::INFINITY;
         for it in 1..=self.opts.max_iterations {
+            if work.used > work.limit {
+                return Err("the work budget is spent".into());
+            }
             let r_inf = inf(&r);
             if !r_inf.is_finite() {
                 return Err("non-finite residual".into());
@@ -563,8 +659,8 @@ impl TlSolid {
                 Some(v) => v,
                 None => self.internal(u, true, None)?.tangent.unwrap_or_default(),
             };
-            let correction = self.correction(values, &r, lagged, it, stats)?;
-            stats.iterations += 1;
+            let correction = self.correction(values, &r, lagged, it, work)?;
+            work.stats.iterations += 1;
             let mut energy = 0.0;
             for (i, &d) in dofs.free_dofs.iter().enumerate() {
                 let du = correction[i];
@@ -629,7 +725,7 @@ impl TlSolid {
         r: &[f64],
         lagged: &mut Option<CholeskyFactor>,
         it: usize,
-        stats: &mut NewtonStats,
+        work: &mut Work,
     ) -> Result<Vec<f64>, StepFailure> {
         let budget = self.opts.krylov_iterations.unwrap_or_else(|| {
             let steps = self.symbolic.factor_len() / (ENTRIES_PER_DOF_PER_STEP * r.len().max(1));
@@ -641,7 +737,9 @@ impl TlSolid {
         });
         if budget > 0 {
             if let Some(pre) = lagged.as_ref() {
-                if let Some(du) = self.preconditioned_cg(&values, pre, r, budget.min(KRYLOV_MAX)) {
+                let (du, steps) = self.preconditioned_cg(&values, pre, r, budget.min(KRYLOV_MAX));
+                work.used += steps as f64 * work.cg_step;
+                if let Some(du) = du {
                     return Ok(du);
                 }
             }
@@ -652,7 +750,7 @@ impl TlSolid {
             .symbolic
             .factor(SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref())
             .map_err(|e| format!("tangent not positive definite at iteration {it}: {e}"))?;
-        stats.factorisations += 1;
+        work.factorised();
         let du = solve_with(&llt, r);
         *lagged = Some(llt);
         Ok(du)
@@ -661,19 +759,20 @@ impl TlSolid {
     /// Preconditioned conjugate gradients (Saad, Iterative Methods for Sparse Linear Systems,
     /// 2nd ed., Alg. 9.1) on the tangent `values` (lower triangle of the pattern) with the
     /// factor `pre` of an earlier tangent; None when it does not converge in `max_it`
-    /// iterations or the tangent is not positive definite along a search direction.
+    /// iterations or the tangent is not positive definite along a search direction; with the
+    /// steps taken (the solve's work).
     fn preconditioned_cg(
         &self,
         values: &[f64],
         pre: &CholeskyFactor,
         r: &[f64],
         max_it: usize,
-    ) -> Option<Vec<f64>> {
+    ) -> (Option<Vec<f64>>, usize) {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let r0 = dot(r, r).sqrt();
         let mut x = vec![0.0; r.len()];
         if r0 == 0.0 {
-            return Some(x);
+            return (Some(x), 0);
         }
         let mut res = r.to_vec();
         let mut z = solve_with(pre, &res);
@@ -683,12 +782,12 @@ impl TlSolid {
             // A quarter of the budget gone without a quarter of the reduction (in orders of
             // magnitude): the old factor is too stale, refactorising is cheaper.
             if k == max_it / 4 && k > 0 && dot(&res, &res).sqrt() > KRYLOV_TOL.powf(0.25) * r0 {
-                return None;
+                return (None, k);
             }
             let q = self.tangent_times(values, &p);
             let pq = dot(&p, &q);
             if !(pq > 0.0 && rz.is_finite()) {
-                return None;
+                return (None, k + 1);
             }
             let alpha = rz / pq;
             for i in 0..x.len() {
@@ -696,7 +795,7 @@ impl TlSolid {
                 res[i] -= alpha * q[i];
             }
             if dot(&res, &res).sqrt() <= KRYLOV_TOL * r0 {
-                return x.iter().all(|v| v.is_finite()).then_some(x);
+                return (x.iter().all(|v| v.is_finite()).then_some(x), k + 1);
             }
             z = solve_with(pre, &res);
             let rz_new = dot(&res, &z);
@@ -706,7 +805,7 @@ impl TlSolid {
                 p[i] = z[i] + beta * p[i];
             }
         }
-        None
+        (None, max_it)
     }
 
     /// K v for the symmetric tangent stored as its lower triangle on the pattern.

@@ -604,3 +604,25 @@ fn refactor_materials_scales_the_field() {
         .refactor_materials(&[Elasticity::isotropic(6e9, 0.7)])
         .is_err());
 }
+
+#[test]
+fn graded_lines_too_fine_for_any_grid_stop_before_allocating_them() {
+    // 1 mm in 1e-9 um steps would be 1e12 lines (8 TB); growth 1 from 1 nm, a million.
+    let max = grid::MAX_LATTICE_NODES / 18 + 4;
+    let reversed = |mut v: Vec<f64>| {
+        v.reverse();
+        v
+    };
+    for lines in [
+        graded_lines(0.0, 1000.0, 1e-9, 1.5, 1e-9),
+        reversed(graded_lines(1000.0, 0.0, 1e-3, 1.0, 100.0)),
+    ] {
+        assert!(lines.len() <= max, "{}", lines.len());
+        let e = HexGrid::new(&lines, &[0.0, 1.0], &[0.0, 1.0]).unwrap_err();
+        assert!(matches!(e, FeError::TooLarge { .. }), "{e}");
+    }
+    // Sizes a grid can take are untouched: from h0 by the growth to h_max, ending at `to`.
+    let l = graded_lines(0.0, 100.0, 1.0, 2.0, 10.0);
+    assert_eq!(&l[..5], &[0.0, 1.0, 3.0, 7.0, 15.0]);
+    assert_eq!(*l.last().unwrap(), 100.0);
+}

@@ -541,6 +541,52 @@ fn failures_are_errors() {
         .solve(&tip_load(20.0, ei, 20.0))
         .unwrap_err();
     assert!(matches!(e, FeError::Newton { .. }), "{e}");
+    // The work budget: full Newton (a factorisation per iteration) on a load that takes
+    // several iterations stops at two factorisations, whatever steps and iterations remain.
+    let spent = TlOptions {
+        krylov_iterations: Some(0),
+        max_factorisations: 2.0,
+        min_budget_flops: 0.0,
+        ..TlOptions::default()
+    };
+    let e = TlSolid::new(&p, spent)
+        .unwrap()
+        .solve(&tip_load(20.0, ei, 2.0))
+        .unwrap_err();
+    assert!(
+        matches!(&e, FeError::Newton { detail, .. } if detail.contains("budget of 2 factorisations")),
+        "{e}"
+    );
+    let generous = TlOptions {
+        krylov_iterations: Some(0),
+        max_factorisations: 200.0,
+        min_budget_flops: 0.0,
+        ..TlOptions::default()
+    };
+    let st = TlSolid::new(&p, generous)
+        .unwrap()
+        .solve(&tip_load(20.0, ei, 2.0))
+        .unwrap()
+        .stats();
+    assert!(st.factorisations > 3, "{st:?}");
+    // The floor keeps a small mesh's full step budget: one factorisation asked, many taken.
+    let floored = TlOptions {
+        krylov_iterations: Some(0),
+        max_factorisations: 1.0,
+        ..TlOptions::default()
+    };
+    assert!(TlSolid::new(&p, floored)
+        .unwrap()
+        .solve(&tip_load(20.0, ei, 2.0))
+        .is_ok());
+    let bad = TlOptions {
+        max_factorisations: 0.5,
+        ..TlOptions::default()
+    };
+    assert!(matches!(
+        TlSolid::new(&p, bad),
+        Err(FeError::SolidInput { .. })
+    ));
     // A NaN load is an input error, as in the linear core.
     let mut loads = tip_load(20.0, ei, 1.0);
     loads.push(SolidLoad::Point {
