@@ -543,42 +543,26 @@ fn failures_are_errors() {
     assert!(matches!(e, FeError::Newton { .. }), "{e}");
     // The work budget: full Newton (a factorisation per iteration) on a load that takes
     // several iterations stops at two factorisations, whatever steps and iterations remain.
-    let spent = TlOptions {
-        krylov_iterations: Some(0),
-        max_factorisations: 2.0,
-        min_budget_flops: 0.0,
-        ..TlOptions::default()
+    let budgeted = |max_factorisations: f64, min_budget_flops: f64| {
+        let opts = TlOptions {
+            krylov_iterations: Some(0),
+            max_factorisations,
+            min_budget_flops,
+            ..TlOptions::default()
+        };
+        TlSolid::new(&p, opts)
+            .unwrap()
+            .solve(&tip_load(20.0, ei, 2.0))
     };
-    let e = TlSolid::new(&p, spent)
-        .unwrap()
-        .solve(&tip_load(20.0, ei, 2.0))
-        .unwrap_err();
+    let e = budgeted(2.0, 0.0).unwrap_err();
     assert!(
         matches!(&e, FeError::Newton { detail, .. } if detail.contains("budget of 2 factorisations")),
         "{e}"
     );
-    let generous = TlOptions {
-        krylov_iterations: Some(0),
-        max_factorisations: 200.0,
-        min_budget_flops: 0.0,
-        ..TlOptions::default()
-    };
-    let st = TlSolid::new(&p, generous)
-        .unwrap()
-        .solve(&tip_load(20.0, ei, 2.0))
-        .unwrap()
-        .stats();
+    let st = budgeted(200.0, 0.0).unwrap().stats();
     assert!(st.factorisations > 3, "{st:?}");
     // The floor keeps a small mesh's full step budget: one factorisation asked, many taken.
-    let floored = TlOptions {
-        krylov_iterations: Some(0),
-        max_factorisations: 1.0,
-        ..TlOptions::default()
-    };
-    assert!(TlSolid::new(&p, floored)
-        .unwrap()
-        .solve(&tip_load(20.0, ei, 2.0))
-        .is_ok());
+    assert!(budgeted(1.0, nonlinear::MIN_BUDGET_FLOPS).is_ok());
     let bad = TlOptions {
         max_factorisations: 0.5,
         ..TlOptions::default()
