@@ -12,8 +12,14 @@ use crate::sensor::SceneReport;
 pub struct LimitCheck {
     /// The limit's field in the process file, e.g. `min_safety_factor`.
     pub limit: &'static str,
-    /// The reported value the limit is compared with.
+    /// The value judged: the reported one moved to its unsafe side by its estimated relative
+    /// error (a sensitivity lowered, a stress or deflection raised, a safety factor lowered), so
+    /// a number that only passes within its error does not pass.
     pub value: f64,
+    /// The value the scene reports.
+    pub reported: f64,
+    /// The estimated relative error `value` was moved by (0 where none was estimated).
+    pub error_rel: f64,
     /// The declared bound.
     pub bound: f64,
     pub passed: bool,
@@ -44,62 +50,100 @@ impl std::fmt::Display for LimitCheck {
                 "deflection {v:.1} um {} {b} um",
                 if ok { "<=" } else { ">" }
             ),
+        }?;
+        if self.error_rel > 0.0 {
+            let r = self.reported;
+            let e = 100.0 * self.error_rel;
+            match self.limit {
+                "min_sensitivity_mv_per_n" => {
+                    write!(f, " (reported {r:.3} less its {e:.2} % error)")
+                }
+                "max_stress_mpa" => write!(f, " (reported {r:.1} plus its {e:.2} % error)"),
+                "min_safety_factor" => {
+                    write!(f, " (reported {r:.2}, its stress plus its {e:.2} % error)")
+                }
+                _ => write!(f, " (reported {r:.1} plus its {e:.2} % error)"),
+            }?;
         }
+        Ok(())
     }
 }
 
+/// A reported value and its estimated relative error.
+type Estimated = (f64, f64);
+
 /// Every declared limit of `l` checked against `r`, in a fixed order (sensitivity, stress, safety
-/// factor, deflection). Sensitivity is the largest |V|/F; the deflection limit bounds |max
-/// deflection|.
+/// factor, deflection), each value on its unsafe side by its estimated error
+/// ([`SceneReport::limit_errors`]: discretisation, plus the model error where a finer rung was
+/// compared, as `--verify-solid` does). Sensitivity is the largest |V|/F; the deflection limit
+/// bounds |max deflection|.
 pub fn check_limits(r: &SceneReport, l: &Limits) -> Vec<LimitCheck> {
+    let [sensitivity, stress, deflection] = r.limit_errors();
     check_values(
-        r.sensitivity_mv_per_n,
-        r.max_stress_mpa,
-        r.safety_factor,
-        r.max_deflection_um,
+        (r.sensitivity_mv_per_n, sensitivity),
+        (r.max_stress_mpa, stress),
+        (r.safety_factor, stress),
+        (r.max_deflection_um, deflection),
         l,
     )
 }
 
+/// The limits of `l` against reported values with their relative errors; the safety factor's
+/// error is its stress's.
 fn check_values(
-    sensitivity_mv_per_n: f64,
-    stress_mpa: f64,
-    safety_factor: f64,
-    deflection_um: f64,
+    sensitivity_mv_per_n: Estimated,
+    stress_mpa: Estimated,
+    safety_factor: Estimated,
+    deflection_um: Estimated,
     l: &Limits,
 ) -> Vec<LimitCheck> {
+    let check =
+        |limit, (reported, e): Estimated, judged: f64, bound: f64, passed: bool| LimitCheck {
+            limit,
+            value: judged,
+            reported,
+            error_rel: e,
+            bound,
+            passed,
+        };
     let mut v = Vec::new();
     if let Some(b) = l.min_sensitivity_mv_per_n {
-        v.push(LimitCheck {
-            limit: "min_sensitivity_mv_per_n",
-            value: sensitivity_mv_per_n,
-            bound: b,
-            passed: sensitivity_mv_per_n >= b,
-        });
+        let (s, e) = sensitivity_mv_per_n;
+        let judged = s * (1.0 - e).max(0.0);
+        v.push(check(
+            "min_sensitivity_mv_per_n",
+            sensitivity_mv_per_n,
+            judged,
+            b,
+            judged >= b,
+        ));
     }
     if let Some(b) = l.max_stress_mpa {
-        v.push(LimitCheck {
-            limit: "max_stress_mpa",
-            value: stress_mpa,
-            bound: b,
-            passed: stress_mpa <= b,
-        });
+        let (s, e) = stress_mpa;
+        let judged = s * (1.0 + e);
+        v.push(check("max_stress_mpa", stress_mpa, judged, b, judged <= b));
     }
     if let Some(b) = l.min_safety_factor {
-        v.push(LimitCheck {
-            limit: "min_safety_factor",
-            value: safety_factor,
-            bound: b,
-            passed: safety_factor >= b,
-        });
+        let (s, e) = safety_factor;
+        let judged = s / (1.0 + e);
+        v.push(check(
+            "min_safety_factor",
+            safety_factor,
+            judged,
+            b,
+            judged >= b,
+        ));
     }
     if let Some(b) = l.max_deflection_um {
-        v.push(LimitCheck {
-            limit: "max_deflection_um",
-            value: deflection_um,
-            bound: b,
-            passed: deflection_um.abs() <= b,
-        });
+        let (d, e) = deflection_um;
+        let judged = d * (1.0 + e);
+        v.push(check(
+            "max_deflection_um",
+            deflection_um,
+            judged,
+            b,
+            judged.abs() <= b,
+        ));
     }
     v
 }
@@ -136,10 +180,13 @@ pub fn check_solid_limits(
         .iter()
         .fold(0.0f64, |m, v| m.max(v.abs()));
     check_values(
-        volts / r.force_n.abs() * (1.0 - charge_disc),
-        stress,
-        fracture_mpa / governing,
-        finest.readout.max_deflection_um.abs() * (1.0 + disc("deflection_at_load")),
+        (volts / r.force_n.abs(), charge_disc),
+        (stress, 0.0),
+        (fracture_mpa / governing, 0.0),
+        (
+            finest.readout.max_deflection_um.abs(),
+            disc("deflection_at_load"),
+        ),
         l,
     )
 }
@@ -165,10 +212,11 @@ mod tests {
             min_safety_factor: Some(1.0),
             max_deflection_um: Some(5.0),
         };
-        let ok = check_values(12.0, 400.0, 3.0, -4.0, &l);
+        let exact = |v: f64| (v, 0.0);
+        let ok = check_values(exact(12.0), exact(400.0), exact(3.0), exact(-4.0), &l);
         assert_eq!(ok.len(), 4);
         assert!(ok.iter().all(|c| c.passed), "{ok:?}");
-        let bad = check_values(9.5, 812.0, 0.8, -6.0, &l);
+        let bad = check_values(exact(9.5), exact(812.0), exact(0.8), exact(-6.0), &l);
         let text: Vec<String> = bad
             .iter()
             .filter(|c| !c.passed)
@@ -184,9 +232,35 @@ mod tests {
             ]
         );
         // Bounds are inclusive; undeclared limits are not checked.
-        assert!(check_values(10.0, 500.0, 1.0, 5.0, &l)
-            .iter()
-            .all(|c| c.passed));
-        assert!(check_values(0.0, 1e9, 0.0, 1e9, &Limits::default()).is_empty());
+        assert!(
+            check_values(exact(10.0), exact(500.0), exact(1.0), exact(5.0), &l)
+                .iter()
+                .all(|c| c.passed)
+        );
+        assert!(check_values(
+            exact(0.0),
+            exact(1e9),
+            exact(0.0),
+            exact(1e9),
+            &Limits::default()
+        )
+        .is_empty());
+        // A value that passes only within its error fails, on each limit's unsafe side: 2 % off
+        // a sensitivity of 10.1 is 9.898, a stress of 495 raised 2 % is 504.9, a safety factor
+        // of 1.01 with its stress 2 % higher is 0.990, a deflection of -4.95 raised is -5.049.
+        let near = check_values((10.1, 0.02), (495.0, 0.02), (1.01, 0.02), (-4.95, 0.02), &l);
+        assert!(near.iter().all(|c| !c.passed), "{near:?}");
+        assert!((near[2].value - 1.01 / 1.02).abs() < 1e-12, "{near:?}");
+        assert_eq!(
+            near[1].to_string(),
+            "stress 504.9 MPa > 500 MPa (reported 495.0 plus its 2.00 % error)"
+        );
+        assert_eq!(
+            near[2].to_string(),
+            "safety factor 0.99 < 1 (reported 1.01, its stress plus its 2.00 % error)"
+        );
+        // Within the bounds with their errors, they pass.
+        let clear = check_values((11.0, 0.02), (480.0, 0.02), (1.1, 0.02), (-4.8, 0.02), &l);
+        assert!(clear.iter().all(|c| c.passed), "{clear:?}");
     }
 }

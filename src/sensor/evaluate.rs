@@ -488,6 +488,38 @@ pub enum StressFrom {
     StripAtLoad,
 }
 
+impl SceneReport {
+    /// The estimated relative error (discretisation plus model, where compared) of what the
+    /// pass/fail limits judge, in the order sensitivity, stress (the one the safety factor is
+    /// judged on), deflection: the most sensitive electrode's charge, the stress `stress_from`
+    /// names, the deflection at the load (the largest deflection has no estimate of its own).
+    /// Charges are relative to the largest of their kind, which the most sensitive electrode
+    /// usually is. A number without its own estimate (the strip's stress) takes the scene's;
+    /// none at all is 0.
+    pub fn limit_errors(&self) -> [f64; 3] {
+        let of = |name: &str| {
+            self.quantities
+                .iter()
+                .find(|q| q.name == name)
+                .and_then(|q| q.error.total)
+                .or(self.error_estimate)
+                .filter(|e| e.is_finite())
+                .unwrap_or(0.0)
+        };
+        let stress = match self.stress_from {
+            StressFrom::ToothBase => super::rung::TOOTH_BASE_STRESS,
+            StressFrom::AveragedOverContact | StressFrom::StripAtLoad => {
+                super::rung::STRESS_AVERAGED
+            }
+        };
+        [
+            of(&format!("charge_{}", self.most_sensitive)),
+            of(stress),
+            of("deflection_at_load"),
+        ]
+    }
+}
+
 impl StressFrom {
     /// What the text output says.
     pub fn describe(self) -> &'static str {

@@ -450,6 +450,46 @@ fn failed_limit_exits_1() {
 }
 
 #[test]
+fn a_limit_met_only_within_its_error_fails() {
+    // The safety factor and the error of the stress it is judged on, then a bound between the
+    // factor taken on its unsafe side and the factor as reported.
+    let args = ["fe", REFERENCE, "--scene", "centre-1n", "--max-levels", "3"];
+    let run = tactfab(&[&args[..], &["--json"]].concat());
+    run.expect_code(0);
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let scene = &v["scenes"][0];
+    assert_eq!(scene["stress_from"], "tooth_base");
+    let sf = scene["safety_factor"].as_f64().unwrap();
+    let e = scene["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|q| q["name"] == "tooth_base_stress")
+        .unwrap()["error"]["total"]
+        .as_f64()
+        .unwrap();
+    assert!(e > 1e-3, "{e}");
+    let bound = sf / (1.0 + 0.5 * e);
+    let set = format!("checks.scenes[0].limits.min_safety_factor={bound}");
+    let run = tactfab(&[&args[..], &["--set", &set]].concat());
+    run.expect_code(1);
+    let line = format!("FAIL: safety factor {:.2} < {bound}", sf / (1.0 + e));
+    assert!(run.stdout.contains(&line), "{line}\n{}", run.stdout);
+    assert!(
+        run.stdout
+            .contains(&format!("(reported {sf:.2}, its stress plus its")),
+        "{}",
+        run.stdout
+    );
+    // Below the factor on its unsafe side the limit passes.
+    let set = format!(
+        "checks.scenes[0].limits.min_safety_factor={}",
+        sf / (1.0 + 2.0 * e)
+    );
+    tactfab(&[&args[..], &["--set", &set]].concat()).expect_code(0);
+}
+
+#[test]
 fn the_strip_model_answers_line_loads_within_its_own_bound() {
     // The fixed-fixed strip (paper 001 Eq. 3-6) against the converged plate, on designs of
     // different span, length and thickness: every reading within the strip's stated estimate
