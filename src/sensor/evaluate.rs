@@ -495,16 +495,19 @@ impl SceneReport {
     /// names, the deflection at the load (the largest deflection has no estimate of its own).
     /// Charges are relative to the largest of their kind, which the most sensitive electrode
     /// usually is. A number without its own estimate (the strip's stress) takes the scene's;
-    /// none at all is 0.
-    pub fn limit_errors(&self) -> [f64; 3] {
+    /// none at all is 0. With each, whether its model error was estimated (a finer rung
+    /// compared: the linear plate against the large-deflection one, any plate rung against the
+    /// solid under `--verify-solid`, the strip by its bound).
+    pub fn limit_errors(&self) -> [(f64, bool); 3] {
         let of = |name: &str| {
-            self.quantities
-                .iter()
-                .find(|q| q.name == name)
+            let q = self.quantities.iter().find(|q| q.name == name);
+            let total = q
                 .and_then(|q| q.error.total)
                 .or(self.error_estimate)
                 .filter(|e| e.is_finite())
-                .unwrap_or(0.0)
+                .unwrap_or(0.0);
+            let model = q.map_or(self.error.model.is_some(), |q| q.error.model.is_some());
+            (total, model)
         };
         let stress = match self.stress_from {
             StressFrom::ToothBase => super::rung::TOOTH_BASE_STRESS,
