@@ -44,8 +44,8 @@ use super::geometry::SensorGeometry;
 pub const STREET_THICKNESSES: f64 = 6.0;
 /// Smallest element at the corner as a fraction of the submodel's radius: the section answered
 /// with, and the two coarser ones (each twice the last) of its three-mesh estimate. Measured on
-/// the bundled design's unit moment (rings 8): 1/8, 1/16, 1/32 read 12.068, 12.086, 12.093 GPa
-/// (order 1.4, limit ~12.097); 1/8 alone is 0.25 % low, 1/16 0.1 %.
+/// the bundled design's unit moment with 8 rings: 1/8, 1/16, 1/32 read 12.068, 12.086, 12.093
+/// GPa per N m/m (order 1.4, limit ~12.098); the answer, 1/16 with 4 rings, 12.082 (0.13 % low).
 const CORNER_ELEMENT_FINE: f64 = 1.0 / 16.0;
 const CORNER_ELEMENT_MEDIUM: f64 = 1.0 / 8.0;
 const CORNER_ELEMENT_COARSE: f64 = 1.0 / 4.0;
@@ -53,8 +53,8 @@ const CORNER_ELEMENT_COARSE: f64 = 1.0 / 4.0;
 const GROWTH: f64 = 1.5;
 const LARGEST_THICKNESSES: f64 = 1.0;
 /// Rings per octave of the corner submodels (as the solid rung's, `edge_stress`), and the half
-/// and double densities of its three-mesh estimate (2, 4, 8 read 12.039, 12.064, 12.068 GPa on
-/// the 1/8 section: the answer's 4 is 0.04 % from the limit).
+/// and double densities of its three-mesh estimate (2, 4, 8 read 12.039, 12.064, 12.068 GPa per
+/// N m/m on the 1/8 section: 4 is about 0.04 % from the rings' limit).
 const RINGS_FINE: usize = 4;
 const RINGS_COARSE: usize = 2;
 const RINGS_FINER: usize = 8;

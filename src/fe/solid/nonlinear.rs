@@ -456,7 +456,8 @@ impl TlSolid {
     /// displacements) up from zero: the step halves when Newton fails (divergence, an inverted
     /// element, a tangent that is not positive definite, too many iterations) and doubles after
     /// a step that converged in at most 4 iterations. Errors ([`FeError::Newton`]) when the step
-    /// falls under 1e-4 of the load or after `max_load_steps` tries.
+    /// falls under 1e-4 of the load, after `max_load_steps` tries or once its work passes
+    /// [`TlOptions::max_factorisations`].
     pub fn solve(&self, loads: &[SolidLoad]) -> FeResult<TlSolution> {
         self.stepped(loads, self.work())
     }
@@ -542,6 +543,8 @@ impl TlSolid {
                     }
                 }
                 Err(w) => {
+                    // A budget spent mid-step is that error, not a step to halve.
+                    work.check(lambda)?;
                     why = w;
                     step *= 0.5;
                     if step < MIN_STEP {
