@@ -100,8 +100,8 @@ impl Default for NonlinearOptions {
     }
 }
 
-/// What the Newton solve cost.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// What the Newton solve cost (the default: nothing yet).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct NewtonStats {
     /// Load steps taken (accepted).
     pub load_steps: usize,
@@ -736,11 +736,7 @@ impl VonKarman {
     ) -> FeResult<(PlateSolution, NewtonStats)> {
         let f = self.force(loads)?;
         let mut u = self.start_from(guess);
-        let mut stats = NewtonStats {
-            load_steps: 0,
-            iterations: 0,
-            factorisations: 0,
-        };
+        let mut stats = NewtonStats::default();
         // Converged relative to the work the load does on the guess, not to the (already
         // small) first correction.
         let work: f64 = f.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>().abs();
@@ -794,11 +790,7 @@ impl VonKarman {
         for &(d, v, _) in &self.constrained {
             u[d] = v;
         }
-        let mut stats = NewtonStats {
-            load_steps: 0,
-            iterations: 0,
-            factorisations: 0,
-        };
+        let mut stats = NewtonStats::default();
         let (mut lambda, mut step) = (0.0f64, 1.0f64);
         let mut previous: Option<(f64, Vec<f64>)> = None;
         let mut attempts = 0;

@@ -147,9 +147,14 @@ impl Work {
         self.used += 1.0;
     }
 
-    /// Whether the budget is spent; the error that says so, with how far the load got.
+    /// Whether the work has passed the budget.
+    fn spent(&self) -> bool {
+        self.used > self.limit
+    }
+
+    /// The error that says the budget is spent, with how far the load got; Ok while it is not.
     fn check(&self, lambda: f64) -> FeResult<()> {
-        if self.used <= self.limit {
+        if !self.spent() {
             return Ok(());
         }
         Err(FeError::Newton {
@@ -438,12 +443,7 @@ impl TlSolid {
             }
             Err(_) => {
                 work.check(0.0)?;
-                let tried = work.stats;
-                work.stats = NewtonStats {
-                    load_steps: 0,
-                    iterations: 0,
-                    factorisations: 0,
-                };
+                let tried = std::mem::take(&mut work.stats);
                 let mut fresh = self.stepped(loads, work)?;
                 fresh.stats.iterations += tried.iterations;
                 fresh.stats.factorisations += tried.factorisations;
@@ -472,11 +472,7 @@ impl TlSolid {
             f64::INFINITY
         };
         Work {
-            stats: NewtonStats {
-                load_steps: 0,
-                iterations: 0,
-                factorisations: 0,
-            },
+            stats: NewtonStats::default(),
             used: 0.0,
             limit: self.opts.max_factorisations.max(floor),
             cg_step: (ENTRIES_PER_DOF_PER_STEP * n.max(1)) as f64 / len.max(1) as f64,
@@ -651,7 +647,7 @@ impl TlSolid {
         let mut first_energy: Option<f64> = None;
         let mut last_energy = f64::INFINITY;
         for it in 1..=self.opts.max_iterations {
-            if work.used > work.limit {
+            if work.spent() {
                 return Err("the work budget is spent".into());
             }
             let r_inf = inf(&r);
