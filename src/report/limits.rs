@@ -7,11 +7,75 @@ use serde::Serialize;
 use crate::process::Limits;
 use crate::sensor::SceneReport;
 
+/// Which declared limit a [`LimitCheck`] judges; serialised as its process-file field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LimitKind {
+    /// `min_sensitivity_mv_per_n`: the most sensitive electrode's |V| / F.
+    #[serde(rename = "min_sensitivity_mv_per_n")]
+    MinSensitivity,
+    /// `max_stress_mpa`: the stress the safety factor is judged on.
+    #[serde(rename = "max_stress_mpa")]
+    MaxStress,
+    /// `min_safety_factor`: fracture strength over that stress.
+    MinSafetyFactor,
+    /// `max_deflection_um`: |the largest deflection|.
+    #[serde(rename = "max_deflection_um")]
+    MaxDeflection,
+}
+
+impl LimitKind {
+    /// The process file's spelling.
+    pub fn yaml_name(self) -> &'static str {
+        match self {
+            LimitKind::MinSensitivity => "min_sensitivity_mv_per_n",
+            LimitKind::MaxStress => "max_stress_mpa",
+            LimitKind::MinSafetyFactor => "min_safety_factor",
+            LimitKind::MaxDeflection => "max_deflection_um",
+        }
+    }
+
+    /// A lower bound (the value must reach it) rather than an upper one.
+    fn is_minimum(self) -> bool {
+        matches!(self, LimitKind::MinSensitivity | LimitKind::MinSafetyFactor)
+    }
+
+    /// The value on its unsafe side given its relative error `e`: a sensitivity lowered, a
+    /// stress or deflection raised, a safety factor lowered with its stress raised.
+    fn judged(self, reported: f64, e: f64) -> f64 {
+        match self {
+            LimitKind::MinSensitivity => reported * (1.0 - e).max(0.0),
+            LimitKind::MinSafetyFactor => reported / (1.0 + e),
+            LimitKind::MaxStress | LimitKind::MaxDeflection => reported * (1.0 + e),
+        }
+    }
+
+    /// The value as the text output shows it: label, number, unit.
+    fn show(self, v: f64) -> String {
+        match self {
+            LimitKind::MinSensitivity => format!("sensitivity {v:.3} mV/N"),
+            LimitKind::MaxStress => format!("stress {v:.1} MPa"),
+            LimitKind::MinSafetyFactor => format!("safety factor {v:.2}"),
+            LimitKind::MaxDeflection => format!("deflection {v:.1} um"),
+        }
+    }
+
+    /// The bound's unit as the text output shows it (with its leading space).
+    fn unit(self) -> &'static str {
+        match self {
+            LimitKind::MinSensitivity => " mV/N",
+            LimitKind::MaxStress => " MPa",
+            LimitKind::MinSafetyFactor => "",
+            LimitKind::MaxDeflection => " um",
+        }
+    }
+}
+
 /// One declared limit and how the report fares against it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LimitCheck {
-    /// The limit's field in the process file, e.g. `min_safety_factor`.
-    pub limit: &'static str,
+    /// The limit (its process-file field in JSON, e.g. `min_safety_factor`).
+    pub limit: LimitKind,
     /// The value judged: the reported one moved to its unsafe side by its estimated relative
     /// error (a sensitivity lowered, a stress or deflection raised, a safety factor lowered), so
     /// a number that only passes within its error does not pass.
@@ -22,7 +86,7 @@ pub struct LimitCheck {
     pub error_rel: f64,
     /// The value's rung has a finer one it was not compared with, so `error_rel` holds no model
     /// error: a plate answer without `--verify-solid` (whose tooth-base stress the graded solid
-    /// puts about 18 % higher on the bundled design). A pass says so.
+    /// puts about 17 % higher on the bundled design). A pass says so.
     pub model_not_estimated: bool,
     /// The declared bound.
     pub bound: f64,
@@ -31,42 +95,27 @@ pub struct LimitCheck {
 
 impl std::fmt::Display for LimitCheck {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let (v, b) = (self.value, self.bound);
-        let ok = self.passed;
-        match self.limit {
-            "min_sensitivity_mv_per_n" => write!(
-                f,
-                "sensitivity {v:.3} mV/N {} {b} mV/N",
-                if ok { ">=" } else { "<" }
-            ),
-            "max_stress_mpa" => write!(
-                f,
-                "stress {v:.1} MPa {} {b} MPa",
-                if ok { "<=" } else { ">" }
-            ),
-            "min_safety_factor" => write!(
-                f,
-                "safety factor {v:.2} {} {b}",
-                if ok { ">=" } else { "<" }
-            ),
-            _ => write!(
-                f,
-                "deflection {v:.1} um {} {b} um",
-                if ok { "<=" } else { ">" }
-            ),
-        }?;
+        let k = self.limit;
+        let op = match (k.is_minimum(), self.passed) {
+            (true, true) => ">=",
+            (true, false) => "<",
+            (false, true) => "<=",
+            (false, false) => ">",
+        };
+        write!(f, "{} {op} {}{}", k.show(self.value), self.bound, k.unit())?;
         if self.error_rel > 0.0 {
             let r = self.reported;
             let e = 100.0 * self.error_rel;
-            match self.limit {
-                "min_sensitivity_mv_per_n" => {
+            match k {
+                LimitKind::MinSensitivity => {
                     write!(f, " (reported {r:.3} less its {e:.2} % error)")
                 }
-                "max_stress_mpa" => write!(f, " (reported {r:.1} plus its {e:.2} % error)"),
-                "min_safety_factor" => {
+                LimitKind::MinSafetyFactor => {
                     write!(f, " (reported {r:.2}, its stress plus its {e:.2} % error)")
                 }
-                _ => write!(f, " (reported {r:.1} plus its {e:.2} % error)"),
+                LimitKind::MaxStress | LimitKind::MaxDeflection => {
+                    write!(f, " (reported {r:.1} plus its {e:.2} % error)")
+                }
             }?;
         }
         // A failure stands either way; a pass is only as good as the rung that gave it.
@@ -105,57 +154,40 @@ fn check_values(
     deflection_um: Estimated,
     l: &Limits,
 ) -> Vec<LimitCheck> {
-    let check = |limit, (reported, e, model): Estimated, judged: f64, bound: f64, passed: bool| {
-        LimitCheck {
+    [
+        (
+            LimitKind::MinSensitivity,
+            l.min_sensitivity_mv_per_n,
+            sensitivity_mv_per_n,
+        ),
+        (LimitKind::MaxStress, l.max_stress_mpa, stress_mpa),
+        (
+            LimitKind::MinSafetyFactor,
+            l.min_safety_factor,
+            safety_factor,
+        ),
+        (LimitKind::MaxDeflection, l.max_deflection_um, deflection_um),
+    ]
+    .into_iter()
+    .filter_map(|(limit, bound, (reported, e, model))| {
+        let bound = bound?;
+        let value = limit.judged(reported, e);
+        let passed = if limit.is_minimum() {
+            value >= bound
+        } else {
+            value.abs() <= bound
+        };
+        Some(LimitCheck {
             limit,
-            value: judged,
+            value,
             reported,
             error_rel: e,
             model_not_estimated: !model,
             bound,
             passed,
-        }
-    };
-    let mut v = Vec::new();
-    if let Some(b) = l.min_sensitivity_mv_per_n {
-        let (s, e, _) = sensitivity_mv_per_n;
-        let judged = s * (1.0 - e).max(0.0);
-        v.push(check(
-            "min_sensitivity_mv_per_n",
-            sensitivity_mv_per_n,
-            judged,
-            b,
-            judged >= b,
-        ));
-    }
-    if let Some(b) = l.max_stress_mpa {
-        let (s, e, _) = stress_mpa;
-        let judged = s * (1.0 + e);
-        v.push(check("max_stress_mpa", stress_mpa, judged, b, judged <= b));
-    }
-    if let Some(b) = l.min_safety_factor {
-        let (s, e, _) = safety_factor;
-        let judged = s / (1.0 + e);
-        v.push(check(
-            "min_safety_factor",
-            safety_factor,
-            judged,
-            b,
-            judged >= b,
-        ));
-    }
-    if let Some(b) = l.max_deflection_um {
-        let (d, e, _) = deflection_um;
-        let judged = d * (1.0 + e);
-        v.push(check(
-            "max_deflection_um",
-            deflection_um,
-            judged,
-            b,
-            judged.abs() <= b,
-        ));
-    }
-    v
+        })
+    })
+    .collect()
 }
 
 /// Every declared limit of `l` checked against the solid rung's answer `r` (`build
