@@ -159,7 +159,11 @@ fn bench_sensor(runs: usize) {
          charges); solve_ms = evaluate()'s own sum of level times; wall_ms includes the rest of \
          evaluate()"
     );
-    let mesh_with = |symmetry: bool, graded: bool| MeshOptions { symmetry, graded };
+    let mesh_with = |symmetry: bool, graded: bool| MeshOptions {
+        symmetry,
+        graded,
+        stations: true,
+    };
     for (label, (x_um, y_um), mesh) in [
         ("centre", (xc, yc), MeshOptions::default()),
         ("centre, --graded", (xc, yc), mesh_with(true, true)),

@@ -9,7 +9,8 @@ use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
 use crate::sensor::{
-    evaluate_many, Accuracy, ElectrodeSide, ModelChoice, SceneReport, SensorGeometry,
+    evaluate_many_with, Accuracy, ElectrodeSide, MeshOptions, ModelChoice, SceneReport,
+    SensorGeometry,
 };
 
 use super::AnalysisError;
@@ -225,7 +226,7 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         at.push((x, y));
     }
     let t0 = Instant::now();
-    let reports = evaluate_many(g, &scenes, plan.accuracy)?;
+    let reports = evaluate_many_with(g, &scenes, plan.accuracy, MeshOptions::READINGS)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let mut samples = reports
         .iter()
@@ -257,10 +258,15 @@ pub fn calibrate(g: &SensorGeometry, plan: &CalibrationPlan) -> Result<Calibrati
         force_table.clone()
     } else {
         let ladder = plan.accuracy.with_model(ModelChoice::Auto);
-        evaluate_many(g, &scenes[..plan.force_table_n.len()], ladder)?
-            .iter()
-            .map(|r| sample(r, cx, cy))
-            .collect()
+        evaluate_many_with(
+            g,
+            &scenes[..plan.force_table_n.len()],
+            ladder,
+            MeshOptions::READINGS,
+        )?
+        .iter()
+        .map(|r| sample(r, cx, cy))
+        .collect()
     };
     let linearity_by_electrode = linearity_by_electrode(g, &force_table_ladder);
     Ok(Calibration {

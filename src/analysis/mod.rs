@@ -1,8 +1,9 @@
 //! Studies built on the sensor model: calibration tables and the load inverse (paper 002, sec. V
 //! and VII), and the probe-orientation study with its fits and angle inverse (paper 000).
 //!
-//! Every study batches its loads into one [`crate::sensor::evaluate_many`] call (one factorisation
-//! per mesh level) and uses the model's linearity in force where a force sweep would only scale
+//! Every study batches its loads into one [`crate::sensor::evaluate_many_with`] call (one
+//! factorisation per mesh level) on [`crate::sensor::MeshOptions::READINGS`] (its answers are
+//! readings: the tooth-base stations' mesh lines would triple each level) and uses the model's linearity in force where a force sweep would only scale
 //! the same solution; the force tables that claim linearity are real solves at those forces.
 
 pub mod calibration;

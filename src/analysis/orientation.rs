@@ -16,7 +16,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::process::{Limits, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, Accuracy, ModelChoice, SceneReport, SensorGeometry};
+use crate::sensor::{
+    evaluate_many_with, Accuracy, MeshOptions, ModelChoice, SceneReport, SensorGeometry,
+};
 
 use super::calibration::Cost;
 use super::fit::{fit, monomial_condition_number, Basis, BasisKind, Fit};
@@ -233,7 +235,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
     };
     let scenes = sweep_scenes(plan, &others, check_angles);
     let t0 = Instant::now();
-    let reports = evaluate_many(g, &scenes, plan.accuracy)?;
+    let reports = evaluate_many_with(g, &scenes, plan.accuracy, MeshOptions::READINGS)?;
     let cost = cost_of(&reports, t0.elapsed().as_secs_f64() * 1e3);
     let na = plan.angles_deg.len();
     let reference: Vec<Vec<f64>> = reports[..na].iter().map(charges).collect();
@@ -277,7 +279,7 @@ pub fn study(g: &SensorGeometry, plan: &OrientationPlan) -> Result<Orientation, 
         .map(|(k, t)| probe(plan, format!("inverse-{k}"), t.angle_deg, t.force_n))
         .collect();
     let t1 = Instant::now();
-    let rerun = evaluate_many(g, &rescenes, plan.accuracy)?;
+    let rerun = evaluate_many_with(g, &rescenes, plan.accuracy, MeshOptions::READINGS)?;
     let inverse_cost = cost_of(&rerun, t1.elapsed().as_secs_f64() * 1e3);
     let inverse = inverse_rows(&tries, &curves, &rerun, ie);
     let bivariate = names

@@ -34,6 +34,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         MeshOptions {
             symmetry: !args.no_symmetry,
             graded: args.graded,
+            stations: true,
         },
     )
     .context("finite-element solve failed")?;

@@ -1,8 +1,8 @@
 //! The die face in cells and the nine voltages per pascal on each (unit responses).
 //!
 //! One scene per cell (a uniform 1 N pressure over it, [`SceneLoad::Pressure`]), all solved by
-//! [`evaluate_many`] on the linear plate: one factorisation per mesh level and one multi-column
-//! solve; a cell over a support goes straight into it (thickness mode), as any load does. A
+//! [`evaluate_many_with`] on the linear plate and [`MeshOptions::READINGS`] (the voltages need no
+//! tooth-base station lines): one factorisation per mesh level and one multi-column solve; a cell over a support goes straight into it (thickness mode), as any load does. A
 //! pressure field constant on each cell then reads V_i = sum_c p_c A_c (V_i per N)_c: exact for
 //! the linear plate, so the field's own discretisation is the cells' (midpoint of a 4 x 4
 //! sub-sample per cell, [`super::field`]).
@@ -10,7 +10,9 @@
 use serde::Serialize;
 
 use crate::process::{Limits, RegionUm, Scene, SceneLoad};
-use crate::sensor::{evaluate_many, Accuracy, ModelChoice, ModelKind, SensorGeometry};
+use crate::sensor::{
+    evaluate_many_with, Accuracy, MeshOptions, ModelChoice, ModelKind, SensorGeometry,
+};
 
 use super::HiddenError;
 
@@ -127,7 +129,12 @@ pub fn unit_responses(
             }
         })
         .collect();
-    let reports = evaluate_many(g, &scenes, acc.with_model(ModelChoice::Plate))?;
+    let reports = evaluate_many_with(
+        g,
+        &scenes,
+        acc.with_model(ModelChoice::Plate),
+        MeshOptions::READINGS,
+    )?;
     let electrodes: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     let a = grid.area_m2();
     let mut mv_per_pa = Vec::with_capacity(grid.len() * electrodes.len());

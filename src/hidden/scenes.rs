@@ -153,7 +153,7 @@ pub fn full_scenes(
     );
     let with: Vec<f64> = p0.iter().zip(dp).map(|(a, b)| a + b).collect();
     let fields = [("tissue-background", p0), ("tissue-feature", &with[..])];
-    let mut answers = cells_answers(g, grid, &fields, acc, MeshOptions::default())?.into_iter();
+    let mut answers = cells_answers(g, grid, &fields, acc, MeshOptions::READINGS)?.into_iter();
     let mut compared = |lin: &[f64]| {
         let mut a = answers.next().expect("one answer per field");
         a.minus_superposition_mv = a.voltages_mv.iter().zip(lin).map(|(x, y)| x - y).collect();

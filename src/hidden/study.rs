@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 
 use crate::analysis::noise::Gaussian;
 use crate::process::{Limits, ReadoutElectronics, RegionUm, Scene, SceneLoad};
-use crate::sensor::{evaluate, Accuracy, MeshOptions, ModelChoice, SensorGeometry};
+use crate::sensor::{evaluate_many_with, Accuracy, MeshOptions, ModelChoice, SensorGeometry};
 use crate::softness::inclusion::{Feature, Slab};
 
 use super::cells::{unit_responses, CellGrid, UnitResponses};
@@ -176,7 +176,7 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
                 fields.push(("vessel-grasp", w));
             }
             let plate = spec.accuracy.with_model(ModelChoice::Plate);
-            let a = cells_answers(g, &grid, &fields, plate, MeshOptions::default())?;
+            let a = cells_answers(g, &grid, &fields, plate, MeshOptions::READINGS)?;
             if let (Some((pulse, electronics)), Some(unit)) = (&spec.vessel, a.get(2)) {
                 let grasp = a.get(3).unwrap_or(&a[1]).clone();
                 let tol = spec.accuracy.tol_rel;
@@ -228,7 +228,15 @@ pub fn run(g: &SensorGeometry, spec: &Spec) -> Result<Study, HiddenError> {
             max_levels: 1,
             ..spec.accuracy.with_model(ModelChoice::Plate)
         };
-        evaluate(g, &scene, coarse)?.error.model
+        evaluate_many_with(
+            g,
+            std::slice::from_ref(&scene),
+            coarse,
+            MeshOptions::READINGS,
+        )?
+        .remove(0)
+        .error
+        .model
     } else {
         None
     };

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::sensor::{evaluate_many, Accuracy, ModelKind, SensorGeometry};
+use crate::sensor::{evaluate_many_with, Accuracy, MeshOptions, ModelKind, SensorGeometry};
 use crate::softness::inclusion::{Feature, Slab};
 
 use super::cells::CellGrid;
@@ -66,7 +66,7 @@ pub fn tissue_summary(g: &SensorGeometry, acc: Accuracy) -> Result<TissueSummary
         scenes.push(cells_scene(&format!("tissue-{name}"), &grid, &with));
         dists.push((name, d));
     }
-    let reports = evaluate_many(g, &scenes, acc)?;
+    let reports = evaluate_many_with(g, &scenes, acc, MeshOptions::READINGS)?;
     let names: Vec<&str> = g.electrodes.iter().map(|e| e.name.as_str()).collect();
     let volts = |k: usize| -> Vec<f64> {
         names

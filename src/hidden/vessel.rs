@@ -170,7 +170,7 @@ pub fn vessel(
     let (grasp, unit) = vessel_fields(bg, dist, grid, centre_um)?;
     let fields = [("vessel-grasp", &grasp[..]), ("vessel-per-pa", &unit[..])];
     let plate = acc.with_model(ModelChoice::Plate);
-    let mut a = cells_answers(g, grid, &fields, plate, MeshOptions::default())?.into_iter();
+    let mut a = cells_answers(g, grid, &fields, plate, MeshOptions::READINGS)?.into_iter();
     let (grasp, unit) = (a.next().expect("grasp"), a.next().expect("unit"));
     cycle(g, grasp, unit, pulse, electronics, acc.tol_rel)
 }

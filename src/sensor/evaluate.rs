@@ -439,7 +439,7 @@ fn touch_down(
         } else {
             Symmetry::none(g)
         };
-        let base = base_lines(g, std::slice::from_ref(l), &sym, mesh.graded);
+        let base = base_lines(g, std::slice::from_ref(l), &sym, mesh.graded, mesh.stations);
         let vk = VonKarman::new(&build_problem(g, &base, 0, &sym)?, opts)?;
         let part = sym.restrict(&l.plate);
         let mut last: Option<crate::fe::PlateSolution> = None;
@@ -907,7 +907,7 @@ fn latest(est: &[(Option<f64>, Option<f64>)]) -> (Option<f64>, Option<f64>) {
 /// [`solve_levels`] for the large-deflection plate, each scene on the part of the plate its own
 /// mirrors allow. Its Newton solves are its own, so a symmetric scene need not solve the whole
 /// plate because another scene breaks a mirror (on the bundled design `line-y5mm` would double
-/// `centre-1n`'s dofs on its nine levels). The linear plate's scenes share one multi-column
+/// `centre-1n`'s dofs on every level). The linear plate's scenes share one multi-column
 /// solve, and so one part: [`solve_levels`].
 fn solve_levels_per_part(
     g: &SensorGeometry,
@@ -980,7 +980,7 @@ fn solve_levels(
     } else {
         1
     };
-    let base = base_lines(g, loads, &sym, mesh.graded);
+    let base = base_lines(g, loads, &sym, mesh.graded, mesh.stations);
     let (kind, in_plane) = match rung {
         Rung::Linear => (ModelKind::Plate, None),
         Rung::LargeDeflection(o) | Rung::Estimate(o) => {

@@ -117,10 +117,10 @@ fn readings_are_linear_from_1_mn_to_5_n() {
     // support electrodes still carry the whole load (equilibrium), the middle ones stiffen.
     let acc = Accuracy::new(0.02, 4);
     let lo = evaluate(&g, &point(12.0, 6.0, 1e-3), acc).unwrap();
-    // On three levels the linear plate's discretisation estimate at 1 mN is 3.6 % (the coarse
-    // pair's first-order term) beside a model error under 1e-3: it misses the tolerance, but
+    // On three levels the linear plate's discretisation estimate at 1 mN is 1.8 % (3.6 % before
+    // the tooth-base stations' mesh lines) beside a model error under 1e-3: it misses 1 %, but
     // the large-deflection plate on the same meshes would not close the miss, so it stays.
-    let short = evaluate(&g, &point(12.0, 6.0, 1e-3), Accuracy::new(0.02, 3)).unwrap();
+    let short = evaluate(&g, &point(12.0, 6.0, 1e-3), Accuracy::new(0.01, 3)).unwrap();
     assert_eq!(short.model.kind, ModelKind::Plate, "{}", short.model.reason);
     assert!(!short.converged);
     assert!(
@@ -132,7 +132,7 @@ fn readings_are_linear_from_1_mn_to_5_n() {
         "{}",
         short.model.reason
     );
-    assert!(short.error.discretisation.unwrap() > 0.02 && short.error.model.unwrap() < 1e-3);
+    assert!(short.error.discretisation.unwrap() > 0.01 && short.error.model.unwrap() < 1e-3);
     let hi = evaluate(&g, &point(12.0, 6.0, 5.0), acc).unwrap();
     assert_eq!(lo.model.kind, ModelKind::Plate, "{}", lo.model.reason);
     assert_eq!(
@@ -312,8 +312,10 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
             k + 1
         );
     }
-    // The truth, Richardson on subdivisions 4, 6 and 8 (observed order ~1.2, steady from 3 to 16):
-    // the estimate is above the true error of the deflection, and not wildly so.
+    // The truth, Richardson on subdivisions 4, 6 and 8 (observed order 1.9 with the tooth-base
+    // stations' mesh lines, 1.2 without): the estimate is above the true error of the deflection,
+    // and not wildly so (3.3x: its first-order term from the coarser pair, kept against plateaus,
+    // is the more conservative the higher the order).
     let fine = evaluate(&g, &point(15.0, 7.5, 1.0), Accuracy::new(1e-9, 6)).unwrap();
     let w: Vec<f64> = fine
         .convergence
@@ -323,10 +325,10 @@ fn error_estimate_comes_from_three_meshes_and_is_conservative() {
     let (r32, r21) = level_ratios(5);
     let rich = richardson_ratios(w[3], w[4], w[5], r32, r21);
     let p = rich.observed_order.expect("monotone");
-    assert!((1.0..1.5).contains(&p), "observed order {p}");
+    assert!((1.0..2.5).contains(&p), "observed order {p}");
     let truth = (rich.extrapolated - r.deflection_at_load_um).abs() / rich.extrapolated;
     assert!(
-        truth <= est && est < 3.0 * truth,
+        truth <= est && est < 4.0 * truth,
         "true error {truth} vs estimate {est}"
     );
 }
@@ -592,7 +594,9 @@ fn hard_cases_solve_with_a_stated_error() {
         "steps.tmah-etch.time_h=null",
     ]);
     assert!((thin.plate_thickness_um - 50.0).abs() < 1e-9);
-    let r = evaluate(&thin, &point(20.0, 7.5, 1.0), Accuracy::new(0.02, 4)).unwrap();
+    // Five levels: on four M3 (1.3 % of M2) read 2.4 % since the tooth-base stations' lines
+    // moved the first tooth column's represented edge (x 250 to 358.6 um, drawn at 429.3).
+    let r = evaluate(&thin, &point(20.0, 7.5, 1.0), Accuracy::new(0.02, 5)).unwrap();
     // The readings reach it; the tooth base's stress (slower: its station moves between levels)
     // states its error.
     assert!(readings(&r).0, "{:?}", r.error_estimate);
@@ -656,12 +660,14 @@ fn hard_cases_solve_with_a_stated_error() {
         .unwrap();
     assert_eq!(support_max.name, "S11", "{:?}", r.electrodes);
 
-    // Straddling a tooth edge (the load patch's centre on the footprint edge).
+    // Straddling a tooth edge (the load patch's centre on the footprint edge). Five levels: the
+    // tooth-base stress reads 1676.8, 1678.3, 1676.9 MPa on levels 4-6, its estimate 2.6 % on
+    // four. Before the stations' mesh lines four passed at 0.5 % reading 1621.6, 3.3 % low.
     let t = &g.teeth[g.teeth.len() / 2];
     let r = evaluate(
         &g,
         &point(t.x0_um / 1e3, (t.y0_um + t.y1_um) / 2e3, 1.0),
-        Accuracy::new(0.02, 4),
+        Accuracy::new(0.02, 5),
     )
     .unwrap();
     assert!(r.converged, "{:?}", r.error_estimate);
@@ -676,12 +682,13 @@ fn hard_cases_solve_with_a_stated_error() {
 /// The large-deflection rung's hard cases on the bundled design: 5 N at a free corner (the plate
 /// twists and lifts along the far support), a load centred on the support edge (its patch half on
 /// the support), and the centre load just below touch-down (the deflection within a few percent of
-/// the gap). Each converges on three levels, balances the load in the deformed state, and keeps
+/// the gap). Each converges on four levels (on three the support edge's tooth-base stress reads
+/// 790, 778, 772 MPa and the estimate 8-10 %: the order from three levels this coarse), balances the load in the deformed state, and keeps
 /// the answer under the gap.
 #[test]
 fn large_deflection_hard_cases_converge_and_balance() {
     let g = geometry(&[]);
-    let nonlinear = Accuracy::new(0.05, 3).with_model(ModelChoice::LargeDeflection);
+    let nonlinear = Accuracy::new(0.05, 4).with_model(ModelChoice::LargeDeflection);
     let centre_touch = evaluate(&g, &point(15.0, 7.5, 1.0), nonlinear)
         .unwrap()
         .touch_down
@@ -759,6 +766,7 @@ fn symmetric_scenes_solve_part_of_the_plate() {
             MeshOptions {
                 symmetry: false,
                 graded: false,
+                stations: true,
             },
         )
         .unwrap()
@@ -851,6 +859,7 @@ fn graded_and_ungraded_meshes_agree_within_their_estimates() {
             MeshOptions {
                 symmetry: true,
                 graded: true,
+                stations: true,
             },
         )
         .unwrap()
@@ -1072,11 +1081,12 @@ fn in_plane_support_condition_is_stated_and_matters() {
         m2(&sl),
         m2(&im)
     );
-    // Equilibrium holds in every case: the supports carry the whole load.
+    // Equilibrium holds in every case: the supports carry the whole load, to round-off (the
+    // clamped linear plate's one direct solve 3.4e-9 on the tooth-base stations' 72 um strips).
     for s in [&lin, &im, &sl] {
         let r = &s["reactions_n"];
         let total = r["support1"].as_f64().unwrap() + r["support2"].as_f64().unwrap();
-        assert!((total - 1.0).abs() < 1e-9, "{total}");
+        assert!((total - 1.0).abs() < 1e-8, "{total}");
     }
 }
 
