@@ -3,8 +3,9 @@
 //!
 //! Every study batches its loads into one [`crate::sensor::evaluate_many_with`] call (one
 //! factorisation per mesh level) on [`crate::sensor::MeshOptions::READINGS`] (its answers are
-//! readings: the tooth-base stations' mesh lines would triple each level) and uses the model's linearity in force where a force sweep would only scale
-//! the same solution; the force tables that claim linearity are real solves at those forces.
+//! readings: the tooth-base stations' mesh lines would triple each level) and uses the model's
+//! linearity in force where a force sweep would only scale the same solution; the force tables
+//! that claim linearity are real solves at those forces.
 
 pub mod calibration;
 pub mod error;

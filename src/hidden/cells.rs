@@ -2,8 +2,9 @@
 //!
 //! One scene per cell (a uniform 1 N pressure over it, [`SceneLoad::Pressure`]), all solved by
 //! [`evaluate_many_with`] on the linear plate and [`MeshOptions::READINGS`] (the voltages need no
-//! tooth-base station lines): one factorisation per mesh level and one multi-column solve; a cell over a support goes straight into it (thickness mode), as any load does. A
-//! pressure field constant on each cell then reads V_i = sum_c p_c A_c (V_i per N)_c: exact for
+//! tooth-base station lines): one factorisation per mesh level and one multi-column solve; a
+//! cell over a support goes straight into it (thickness mode), as any load does. A pressure
+//! field constant on each cell then reads V_i = sum_c p_c A_c (V_i per N)_c: exact for
 //! the linear plate, so the field's own discretisation is the cells' (midpoint of a 4 x 4
 //! sub-sample per cell, [`super::field`]).
 

@@ -9,7 +9,6 @@ use crate::sensor::SceneReport;
 
 /// Which declared limit a [`LimitCheck`] judges; serialised as its process-file field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
 pub enum LimitKind {
     /// `min_sensitivity_mv_per_n`: the most sensitive electrode's |V| / F.
     #[serde(rename = "min_sensitivity_mv_per_n")]
@@ -18,6 +17,7 @@ pub enum LimitKind {
     #[serde(rename = "max_stress_mpa")]
     MaxStress,
     /// `min_safety_factor`: fracture strength over that stress.
+    #[serde(rename = "min_safety_factor")]
     MinSafetyFactor,
     /// `max_deflection_um`: |the largest deflection|.
     #[serde(rename = "max_deflection_um")]
@@ -25,16 +25,6 @@ pub enum LimitKind {
 }
 
 impl LimitKind {
-    /// The process file's spelling.
-    pub fn yaml_name(self) -> &'static str {
-        match self {
-            LimitKind::MinSensitivity => "min_sensitivity_mv_per_n",
-            LimitKind::MaxStress => "max_stress_mpa",
-            LimitKind::MinSafetyFactor => "min_safety_factor",
-            LimitKind::MaxDeflection => "max_deflection_um",
-        }
-    }
-
     /// A lower bound (the value must reach it) rather than an upper one.
     fn is_minimum(self) -> bool {
         matches!(self, LimitKind::MinSensitivity | LimitKind::MinSafetyFactor)

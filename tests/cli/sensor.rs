@@ -683,8 +683,8 @@ fn hard_cases_solve_with_a_stated_error() {
 /// twists and lifts along the far support), a load centred on the support edge (its patch half on
 /// the support), and the centre load just below touch-down (the deflection within a few percent of
 /// the gap). Each converges on four levels (on three the support edge's tooth-base stress reads
-/// 790, 778, 772 MPa and the estimate 8-10 %: the order from three levels this coarse), balances the load in the deformed state, and keeps
-/// the answer under the gap.
+/// 790, 778, 772 MPa and the estimate 8-10 %: the order from three levels this coarse),
+/// balances the load in the deformed state, and keeps the answer under the gap.
 #[test]
 fn large_deflection_hard_cases_converge_and_balance() {
     let g = geometry(&[]);
