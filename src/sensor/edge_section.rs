@@ -144,9 +144,10 @@ fn corner_of(g: &SensorGeometry) -> Option<(Vec<CornerSector>, f64, f64, f64)> {
 /// edge (two radii plus a run-out in from its base vertices). Off a line, a station's place
 /// inside its element changes with every level and the three-mesh estimate reads it
 /// optimistically: on the bundled design, clamped, the governing end station read 1793.1 MPa on
-/// nine levels with an estimate of 0.70 %, where with the lines it reads 1765.6-1806.0 MPa
-/// monotonically (splits 2-8), about 0.7 % more; on the support sections its sequence
-/// (1551-1741 MPa over splits 1-32) was not monotone and did not converge in nine levels.
+/// nine levels with an estimate of 0.70 %, where with the lines it rises from 1765.6 to 1806.7
+/// MPa over splits 2-6 and stays within 0.25 % of that to split 16 (1802.8); on the support
+/// sections its sequence (1551-1741 MPa over splits 1-32) was not monotone and did not converge
+/// in nine levels.
 /// Empty where the section does not [`applies`].
 pub fn station_lines_um(g: &SensorGeometry) -> (Vec<f64>, Vec<f64>) {
     let Some((_, radius, _, _)) = corner_of(g) else {
