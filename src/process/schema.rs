@@ -768,6 +768,54 @@ pub struct Limits {
     pub max_deflection_um: Option<f64>,
 }
 
+impl Limits {
+    /// Every limit with its declared bound (None where absent), in the order checks list them.
+    pub fn entries(&self) -> [(LimitKind, Option<f64>); 4] {
+        [
+            (LimitKind::MinSensitivity, self.min_sensitivity_mv_per_n),
+            (LimitKind::MaxStress, self.max_stress_mpa),
+            (LimitKind::MinSafetyFactor, self.min_safety_factor),
+            (LimitKind::MaxDeflection, self.max_deflection_um),
+        ]
+    }
+}
+
+/// Which of a scene's [`Limits`] is meant; serialised as its field's name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimitKind {
+    /// `min_sensitivity_mv_per_n`: the most sensitive electrode's |V| / F.
+    MinSensitivity,
+    /// `max_stress_mpa`: the stress the safety factor is judged on.
+    MaxStress,
+    /// `min_safety_factor`: fracture strength over that stress.
+    MinSafetyFactor,
+    /// `max_deflection_um`: |the largest deflection|.
+    MaxDeflection,
+}
+
+impl LimitKind {
+    /// The field's name in the process file.
+    pub fn yaml_name(self) -> &'static str {
+        match self {
+            LimitKind::MinSensitivity => "min_sensitivity_mv_per_n",
+            LimitKind::MaxStress => "max_stress_mpa",
+            LimitKind::MinSafetyFactor => "min_safety_factor",
+            LimitKind::MaxDeflection => "max_deflection_um",
+        }
+    }
+
+    /// A lower bound (the value must reach it) rather than an upper one.
+    pub fn is_minimum(self) -> bool {
+        matches!(self, LimitKind::MinSensitivity | LimitKind::MinSafetyFactor)
+    }
+}
+
+impl Serialize for LimitKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.yaml_name())
+    }
+}
+
 /// One GDS layer/datatype pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

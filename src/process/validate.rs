@@ -718,15 +718,9 @@ fn scenes(v: &mut V, p: &Process) {
             );
         }
         scene_load(v, &b, &sc.load, &p.geometry);
-        let lim = &sc.limits;
-        for (name, x) in [
-            ("min_sensitivity_mv_per_n", lim.min_sensitivity_mv_per_n),
-            ("max_stress_mpa", lim.max_stress_mpa),
-            ("min_safety_factor", lim.min_safety_factor),
-            ("max_deflection_um", lim.max_deflection_um),
-        ] {
+        for (kind, x) in sc.limits.entries() {
             if let Some(x) = x {
-                v.positive(&format!("{b}.limits.{name}"), x, 1e9, "");
+                v.positive(&format!("{b}.limits.{}", kind.yaml_name()), x, 1e9, "");
             }
         }
     }

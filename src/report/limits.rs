@@ -4,32 +4,10 @@
 
 use serde::Serialize;
 
-use crate::process::Limits;
+use crate::process::{LimitKind, Limits};
 use crate::sensor::SceneReport;
 
-/// Which declared limit a [`LimitCheck`] judges; serialised as its process-file field.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum LimitKind {
-    /// `min_sensitivity_mv_per_n`: the most sensitive electrode's |V| / F.
-    #[serde(rename = "min_sensitivity_mv_per_n")]
-    MinSensitivity,
-    /// `max_stress_mpa`: the stress the safety factor is judged on.
-    #[serde(rename = "max_stress_mpa")]
-    MaxStress,
-    /// `min_safety_factor`: fracture strength over that stress.
-    #[serde(rename = "min_safety_factor")]
-    MinSafetyFactor,
-    /// `max_deflection_um`: |the largest deflection|.
-    #[serde(rename = "max_deflection_um")]
-    MaxDeflection,
-}
-
 impl LimitKind {
-    /// A lower bound (the value must reach it) rather than an upper one.
-    fn is_minimum(self) -> bool {
-        matches!(self, LimitKind::MinSensitivity | LimitKind::MinSafetyFactor)
-    }
-
     /// The value on its unsafe side given its relative error `e`: a sensitivity lowered, a
     /// stress or deflection raised, a safety factor lowered with its stress raised.
     fn judged(self, reported: f64, e: f64) -> f64 {
@@ -40,23 +18,14 @@ impl LimitKind {
         }
     }
 
-    /// The value as the text output shows it: label, number, unit.
-    fn show(self, v: f64) -> String {
+    /// How the text output names it, the decimals its values show and its unit (with the
+    /// leading space).
+    fn shown(self) -> (&'static str, usize, &'static str) {
         match self {
-            LimitKind::MinSensitivity => format!("sensitivity {v:.3} mV/N"),
-            LimitKind::MaxStress => format!("stress {v:.1} MPa"),
-            LimitKind::MinSafetyFactor => format!("safety factor {v:.2}"),
-            LimitKind::MaxDeflection => format!("deflection {v:.1} um"),
-        }
-    }
-
-    /// The bound's unit as the text output shows it (with its leading space).
-    fn unit(self) -> &'static str {
-        match self {
-            LimitKind::MinSensitivity => " mV/N",
-            LimitKind::MaxStress => " MPa",
-            LimitKind::MinSafetyFactor => "",
-            LimitKind::MaxDeflection => " um",
+            LimitKind::MinSensitivity => ("sensitivity", 3, " mV/N"),
+            LimitKind::MaxStress => ("stress", 1, " MPa"),
+            LimitKind::MinSafetyFactor => ("safety factor", 2, ""),
+            LimitKind::MaxDeflection => ("deflection", 1, " um"),
         }
     }
 }
@@ -86,27 +55,26 @@ pub struct LimitCheck {
 impl std::fmt::Display for LimitCheck {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let k = self.limit;
+        let (label, d, unit) = k.shown();
         let op = match (k.is_minimum(), self.passed) {
             (true, true) => ">=",
             (true, false) => "<",
             (false, true) => "<=",
             (false, false) => ">",
         };
-        write!(f, "{} {op} {}{}", k.show(self.value), self.bound, k.unit())?;
+        write!(
+            f,
+            "{label} {:.d$}{unit} {op} {}{unit}",
+            self.value, self.bound
+        )?;
         if self.error_rel > 0.0 {
-            let r = self.reported;
-            let e = 100.0 * self.error_rel;
-            match k {
-                LimitKind::MinSensitivity => {
-                    write!(f, " (reported {r:.3} less its {e:.2} % error)")
-                }
-                LimitKind::MinSafetyFactor => {
-                    write!(f, " (reported {r:.2}, its stress plus its {e:.2} % error)")
-                }
-                LimitKind::MaxStress | LimitKind::MaxDeflection => {
-                    write!(f, " (reported {r:.1} plus its {e:.2} % error)")
-                }
-            }?;
+            let (r, e) = (self.reported, 100.0 * self.error_rel);
+            let how = match k {
+                LimitKind::MinSensitivity => " less its",
+                LimitKind::MinSafetyFactor => ", its stress plus its",
+                LimitKind::MaxStress | LimitKind::MaxDeflection => " plus its",
+            };
+            write!(f, " (reported {r:.d$}{how} {e:.2} % error)")?;
         }
         // A failure stands either way; a pass is only as good as the rung that gave it.
         if self.passed && self.model_not_estimated {
@@ -144,40 +112,33 @@ fn check_values(
     deflection_um: Estimated,
     l: &Limits,
 ) -> Vec<LimitCheck> {
-    [
-        (
-            LimitKind::MinSensitivity,
-            l.min_sensitivity_mv_per_n,
-            sensitivity_mv_per_n,
-        ),
-        (LimitKind::MaxStress, l.max_stress_mpa, stress_mpa),
-        (
-            LimitKind::MinSafetyFactor,
-            l.min_safety_factor,
-            safety_factor,
-        ),
-        (LimitKind::MaxDeflection, l.max_deflection_um, deflection_um),
-    ]
-    .into_iter()
-    .filter_map(|(limit, bound, (reported, e, model))| {
-        let bound = bound?;
-        let value = limit.judged(reported, e);
-        let passed = if limit.is_minimum() {
-            value >= bound
-        } else {
-            value.abs() <= bound
-        };
-        Some(LimitCheck {
-            limit,
-            value,
-            reported,
-            error_rel: e,
-            model_not_estimated: !model,
-            bound,
-            passed,
+    l.entries()
+        .into_iter()
+        .filter_map(|(limit, bound)| {
+            let bound = bound?;
+            let (reported, e, model) = match limit {
+                LimitKind::MinSensitivity => sensitivity_mv_per_n,
+                LimitKind::MaxStress => stress_mpa,
+                LimitKind::MinSafetyFactor => safety_factor,
+                LimitKind::MaxDeflection => deflection_um,
+            };
+            let value = limit.judged(reported, e);
+            let passed = if limit.is_minimum() {
+                value >= bound
+            } else {
+                value.abs() <= bound
+            };
+            Some(LimitCheck {
+                limit,
+                value,
+                reported,
+                error_rel: e,
+                model_not_estimated: !model,
+                bound,
+                passed,
+            })
         })
-    })
-    .collect()
+        .collect()
 }
 
 /// Every declared limit of `l` checked against the solid rung's answer `r` (`build

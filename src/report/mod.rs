@@ -26,7 +26,7 @@ pub mod summary;
 pub mod traveler;
 
 pub use build::{build, Built, Options, ReportError, SolidCheck, Stage};
-pub use limits::{check_limits, limit_failures, LimitCheck, LimitKind};
+pub use limits::{check_limits, limit_failures, LimitCheck};
 pub use origin::Origin;
 pub use summary::{summary, BuildSummary};
 pub use traveler::Traveler;
