@@ -19,6 +19,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         verify_solid: args.verify_solid.then_some(SolidCheck {
             levels: VERIFY_SOLID_LEVELS.min(usize::from(args.accuracy.max_levels)),
             graded: args.graded,
+            tied_shear: args.tied_shear,
         }),
     };
     let built = {
@@ -85,8 +86,13 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         } else {
             String::new()
         };
+        let shear = if first.tied_shear {
+            ", transverse shear tied"
+        } else {
+            ""
+        };
         out.push_str(&format!(
-            "  solid rung: {} on {}{grading}, in {}-solid-check.json\n",
+            "  solid rung: {} on {}{grading}{shear}, in {}-solid-check.json\n",
             count(built.solid_check.len(), "scene"),
             count(first.levels.len(), "level"),
             s.device

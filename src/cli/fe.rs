@@ -27,6 +27,11 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         }
         return solid(args, &g, &scenes);
     }
+    if args.tied_shear && !args.verify_solid {
+        bail!(
+            "--tied-shear applies to the solid rung: give it with --model solid or --verify-solid"
+        );
+    }
     let mut reports = evaluate_many_with(
         &g,
         &scenes,
@@ -113,6 +118,7 @@ fn verify_solid(
             symmetry: !args.no_symmetry,
             nonlinear: false,
             graded: args.graded,
+            tied_shear: args.tied_shear,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(&solid, acc.tol_rel);
@@ -338,6 +344,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             symmetry: !args.no_symmetry,
             nonlinear: false,
             graded: args.graded,
+            tied_shear: args.tied_shear,
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
@@ -578,10 +585,11 @@ pub fn modes_text(m: &PlateModes) -> String {
     s
 }
 
-/// How the solid's levels were graded, for its summary line (empty when uniform).
+/// How the solid's levels were graded and their shears taken, for its summary line (empty when
+/// uniform and plain).
 fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
-    if r.graded {
-        ", graded at the tooth base edges".into()
+    let mut s = if r.graded {
+        ", graded at the tooth base edges".to_string()
     } else if r.graded_teeth > 0 {
         format!(
             ", graded at the base edges of the {} teeth the plate finds hottest",
@@ -589,5 +597,9 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
         )
     } else {
         String::new()
+    };
+    if r.tied_shear {
+        s.push_str(", transverse shear tied");
     }
+    s
 }

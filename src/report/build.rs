@@ -67,6 +67,8 @@ pub struct SolidCheck {
     /// Every level graded at the tooth base edges (`--graded`: about 4x the dofs; the uniform
     /// levels can leave the edges' stresses and the deflection low).
     pub graded: bool,
+    /// The bricks' transverse shears tied (`--tied-shear`).
+    pub tied_shear: bool,
 }
 
 /// Stages, for progress reporting.
@@ -248,6 +250,7 @@ pub fn build(
                         symmetry: true,
                         nonlinear: false,
                         graded: check.graded,
+                        tied_shear: check.tied_shear,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

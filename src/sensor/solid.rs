@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::fe::solid::{SolidModel, TlOptions, TlSolid};
+use crate::fe::solid::{SolidModel, TlOptions, TlSolid, TransverseShear};
 use crate::fe::ThreeMesh;
 use crate::process::{Scene, SceneLoad};
 
@@ -79,6 +79,8 @@ pub struct SolidReport {
     pub nonlinear: bool,
     /// The levels graded at every tooth's base edges (`--graded`).
     pub graded: bool,
+    /// The bricks' transverse shears tied (`--tied-shear`).
+    pub tied_shear: bool,
     /// How many teeth's base edges the levels are graded at: every tooth under `graded`, else
     /// the plate answer's hot teeth ([`crate::sensor::edge_section::hot_teeth`]), where the worst
     /// edge is.
@@ -493,6 +495,9 @@ pub struct SolidRun {
     /// Every level graded at the tooth base edges
     /// ([`super::solid_mesh::TOOTH_EDGE_GRADING`]): about 4 times the dofs and memory.
     pub graded: bool,
+    /// The bricks' transverse shears tied ([`crate::fe::solid::TransverseShear::Tied`]): the
+    /// plate's bricks of several thicknesses do not lock (README, "Tied transverse shear").
+    pub tied_shear: bool,
 }
 
 /// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
@@ -563,6 +568,11 @@ pub fn evaluate_solid(
     // Every mesh of the run, the thickness check's too, graded alike.
     let mesh = |level: usize| SolidMeshOptions {
         tooth_edge_grading: run.graded,
+        shear: if run.tied_shear {
+            TransverseShear::Tied
+        } else {
+            TransverseShear::Displacement
+        },
         ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
     };
     // The nonlinear solve of each level starts from the coarser level's field.
@@ -664,6 +674,7 @@ pub fn evaluate_solid(
         },
         nonlinear: run.nonlinear,
         graded: run.graded,
+        tied_shear: run.tied_shear,
         graded_teeth: if run.graded {
             g.etched.tooth_tops_um.len()
         } else {

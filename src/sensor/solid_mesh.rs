@@ -13,6 +13,7 @@
 
 use crate::fe::solid::{
     Axis3, Constraint, Elasticity, FaceRect, HexGrid, NodeSet, Outward, SolidLoad, SolidProblem,
+    TransverseShear,
 };
 use crate::fe::{FeError, FeResult};
 
@@ -154,7 +155,8 @@ impl SensorSolid {
     }
 }
 
-/// Mesh density: the largest in-plane element (um) and the elements through each layer.
+/// Mesh density (the largest in-plane element, um, and the elements through each layer) and how
+/// the bricks take their transverse shears.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolidMeshOptions {
     pub element_um: f64,
@@ -164,6 +166,9 @@ pub struct SolidMeshOptions {
     pub base_layers: usize,
     /// Lines at [`TOOTH_EDGE_GRADING`] plate thicknesses either side of every tooth base edge.
     pub tooth_edge_grading: bool,
+    /// The bricks' transverse shear strains ([`TransverseShear::Tied`]: a thin plate on bricks of
+    /// several thicknesses does not lock).
+    pub shear: TransverseShear,
 }
 
 /// Where the graded mesh adds lines round a tooth base edge, in plate thicknesses: measured on
@@ -185,6 +190,7 @@ impl SolidMeshOptions {
             support_layers: 1,
             base_layers: 1,
             tooth_edge_grading: false,
+            shear: TransverseShear::Displacement,
         }
     }
 }
@@ -489,6 +495,7 @@ pub fn build(
         Base::Rigid => pvdf,
     };
     let mut problem = SolidProblem::new(grid, vec![silicon, pvdf, base_el]);
+    problem.shear = opts.shear;
     problem.constraints.push(Constraint::clamp(
         "base",
         NodeSet::Plane {

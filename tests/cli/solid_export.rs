@@ -35,6 +35,7 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         symmetry: true,
         nonlinear: false,
         graded: false,
+        tied_shear: false,
     };
     let rung = evaluate_solid(&g, &scene, run, &[], &[]).unwrap();
     let r = &rung.levels[0].readout;

@@ -13,6 +13,7 @@ use crate::fe::solid::dofs::SolidDofs;
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::HexGrid;
 use crate::fe::solid::hex27::{self, DOFS, NODES};
+use crate::fe::solid::shear_tying::TransverseShear;
 
 /// Marker of a void element in [`ElementMatrices::kind`].
 pub const VOID: u32 = u32::MAX;
@@ -69,7 +70,12 @@ impl ElementMatrices {
     /// Computes every active element's stiffness: box elements of equal size and material share
     /// one matrix; mapped elements get their own. Errors if an element names a missing material
     /// or a material is not positive definite.
-    pub fn new(grid: &HexGrid, pos_um: &[[f64; 3]], materials: &[Elasticity]) -> FeResult<Self> {
+    pub fn new(
+        grid: &HexGrid,
+        pos_um: &[[f64; 3]],
+        materials: &[Elasticity],
+        shear: TransverseShear,
+    ) -> FeResult<Self> {
         check_materials(grid, materials)?;
         // (representative element, material) of every distinct matrix.
         let mut jobs: Vec<(usize, u16)> = Vec::new();
@@ -94,6 +100,7 @@ impl ElementMatrices {
                 Arc::new(hex27::stiffness(
                     &element_nodes_m(grid, pos_um, e),
                     &materials[usize::from(m)],
+                    shear,
                 ))
             })
             .collect();

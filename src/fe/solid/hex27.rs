@@ -7,6 +7,7 @@
 //! `3 n + d` is displacement component d of node n. Coordinates in metres.
 
 use crate::fe::solid::elasticity::Elasticity;
+use crate::fe::solid::shear_tying::{self, NodeB, TransverseShear};
 
 /// Nodes per element.
 pub const NODES: usize = 27;
@@ -184,33 +185,46 @@ pub fn strain(dn_dx: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> [f64; 6] {
 }
 
 /// Element stiffness K = sum_g w_g B^T C B det J (3x3x3 Gauss, Hughes Eq. 3.9.4), row-major
-/// 81 x 81, N/m. The caller has checked that det J > 0 at every Gauss point.
-pub fn stiffness(nodes_m: &[[f64; 3]; NODES], material: &Elasticity) -> Vec<f64> {
+/// 81 x 81, N/m, with the transverse shears taken as `shear` says ([`shear_tying`]). The caller
+/// has checked that det J > 0 at every Gauss point.
+pub fn stiffness(
+    nodes_m: &[[f64; 3]; NODES],
+    material: &Elasticity,
+    shear: TransverseShear,
+) -> Vec<f64> {
     let c = &material.c_pa;
     let mut k = vec![0.0; DOFS * DOFS];
     for (xi, w) in gauss_points() {
-        let g = geometry(nodes_m, xi);
+        let (g, bn) = shear_tying::b_at(nodes_m, xi, shear);
         let f = w * g.det_j;
-        // C B_b for every node b: 6 x 3 blocks.
+        // C B_b for every node b: 6 x 3 blocks (columns u_x, u_y, u_z; B's zeros skipped).
         let cb: [[[f64; 3]; 6]; NODES] = std::array::from_fn(|b| {
-            let [nx, ny, nz] = g.dn_dx[b];
+            let NodeB {
+                n: [nx, ny, nz],
+                yz,
+                xz,
+            } = bn[b];
             std::array::from_fn(|r| {
                 let row = &c[r];
                 [
-                    row[0] * nx + row[4] * nz + row[5] * ny,
-                    row[1] * ny + row[3] * nz + row[5] * nx,
-                    row[2] * nz + row[3] * ny + row[4] * nx,
+                    row[0] * nx + row[4] * xz[0] + row[5] * ny,
+                    row[1] * ny + row[3] * yz[0] + row[5] * nx,
+                    row[2] * nz + row[3] * yz[1] + row[4] * xz[1],
                 ]
             })
         });
         for a in 0..NODES {
-            let [nx, ny, nz] = g.dn_dx[a];
+            let NodeB {
+                n: [nx, ny, nz],
+                yz,
+                xz,
+            } = bn[a];
             for (b, x) in cb.iter().enumerate().skip(a) {
                 // B_a^T X, using the sparsity of B_a.
                 for j in 0..3 {
-                    let r0 = nx * x[0][j] + nz * x[4][j] + ny * x[5][j];
-                    let r1 = ny * x[1][j] + nz * x[3][j] + nx * x[5][j];
-                    let r2 = nz * x[2][j] + ny * x[3][j] + nx * x[4][j];
+                    let r0 = nx * x[0][j] + xz[0] * x[4][j] + ny * x[5][j];
+                    let r1 = ny * x[1][j] + yz[0] * x[3][j] + nx * x[5][j];
+                    let r2 = nz * x[2][j] + yz[1] * x[3][j] + xz[1] * x[4][j];
                     k[(3 * a) * DOFS + 3 * b + j] += f * r0;
                     k[(3 * a + 1) * DOFS + 3 * b + j] += f * r1;
                     k[(3 * a + 2) * DOFS + 3 * b + j] += f * r2;
@@ -231,14 +245,15 @@ pub fn stiffness(nodes_m: &[[f64; 3]; NODES], material: &Elasticity) -> Vec<f64>
     k
 }
 
-/// Stress sigma = C B(xi) u (Voigt, Pa) at local point `xi`.
+/// Stress sigma = C B(xi) u (Voigt, Pa) at local point `xi`, the shears taken as `shear` says.
 pub fn stress_pa(
     nodes_m: &[[f64; 3]; NODES],
     material: &Elasticity,
     u_m: &[f64; DOFS],
     xi: [f64; 3],
+    shear: TransverseShear,
 ) -> [f64; 6] {
-    material.stress_pa(&strain(&geometry(nodes_m, xi).dn_dx, u_m))
+    material.stress_pa(&shear_tying::strain_at(nodes_m, u_m, xi, shear))
 }
 
 /// Position x(xi) = sum_n N_n(xi) x_n.
@@ -319,7 +334,12 @@ mod tests {
             .map(|(xi, w)| w * geometry(&box_nodes(2.0, 1.5, 1.0), *xi).det_j)
             .sum();
         assert!((vb - 3.0).abs() < 1e-13 && (vol - 3.0).abs() < 0.3);
-        let k = stiffness(&x, &Elasticity::isotropic(1e9, 0.3));
+        for shear in [TransverseShear::Displacement, TransverseShear::Tied] {
+            rigid_modes_check(&x, &stiffness(&x, &Elasticity::isotropic(1e9, 0.3), shear));
+        }
+    }
+
+    fn rigid_modes_check(x: &[[f64; 3]; NODES], k: &[f64]) {
         // Six rigid modes (3 translations, 3 rotations) give zero force.
         for mode in 0..6 {
             let u: Vec<f64> = (0..DOFS)
@@ -376,16 +396,33 @@ mod tests {
                 assert!((a - b).abs() < 1e-13, "{e:?}");
             }
         }
-        let k = stiffness(&x, &c);
+        for shear in [TransverseShear::Displacement, TransverseShear::Tied] {
+            for xi in [[0.1, 0.2, -0.9], [-1.0, 1.0, 0.0]] {
+                let e = shear_tying::strain_at(&x, &u, xi, shear);
+                for (a, b) in e.iter().zip(&eps) {
+                    assert!((a - b).abs() < 1e-13, "{shear:?} {e:?}");
+                }
+            }
+            energy_check(&x, &c, &u, &eps, &stiffness(&x, &c, shear));
+        }
+    }
+
+    fn energy_check(
+        x: &[[f64; 3]; NODES],
+        c: &Elasticity,
+        u: &[f64; DOFS],
+        eps: &[f64; 6],
+        k: &[f64],
+    ) {
         let energy: f64 = (0..DOFS)
             .map(|i| u[i] * (0..DOFS).map(|j| k[i * DOFS + j] * u[j]).sum::<f64>())
             .sum::<f64>()
             * 0.5;
         let vol: f64 = gauss_points()
             .iter()
-            .map(|(xi, w)| w * geometry(&x, *xi).det_j)
+            .map(|(xi, w)| w * geometry(x, *xi).det_j)
             .sum();
-        let s = c.stress_pa(&eps);
+        let s = c.stress_pa(eps);
         let expect = 0.5 * vol * (0..6).map(|i| s[i] * eps[i]).sum::<f64>();
         assert!(
             (energy - expect).abs() < 1e-10 * expect,

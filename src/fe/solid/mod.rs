@@ -38,6 +38,7 @@ pub mod nonlinear;
 pub mod ordering;
 pub mod principal;
 pub mod problem;
+pub mod shear_tying;
 pub mod solution;
 pub mod solve;
 pub mod tl;
@@ -47,6 +48,8 @@ pub mod vertex;
 mod tests;
 #[cfg(test)]
 mod tests_corner;
+#[cfg(test)]
+mod tests_shear_tying;
 #[cfg(test)]
 mod tests_tl;
 #[cfg(test)]
@@ -60,5 +63,6 @@ pub use principal::principal_stresses_pa;
 pub use problem::{
     Axis3, Constraint, FaceRect, NodeSet, Outward, Prescribed, Snap, SolidLoad, SolidProblem,
 };
+pub use shear_tying::TransverseShear;
 pub use solution::{PrincipalPeak, SolidReaction, SolidSolution};
 pub use solve::{BuildTimings, Ordering, SolidModel};

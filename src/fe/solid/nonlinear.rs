@@ -277,6 +277,7 @@ impl TlSolid {
                     kind: vec![VOID; grid.element_count()],
                     matrices: Vec::new(),
                 },
+                shear: problem.shear,
             }),
             pattern,
             symbolic,
@@ -324,7 +325,7 @@ impl TlSolid {
                     let m = &c.materials[usize::from(grid.material(e).unwrap_or(0))];
                     let mut k = with_tangent.then(|| vec![0.0; DOFS * DOFS]);
                     let x = element_nodes_m(grid, &c.pos_um, e);
-                    tl::internal_force(&x, m, &ue, k.as_deref_mut())
+                    tl::internal_force(&x, m, &ue, c.shear, k.as_deref_mut())
                         .map(|f| (nodes, f, k))
                         .map_err(|inv| {
                             format!(
@@ -956,7 +957,7 @@ impl TlSolution {
     #[track_caller]
     pub fn green_lagrange_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
         let (x, _, u) = self.element(element)?;
-        Some(tl::strain_at(&x, &u, xi))
+        Some(tl::strain_at(&x, &u, xi, self.field.shear()))
     }
 
     /// Second Piola-Kirchhoff stress S = C E (Voigt, Pa, undeformed axes) at local point `xi` of
@@ -969,6 +970,7 @@ impl TlSolution {
             self.field.material(m),
             &u,
             xi,
+            self.field.shear(),
         ))
     }
 
@@ -986,6 +988,7 @@ impl TlSolution {
             self.field.material(m),
             &u,
             xi,
+            self.field.shear(),
         ))
     }
 
@@ -994,7 +997,13 @@ impl TlSolution {
     #[track_caller]
     pub fn cauchy_stress_at(&self, element: [usize; 3], xi: [f64; 3]) -> Option<[f64; 6]> {
         let (x, m, u) = self.element(element)?;
-        Some(tl::cauchy_pa(&x, self.field.material(m), &u, xi))
+        Some(tl::cauchy_pa(
+            &x,
+            self.field.material(m),
+            &u,
+            xi,
+            self.field.shear(),
+        ))
     }
 
     /// Deformed position of the material point at local `xi` of element (i, j, k), um.

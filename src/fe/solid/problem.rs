@@ -4,6 +4,7 @@
 
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::HexGrid;
+use crate::fe::solid::shear_tying::TransverseShear;
 
 /// A coordinate axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -169,6 +170,8 @@ pub struct SolidProblem {
     pub materials: Vec<Elasticity>,
     pub constraints: Vec<Constraint>,
     pub load_cases: Vec<Vec<SolidLoad>>,
+    /// How the bricks take their transverse shear strains (the plain brick unless set).
+    pub shear: TransverseShear,
 }
 
 impl SolidProblem {
@@ -179,6 +182,7 @@ impl SolidProblem {
             materials,
             constraints: Vec::new(),
             load_cases: Vec::new(),
+            shear: TransverseShear::default(),
         }
     }
 }

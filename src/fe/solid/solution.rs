@@ -8,6 +8,7 @@ use crate::fe::solid::dofs::SolidDofs;
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::HexGrid;
 use crate::fe::solid::hex27::{self, DOFS};
+use crate::fe::solid::shear_tying::TransverseShear;
 
 /// What a solution needs of the model (shared by all load cases).
 #[derive(Debug)]
@@ -17,6 +18,7 @@ pub(crate) struct SolidContext {
     pub materials: Vec<Elasticity>,
     pub dofs: SolidDofs,
     pub kel: ElementMatrices,
+    pub shear: TransverseShear,
 }
 
 /// Sum of the reactions of one constraint group, N.
@@ -83,6 +85,11 @@ impl SolidSolution {
     /// Material `m` of the model.
     pub(crate) fn material(&self, m: usize) -> &Elasticity {
         &self.ctx.materials[m]
+    }
+
+    /// How the bricks took their transverse shears.
+    pub(crate) fn shear(&self) -> TransverseShear {
+        self.ctx.shear
     }
 
     /// The grid solved.
@@ -180,6 +187,7 @@ impl SolidSolution {
             &self.ctx.materials[usize::from(m)],
             &self.element_u(e),
             xi,
+            self.ctx.shear,
         ))
     }
 

@@ -72,7 +72,7 @@ impl SolidModel {
         check_elements(grid, &pos_um)?;
         let dofs = SolidDofs::new(grid, &pos_um, &problem.constraints)?;
         dofs.check_rigid_modes(grid, &pos_um)?;
-        let kel = ElementMatrices::new(grid, &pos_um, &problem.materials)?;
+        let kel = ElementMatrices::new(grid, &pos_um, &problem.materials, problem.shear)?;
         let pattern = SolidPattern::new(grid, &dofs)?;
         let t1 = Instant::now();
         let vals = pattern.values(grid, &dofs, &kel);
@@ -95,6 +95,7 @@ impl SolidModel {
                 materials: problem.materials.clone(),
                 dofs,
                 kel,
+                shear: problem.shear,
             }),
             pattern,
             symbolic,
@@ -113,7 +114,7 @@ impl SolidModel {
     /// again, the symbolic analysis reused.
     pub fn refactor_materials(&mut self, materials: &[Elasticity]) -> FeResult<()> {
         let c = &self.ctx;
-        let kel = ElementMatrices::new(&c.grid, &c.pos_um, materials)?;
+        let kel = ElementMatrices::new(&c.grid, &c.pos_um, materials, c.shear)?;
         let vals = self.pattern.values(&c.grid, &c.dofs, &kel);
         self.llt = factor(&self.symbolic, &self.pattern, vals)?;
         self.ctx = Arc::new(SolidContext {
@@ -122,6 +123,7 @@ impl SolidModel {
             materials: materials.to_vec(),
             dofs: c.dofs.clone(),
             kel,
+            shear: c.shear,
         });
         Ok(())
     }

@@ -22,6 +22,7 @@
 
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::hex27::{self, DOFS, NODES};
+use crate::fe::solid::shear_tying::{self, TransverseShear};
 
 /// The displacement gradient H = sum_n u_n (dN_n/dX)^T, `[i][j]` = du_i / dX_j.
 pub fn displacement_gradient(dn_dx: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> [[f64; 3]; 3] {
@@ -98,6 +99,7 @@ pub fn internal_force(
     nodes_m: &[[f64; 3]; NODES],
     material: &Elasticity,
     u_m: &[f64; DOFS],
+    shear: TransverseShear,
     mut tangent: Option<&mut [f64]>,
 ) -> Result<[f64; DOFS], Inverted> {
     if let Some(k) = tangent.as_deref_mut() {
@@ -105,6 +107,7 @@ pub fn internal_force(
         k.fill(0.0);
     }
     let c = &material.c_pa;
+    let tied = shear_tying::ties(nodes_m, shear);
     let mut fint = [0.0; DOFS];
     for (xi, w) in hex27::gauss_points() {
         let g = hex27::geometry(nodes_m, xi);
@@ -115,8 +118,32 @@ pub fn internal_force(
         if det_f.is_nan() || det_f <= 0.0 {
             return Err(Inverted { det_f });
         }
-        let s = material.stress_pa(&green_lagrange(&h));
-        let b: [[f64; 6]; DOFS] = std::array::from_fn(|p| b_column(&f, &g.dn_dx[p / 3], p % 3));
+        let mut e = green_lagrange(&h);
+        let mut b: [[f64; 6]; DOFS] = std::array::from_fn(|p| b_column(&f, &g.dn_dx[p / 3], p % 3));
+        // Tied shears: E_xz (row 4) and E_yz (row 3), their variations and, for the geometric
+        // part, the tying points' gradients (shear_tying; the strain is the weighted sum of the
+        // tying points' Green-Lagrange strains, so every derivative is the same sum).
+        let mut ties: Vec<(usize, f64, [[f64; 3]; NODES])> = Vec::new();
+        if tied {
+            e[3] = 0.0;
+            e[4] = 0.0;
+            for bp in b.iter_mut() {
+                bp[3] = 0.0;
+                bp[4] = 0.0;
+            }
+            for (k, (pt, wt)) in shear_tying::tying_points(xi).into_iter().enumerate() {
+                let row = if k < 2 { 4 } else { 3 };
+                let gt = hex27::geometry(nodes_m, pt);
+                let ht = displacement_gradient(&gt.dn_dx, u_m);
+                let ft = deformation_gradient(&gt.dn_dx, u_m);
+                e[row] += wt * green_lagrange(&ht)[row];
+                for (p, bp) in b.iter_mut().enumerate() {
+                    bp[row] += wt * b_column(&ft, &gt.dn_dx[p / 3], p % 3)[row];
+                }
+                ties.push((row, wt, gt.dn_dx));
+            }
+        }
+        let s = material.stress_pa(&e);
         for (fp, bp) in fint.iter_mut().zip(&b) {
             *fp += dv * (0..6).map(|r| bp[r] * s[r]).sum::<f64>();
         }
@@ -141,14 +168,27 @@ pub fn internal_force(
                         + bp[5] * x[5]);
             }
         }
-        // Geometric part: (g_a . S g_b) on the diagonal of each 3 x 3 node block.
-        let st = voigt_tensor(&s);
+        // Geometric part: (g_a . S g_b) on the diagonal of each 3 x 3 node block; tied shears
+        // take theirs from the tying points' gradients.
+        let mut st = voigt_tensor(&s);
+        if !ties.is_empty() {
+            for (i, j) in [(1, 2), (0, 2)] {
+                st[i][j] = 0.0;
+                st[j][i] = 0.0;
+            }
+        }
         for a in 0..NODES {
             let ga = g.dn_dx[a];
             let sa: [f64; 3] = std::array::from_fn(|r| (0..3).map(|t| st[r][t] * ga[t]).sum());
             for bn in a..NODES {
                 let gb = g.dn_dx[bn];
-                let v = dv * (sa[0] * gb[0] + sa[1] * gb[1] + sa[2] * gb[2]);
+                let mut v = sa[0] * gb[0] + sa[1] * gb[1] + sa[2] * gb[2];
+                for (row, wt, gt) in &ties {
+                    let i = if *row == 4 { 0 } else { 1 };
+                    let (ta, tb) = (gt[a], gt[bn]);
+                    v += wt * s[*row] * (ta[i] * tb[2] + ta[2] * tb[i]);
+                }
+                let v = dv * v;
                 for i in 0..3 {
                     k[(3 * a + i) * DOFS + 3 * bn + i] += v;
                 }
@@ -167,24 +207,46 @@ pub fn internal_force(
 
 /// Strain energy W = sum_g w_g det J0 E C E / 2 (J), straight from the kinematics: the quantity
 /// whose gradient [`internal_force`] is.
-pub fn strain_energy(nodes_m: &[[f64; 3]; NODES], material: &Elasticity, u_m: &[f64; DOFS]) -> f64 {
+pub fn strain_energy(
+    nodes_m: &[[f64; 3]; NODES],
+    material: &Elasticity,
+    u_m: &[f64; DOFS],
+    shear: TransverseShear,
+) -> f64 {
     hex27::gauss_points()
         .iter()
         .map(|&(xi, w)| {
-            let g = hex27::geometry(nodes_m, xi);
-            let e = green_lagrange(&displacement_gradient(&g.dn_dx, u_m));
+            let e = strain_at(nodes_m, u_m, xi, shear);
             let s = material.stress_pa(&e);
-            0.5 * w * g.det_j * (0..6).map(|r| e[r] * s[r]).sum::<f64>()
+            0.5 * w * hex27::geometry(nodes_m, xi).det_j * (0..6).map(|r| e[r] * s[r]).sum::<f64>()
         })
         .sum()
 }
 
-/// Green-Lagrange strain (Voigt, engineering shears) at local point `xi`.
-pub fn strain_at(nodes_m: &[[f64; 3]; NODES], u_m: &[f64; DOFS], xi: [f64; 3]) -> [f64; 6] {
-    green_lagrange(&displacement_gradient(
-        &hex27::geometry(nodes_m, xi).dn_dx,
-        u_m,
-    ))
+/// Green-Lagrange strain (Voigt, engineering shears) at local point `xi`, the transverse shears
+/// taken as `shear` says ([`shear_tying`]).
+pub fn strain_at(
+    nodes_m: &[[f64; 3]; NODES],
+    u_m: &[f64; DOFS],
+    xi: [f64; 3],
+    shear: TransverseShear,
+) -> [f64; 6] {
+    let at = |p: [f64; 3]| {
+        green_lagrange(&displacement_gradient(
+            &hex27::geometry(nodes_m, p).dn_dx,
+            u_m,
+        ))
+    };
+    let mut e = at(xi);
+    if shear_tying::ties(nodes_m, shear) {
+        e[3] = 0.0;
+        e[4] = 0.0;
+        for (k, (pt, wt)) in shear_tying::tying_points(xi).into_iter().enumerate() {
+            let row = if k < 2 { 4 } else { 3 };
+            e[row] += wt * at(pt)[row];
+        }
+    }
+    e
 }
 
 /// Second Piola-Kirchhoff stress S = C E (Voigt, Pa) at local point `xi`.
@@ -193,8 +255,9 @@ pub fn second_piola_kirchhoff_pa(
     material: &Elasticity,
     u_m: &[f64; DOFS],
     xi: [f64; 3],
+    shear: TransverseShear,
 ) -> [f64; 6] {
-    material.stress_pa(&strain_at(nodes_m, u_m, xi))
+    material.stress_pa(&strain_at(nodes_m, u_m, xi, shear))
 }
 
 /// First Piola-Kirchhoff (nominal) stress P = F S (Pa; `P[i][J]`: force along i per undeformed
@@ -205,10 +268,11 @@ pub fn first_piola_kirchhoff_pa(
     material: &Elasticity,
     u_m: &[f64; DOFS],
     xi: [f64; 3],
+    shear: TransverseShear,
 ) -> [[f64; 3]; 3] {
     let dn_dx = hex27::geometry(nodes_m, xi).dn_dx;
     let f = deformation_gradient(&dn_dx, u_m);
-    let s = voigt_tensor(&material.stress_pa(&green_lagrange(&displacement_gradient(&dn_dx, u_m))));
+    let s = voigt_tensor(&material.stress_pa(&strain_at(nodes_m, u_m, xi, shear)));
     std::array::from_fn(|i| std::array::from_fn(|k| (0..3).map(|m| f[i][m] * s[m][k]).sum()))
 }
 
@@ -219,10 +283,11 @@ pub fn cauchy_pa(
     material: &Elasticity,
     u_m: &[f64; DOFS],
     xi: [f64; 3],
+    shear: TransverseShear,
 ) -> [f64; 6] {
     let dn_dx = hex27::geometry(nodes_m, xi).dn_dx;
     let f = deformation_gradient(&dn_dx, u_m);
-    let s = voigt_tensor(&material.stress_pa(&green_lagrange(&displacement_gradient(&dn_dx, u_m))));
+    let s = voigt_tensor(&material.stress_pa(&strain_at(nodes_m, u_m, xi, shear)));
     let j = hex27::det3(&f);
     let fs: [[f64; 3]; 3] =
         std::array::from_fn(|i| std::array::from_fn(|k| (0..3).map(|m| f[i][m] * s[m][k]).sum()));
@@ -289,14 +354,29 @@ mod tests {
     }
 
     /// f_int = dW/du and K_T = d f_int / du by central differences, on a curved anisotropic
-    /// element under a large rotation and stretch; K_T symmetric.
+    /// element under a large rotation and stretch, with either transverse shear; K_T symmetric.
     #[test]
     fn force_and_tangent_are_the_energy_derivatives() {
-        let x = curved();
+        force_and_tangent_check(&curved(), TransverseShear::Displacement);
+        // Tying applies to parallelepipeds only (shear_tying): a sheared, skewed one.
+        let skewed: [[f64; 3]; NODES] = std::array::from_fn(|n| {
+            let p = [n % 3, (n / 3) % 3, n / 9].map(|a| 0.5 * a as f64);
+            [
+                2.0 * p[0] + 0.3 * p[2],
+                1.5 * p[1] - 0.2 * p[0],
+                p[2] + 0.1 * p[1],
+            ]
+        });
+        assert!(shear_tying::ties(&skewed, TransverseShear::Tied));
+        force_and_tangent_check(&skewed, TransverseShear::Tied);
+    }
+
+    fn force_and_tangent_check(x: &[[f64; 3]; NODES], shear: TransverseShear) {
+        let x = *x;
         let mat = anisotropic();
         let u = large_u(&x);
         let mut k = vec![0.0; DOFS * DOFS];
-        let f = internal_force(&x, &mat, &u, Some(&mut k)).unwrap();
+        let f = internal_force(&x, &mat, &u, shear, Some(&mut k)).unwrap();
         let fmax = f.iter().map(|v| v.abs()).fold(0.0, f64::max);
         let kmax = k.iter().map(|v| v.abs()).fold(0.0, f64::max);
         let h = 1e-6;
@@ -305,16 +385,17 @@ mod tests {
             let (mut up, mut um) = (u, u);
             up[p] += h;
             um[p] -= h;
-            let dw = (strain_energy(&x, &mat, &up) - strain_energy(&x, &mat, &um)) / (2.0 * h);
+            let dw = (strain_energy(&x, &mat, &up, shear) - strain_energy(&x, &mat, &um, shear))
+                / (2.0 * h);
             worst_f = worst_f.max((dw - f[p]).abs() / fmax);
-            let fp = internal_force(&x, &mat, &up, None).unwrap();
-            let fm = internal_force(&x, &mat, &um, None).unwrap();
+            let fp = internal_force(&x, &mat, &up, shear, None).unwrap();
+            let fm = internal_force(&x, &mat, &um, shear, None).unwrap();
             for q in 0..DOFS {
                 let d = (fp[q] - fm[q]) / (2.0 * h);
                 worst_k = worst_k.max((d - k[q * DOFS + p]).abs() / kmax);
             }
         }
-        eprintln!("finite differences: force {worst_f:.2e}, tangent {worst_k:.2e} (relative)");
+        eprintln!("{shear:?}: finite differences: force {worst_f:.2e}, tangent {worst_k:.2e}");
         assert!(worst_f < 1e-6, "force vs dW/du: {worst_f:e}");
         assert!(worst_k < 1e-6, "tangent vs df/du: {worst_k:e}");
         for p in 0..DOFS {
@@ -323,17 +404,23 @@ mod tests {
             }
         }
         // The geometric part matters here: the linear stiffness is far from K_T.
-        let k0 = hex27::stiffness(&x, &mat);
+        let k0 = hex27::stiffness(&x, &mat, shear);
         let diff = (0..DOFS * DOFS)
             .map(|i| (k0[i] - k[i]).abs())
             .fold(0.0, f64::max);
         assert!(diff > 0.1 * kmax, "{diff:e}");
     }
 
-    /// A rigid rotation (90 deg about a skew axis) gives no strain, no stress and no force; the
-    /// linearised strain of the same field is of order one.
+    /// A rigid rotation (90 deg about a skew axis) gives no strain, no stress and no force, with
+    /// either transverse shear; the linearised strain of the same field is of order one.
     #[test]
     fn rigid_rotation_is_stress_free() {
+        for shear in [TransverseShear::Displacement, TransverseShear::Tied] {
+            rigid_rotation_check(shear);
+        }
+    }
+
+    fn rigid_rotation_check(shear: TransverseShear) {
         let x = curved();
         let mat = anisotropic();
         let r = rotation([0.6, 0.0, 0.8], 90.0);
@@ -342,15 +429,15 @@ mod tests {
             let (p, i) = (x[d / 3], d % 3);
             (0..3).map(|j| r[i][j] * p[j]).sum::<f64>() - p[i] + t[i]
         });
-        let f = internal_force(&x, &mat, &u, None).unwrap();
+        let f = internal_force(&x, &mat, &u, shear, None).unwrap();
         let scale = 165.7e9 * 3.0; // C times the element's volume: the force of a unit strain
         assert!(f.iter().all(|v| v.abs() < 1e-12 * scale), "{f:?}");
-        assert!(strain_energy(&x, &mat, &u).abs() < 1e-12 * scale);
+        assert!(strain_energy(&x, &mat, &u, shear).abs() < 1e-12 * scale);
         for xi in [[0.0; 3], [0.7, -0.2, 1.0]] {
-            let s = second_piola_kirchhoff_pa(&x, &mat, &u, xi);
-            let sig = cauchy_pa(&x, &mat, &u, xi);
+            let s = second_piola_kirchhoff_pa(&x, &mat, &u, xi, shear);
+            let sig = cauchy_pa(&x, &mat, &u, xi, shear);
             assert!(s.iter().chain(&sig).all(|v| v.abs() < 1e-12 * 165.7e9));
-            let lin = hex27::stress_pa(&x, &mat, &u, xi);
+            let lin = hex27::stress_pa(&x, &mat, &u, xi, shear);
             assert!(lin.iter().any(|v| v.abs() > 0.1 * 165.7e9), "{lin:?}");
         }
         // And Cauchy = R S R^T for a rotated uniaxial stretch: a stretch along X then the
@@ -361,8 +448,8 @@ mod tests {
             (0..3).map(|j| r[i][j] * q[j]).sum::<f64>() - p[i]
         });
         let iso = Elasticity::isotropic(100e9, 0.0);
-        let s = second_piola_kirchhoff_pa(&x, &iso, &ux, [0.1, 0.2, 0.3]);
-        let sig = voigt_tensor(&cauchy_pa(&x, &iso, &ux, [0.1, 0.2, 0.3]));
+        let s = second_piola_kirchhoff_pa(&x, &iso, &ux, [0.1, 0.2, 0.3], shear);
+        let sig = voigt_tensor(&cauchy_pa(&x, &iso, &ux, [0.1, 0.2, 0.3], shear));
         // S_xx = E (1.01^2 - 1)/2; sigma = F S F^T / J = 1.01^2 S_xx / 1.01 along R e_x.
         let sxx = 100e9 * (1.01f64.powi(2) - 1.0) / 2.0;
         assert!((s[0] - sxx).abs() < 1e-9 * sxx && s[1].abs() < 1e-9 * sxx);
@@ -379,7 +466,14 @@ mod tests {
         let x = curved();
         // u = -2 X: F = -I, det F = -1.
         let u: [f64; DOFS] = std::array::from_fn(|d| -2.0 * x[d / 3][d % 3]);
-        let e = internal_force(&x, &Elasticity::isotropic(1e9, 0.3), &u, None).unwrap_err();
+        let e = internal_force(
+            &x,
+            &Elasticity::isotropic(1e9, 0.3),
+            &u,
+            TransverseShear::Tied,
+            None,
+        )
+        .unwrap_err();
         assert!(e.det_f < 0.0);
     }
 }
