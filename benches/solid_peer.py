@@ -12,7 +12,8 @@ pressure faces and point forces, the film and its electrodes. Everything else is
 `MeshHex2` (tactfab's node order mapped to scikit-fem's, checked by every element's volume
 against tactfab's), scikit-fem's triquadratic Lagrange basis and Gauss rule (intorder 5: 3 x 3 x
 3 points, as tactfab; `--intorder 7` takes 4 x 4 x 4), linear elasticity assembled from
-sigma = C eps, the pressures integrated over the loaded faces by its own face quadrature, the
+sigma = C eps (where the export's `shear` is "tied", the transverse shears of the parallelepiped
+elements tied by the peer's own tying points, test and numpy assembly), the pressures integrated over the loaded faces by its own face quadrature, the
 constraints condensed, PARDISO (symmetric positive definite, MKL, through pypardiso) or scipy's
 SuperLU without it, and the read-outs from its own stresses at its own quadrature points:
 the deflection -u_z at the read-out node, each electrode's charge Q = sign (1/t) integral of
@@ -54,6 +55,80 @@ def peak_rss_mb():
 def voigt_of_grad(g):
     """Voigt strain (xx, yy, zz, yz, xz, xy), engineering shears, of a displacement gradient."""
     return [g[0, 0], g[1, 1], g[2, 2], g[1, 2] + g[2, 1], g[0, 2] + g[2, 0], g[0, 1] + g[1, 0]]
+
+
+# tactfab's tied transverse shear (`"shear": "tied"` in the export): on each parallelepiped brick
+# gamma_xz at a point is the linear interpolation in xi of its values on the lines xi = -+1/sqrt 3
+# at the point's own eta, zeta, gamma_yz likewise in eta. Written here from that definition, in
+# scikit-fem's reference cube [0, 1]^3: the lines at 1/2 -+ 1/(2 sqrt 3).
+TIE = (0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0))
+
+
+def tie_weights(s):
+    """Linear Lagrange weights at reference coordinates s of the two tying lines TIE."""
+    return (TIE[1] - s) / (TIE[1] - TIE[0]), (s - TIE[0]) / (TIE[1] - TIE[0])
+
+
+def parallelepipeds(mesh, element_dofs):
+    """True for each element whose 27 nodes are an affine image of the reference cube's (the
+    peer's own test: least-squares affine fit, residual under 1e-9 of the element's size)."""
+    x = mesh.doflocs[:, element_dofs]  # (3, 27, nelem)
+    a = np.c_[np.ones(27), SKFEM_REF]  # (27, 4)
+    pinv = np.linalg.pinv(a)
+    coef = np.einsum("ak,dkn->dan", pinv, x)  # (3, 4, nelem)
+    fit = np.einsum("ka,dan->dkn", a, coef)
+    size = np.abs(coef[:, 1:, :]).sum(axis=1).max(axis=0)
+    return np.abs(fit - x).max(axis=(0, 1)) <= 1e-9 * size
+
+
+def tied_bases(mesh, elem, x_ref, w, els):
+    """Bases on elements `els` at the points x_ref (3, nqp) and at their four tying points: the
+    same points with xi set to each tying line (for gamma_xz), then eta (gamma_yz)."""
+    out = [Basis(mesh, elem, quadrature=(x_ref, w), elements=els)]
+    for axis in (0, 1):
+        for t in TIE:
+            xt = x_ref.copy()
+            xt[axis] = t
+            out.append(Basis(mesh, elem, quadrature=(xt, w), elements=els))
+    return out
+
+
+def tied_voigt(grads, x_ref):
+    """Voigt strain at the points from gradients at [points, xz-, xz+, yz-, yz+] (each
+    (3, 3, ...)): the normal strains and gamma_xy at the point, gamma_xz and gamma_yz tied."""
+    e = voigt_of_grad(grads[0])
+    wx, wy = tie_weights(x_ref[0]), tie_weights(x_ref[1])
+    gxz = [g[0, 2] + g[2, 0] for g in grads[1:3]]
+    gyz = [g[1, 2] + g[2, 1] for g in grads[3:5]]
+    e[4] = wx[0] * gxz[0] + wx[1] * gxz[1]
+    e[3] = wy[0] * gyz[0] + wy[1] * gyz[1]
+    return e
+
+
+def tied_stiffness(mesh, c, els, intorder, n_dofs, chunk=400):
+    """K of the tied elements `els` (one material, 6 x 6 C): sum over the points of
+    dV eps_i^T C eps_j with the tied strains of every basis function, assembled by numpy."""
+    elem = ElementVector(ElementHex2())
+    c = np.asarray(c)
+    rows, cols, vals = [], [], []
+    for start in range(0, len(els), chunk):
+        part = els[start:start + chunk]
+        q = Basis(mesh, elem, intorder=intorder, elements=part)
+        bases = tied_bases(mesh, elem, q.X, q.W, part)
+        # (nfun, 6, nel, nqp) tied strains of every basis function.
+        e = np.array([tied_voigt([b.basis[i][0].grad for b in bases], q.X)
+                      for i in range(q.Nbfun)])
+        e = np.moveaxis(e, (2, 0, 3, 1), (0, 1, 2, 3))  # (nel, nfun, nqp, 6)
+        ce = np.einsum("enqk,mk->enqm", e, c)
+        wdx = e * bases[0].dx[:, None, :, None]
+        nel, nf = e.shape[0], e.shape[1]
+        k = np.matmul(wdx.reshape(nel, nf, -1), ce.reshape(nel, nf, -1).transpose(0, 2, 1))
+        d = q.element_dofs  # (nfun, nel)
+        rows.append(np.broadcast_to(d.T[:, :, None], k.shape).ravel())
+        cols.append(np.broadcast_to(d.T[:, None, :], k.shape).ravel())
+        vals.append(k.ravel())
+    return sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(n_dofs, n_dofs)).tocsr()
 
 
 def stiffness_form(c, nthreads):
@@ -207,16 +282,25 @@ class PeerSolve:
         self.sb = sb
         self.times["mesh"] = time.perf_counter() - t
 
-        # Stiffness, one material at a time.
+        # Stiffness, one material at a time; the tied elements (parallelepipeds, when the export's
+        # shear is "tied") by the peer's own tied assembly.
         t = time.perf_counter()
+        self.shear = ex.get("shear", "displacement")
+        self.tied = np.zeros(len(self.material), dtype=bool)
+        if self.shear == "tied":
+            self.tied = parallelepipeds(mesh, sb.element_dofs)
         k = None
         for m, mat in enumerate(ex["materials"]):
-            els = np.nonzero(self.material == m)[0]
-            if len(els) == 0:
-                continue
-            b = Basis(mesh, ElementVector(ElementHex2()), intorder=intorder, elements=els)
-            km = asm(stiffness_form(mat["c_pa"], nthreads), b)
-            k = km if k is None else k + km
+            for tied in (False, True):
+                els = np.nonzero((self.material == m) & (self.tied == tied))[0]
+                if len(els) == 0:
+                    continue
+                if tied:
+                    km = tied_stiffness(mesh, mat["c_pa"], els, intorder, self.vb.N)
+                else:
+                    b = Basis(mesh, ElementVector(ElementHex2()), intorder=intorder, elements=els)
+                    km = asm(stiffness_form(mat["c_pa"], nthreads), b)
+                k = km if k is None else k + km
         self.k = k.tocsr()
         self.times["assembly"] = time.perf_counter() - t
 
@@ -291,9 +375,17 @@ class PeerSolve:
         # Deflection at the read-out point: a node of the mesh.
         self.deflection_um = -self.u_at(np.asarray(ex["deflection_point_um"]) * 1e-6)[2] * 1e6
 
-        # Stresses at every quadrature point of every element.
+        # Stresses at every quadrature point of every element; the tied elements' transverse
+        # shears from their tying points.
         grad = vb.interpolate(self.u).grad  # (3, 3, nelem, nqp)
         eps = voigt_of_grad(grad)
+        if self.tied.any():
+            els = np.nonzero(self.tied)[0]
+            bases = tied_bases(self.mesh, ElementVector(ElementHex2()), vb.X, vb.W, els)
+            te = tied_voigt([b.interpolate(self.u).grad for b in bases], vb.X)
+            for r in (3, 4):
+                eps[r] = eps[r].copy()
+                eps[r][els] = te[r]
         c = np.asarray([m["c_pa"] for m in ex["materials"]])[self.material]  # (nelem, 6, 6)
         sig = [sum(c[:, i, j][:, None] * eps[j] for j in range(6)) for i in range(6)]
         x_um = vb.global_coordinates().value * 1e6  # (3, nelem, nqp)
@@ -378,7 +470,10 @@ def report(ex, peer, t_read):
     deg, d = silicon_check(si["c_pa"])
     print(f"  silicon C in die axes: the cubic crystal rotated {deg:.0f} deg about [001] by the "
           f"peer's own tensor rotation, to {d:.1e} of C11")
-    print(f"  peer solve: {peer.solver}, relative residual {peer.residual:.1e}")
+    print(f"  peer solve: {peer.solver}, relative residual {peer.residual:.1e}; transverse "
+          f"shear {peer.shear}" + (f", tied on {int(peer.tied.sum())} of {len(peer.tied)} "
+                                   "elements (the peer's own parallelepiped test)"
+                                   if peer.shear == "tied" else ""))
     rows = [("deflection_at_load", "um", r["deflection_at_load_um"], peer.deflection_um, None)]
     names = [e["name"] for e in ex["electrodes"]]
     sides = [e["side"] for e in ex["electrodes"]]
@@ -530,7 +625,50 @@ def selftest():
     print(f"selftest: patch test u {patch_u:.1e}, stress {patch_s:.1e}; uniform pressure "
           f"stress {press:.1e} (relative to the exact field); face forces against FacetBasis "
           f"{faces:.1e}")
-    return max(patch_u, patch_s, press, faces)
+    strip = tied_strip()
+    # Returned as an error only past its bound (the element's own error is 1.6e-4 there).
+    return max(patch_u, patch_s, press, faces, 0.0 if abs(strip) < 3e-4 else 1.0)
+
+
+def tied_strip():
+    """(3) The peer's tied element against a closed form: a strip 10 mm x 0.5 mm x 100 um
+    (isotropic, nu = 0), both ends clamped, u_y held on both sides, 1 kPa on top, on ten 1 mm
+    bricks, one through the thickness: its mid-span deflection against the clamped Timoshenko
+    beam, p L^4 / (384 D) + p L^2 / (8 kappa G t) with kappa = 5/6. The plain bricks lock (about
+    -3.7 %), the tied ones do not. Returns the tied error."""
+    length, width, t, e_pa, p = 10e-3, 0.5e-3, 100e-6, 169e9, 1e3
+    # The lattice of 27-node bricks in tactfab's node order (reference axes along x, y, z, as the
+    # export's; scikit-fem's own tensor meshes may permute them), mapped to scikit-fem's order.
+    nx = 10
+    lat = [np.linspace(0, length, 2 * nx + 1), np.linspace(0, width, 3), np.linspace(0, t, 3)]
+    nodes = np.array([[x, y, z] for z in lat[2] for y in lat[1] for x in lat[0]])
+    node = lambda i, j, k: i + (2 * nx + 1) * (j + 3 * k)
+    el = np.array([[node(2 * e + n % 3, (n // 3) % 3, n // 9) for n in range(27)]
+                   for e in range(nx)])
+    mesh = MeshHex2(np.ascontiguousarray(nodes.T), np.ascontiguousarray(el[:, TACTFAB_OF_SKFEM].T))
+    vb = Basis(mesh, ElementVector(ElementHex2()), intorder=5)
+    c = e_pa * np.diag([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])  # nu = 0: G = E / 2
+    els = np.arange(mesh.t.shape[1])
+    assert parallelepipeds(mesh, Basis(mesh, ElementHex2(), intorder=5).element_dofs).all()
+    top = mesh.facets_satisfying(lambda y: np.isclose(y[2], t))
+    fb = FacetBasis(mesh, ElementVector(ElementHex2()), facets=top, intorder=5)
+    f = asm(pressure_form, fb, p=np.full((len(top), fb.X.shape[-1]), p))
+    fixed = np.concatenate([
+        vb.get_dofs(lambda y: np.isclose(y[0], 0.0) | np.isclose(y[0], length)).flatten(),
+        vb.get_dofs(lambda y: np.isclose(y[1], 0.0) | np.isclose(y[1], width)).all("u^2")])
+    fixed = np.unique(fixed)
+    at = np.argmin(np.linalg.norm(vb.doflocs[:, ::3].T - [length / 2, width / 2, t / 2], axis=1))
+    d = 1e6 * (p * length ** 4 / (384 * e_pa * t ** 3 / 12) + p * length ** 2 / (8 * 5 / 6 * e_pa / 2 * t))
+    out = {}
+    for name, k in (("plain", asm(stiffness_form(c, 0), vb)),
+                    ("tied", tied_stiffness(mesh, c, els, 5, vb.N))):
+        u = np.zeros(vb.N)
+        a, b, _, free = condense(k, f, D=fixed)
+        u[free] = spla.spsolve(a.tocsc(), b)
+        out[name] = -1e6 * u[3 * at + 2]
+    print(f"selftest: tied strip {out['tied']:.6f} um, plain {out['plain']:.6f} um, Timoshenko "
+          f"{d:.6f} um: tied {out['tied'] / d - 1:+.1e}, plain {out['plain'] / d - 1:+.1e}")
+    return out["tied"] / d - 1
 
 
 def main():

@@ -2,7 +2,7 @@
 //! independent scikit-fem code `benches/solid_peer.py` (issue 16):
 //!
 //! ```sh
-//! cargo run --release --example solid_export -- PROCESS SCENE LEVEL OUT.json [runs=3] [--no-symmetry]
+//! cargo run --release --example solid_export -- PROCESS SCENE LEVEL OUT.json [runs=3] [--no-symmetry] [--plain-shear]
 //! cargo run --release --example solid_export -- process/mis-grasper.yaml centre-1n 0 /tmp/c0.json
 //! python3 benches/solid_peer.py /tmp/c0.json
 //! ```
@@ -21,6 +21,10 @@
 //!   along the die's x, y, z; `material`: 0 silicon, 1 PVDF, 2 base, and `materials[m].c_pa`
 //!   the 6 x 6 stiffness in die axes, Voigt order xx, yy, zz, yz, xz, xy, engineering shears;
 //!   `element_volume_um3`: tactfab's volume of each element (to check a reader's node order).
+//! - `shear`: "tied" (the rung's default) or, with `--plain-shear`, "displacement" (the plain
+//!   brick: strains from the displacement gradient). Tied: on each parallelepiped brick gamma_xz at a point is the linear
+//!   interpolation in xi of its values on the lines xi = -1/sqrt 3 and +1/sqrt 3 (at the point's
+//!   eta, zeta), gamma_yz likewise in eta; other bricks plain (`fe::solid::shear_tying`).
 //! - `constrained`: (node, component, group) of every dof held at zero: the base's bottom face
 //!   clamped, `mirror_x`/`mirror_y` planes (normal component), group names in `groups`.
 //! - `pressures`: (element, face "+z" etc., pressure_pa) uniform pressures, positive pushing
@@ -40,7 +44,7 @@ use std::path::PathBuf;
 
 use tactfab::design::Design;
 use tactfab::sensor::solid::MAX_SOLID_LEVELS;
-use tactfab::sensor::solid_export::export_scene;
+use tactfab::sensor::solid_export::{export_scene, ExportOptions};
 use tactfab::sensor::{evaluate, Accuracy, SensorGeometry};
 
 /// The process's peak resident set (`VmHWM` of /proc/self/status), MB; NaN where unreadable.
@@ -59,10 +63,13 @@ fn peak_rss_mb() -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let symmetry = !args.iter().any(|a| a == "--no-symmetry");
+    let tied_shear = !args.iter().any(|a| a == "--plain-shear");
     let pos: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
     if pos.len() < 4 {
         return Err(
-            "usage: solid_export PROCESS SCENE LEVEL OUT.json [runs=3] [--no-symmetry]".into(),
+            "usage: solid_export PROCESS SCENE LEVEL OUT.json [runs=3] [--no-symmetry] \
+             [--plain-shear]"
+                .into(),
         );
     }
     let level: usize = pos[2].parse()?;
@@ -87,7 +94,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let g = SensorGeometry::new(&design);
     // Graded where `fe --model solid` grades: the teeth the plate answer finds hottest.
     let plate = evaluate(&g, &scene, Accuracy::new(0.01, 8))?;
-    let mut e = export_scene(&g, &scene, g.base, level, symmetry, runs, &plate.hot_teeth)?;
+    let opts = ExportOptions {
+        level,
+        symmetry,
+        runs,
+        tied_shear,
+    };
+    let mut e = export_scene(&g, &scene, g.base, opts, &plate.hot_teeth)?;
     let rss = peak_rss_mb();
     e.results.peak_rss_mb = rss;
     std::fs::write(&out, serde_json::to_vec(&e)?)?;

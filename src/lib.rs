@@ -41,8 +41,8 @@
 //!    one symbolic analysis per mesh); [`fe::PlateSolution::averaged_principal_stress`] is the
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
 //!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si;
-//!    their transverse shears optionally tied, [`fe::solid::shear_tying`], so thin plates on
-//!    bricks of several thicknesses do not lock), linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
+//!    the sensor's with their transverse shears tied, [`fe::solid::shear_tying`], so thin plates
+//!    on bricks of several thicknesses do not lock), linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
 //!    St. Venant-Kirchhoff, Newton on the same symbolic analysis, its corrections preconditioned
 //!    CG on the last factor where factorising is the cost); [`fe::solid::corner`] resolves
 //!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge),

@@ -19,7 +19,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         verify_solid: args.verify_solid.then_some(SolidCheck {
             levels: VERIFY_SOLID_LEVELS.min(usize::from(args.accuracy.max_levels)),
             graded: args.graded,
-            tied_shear: args.tied_shear,
+            tied_shear: !args.plain_shear,
         }),
     };
     let built = {
@@ -89,7 +89,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         let shear = if first.tied_shear {
             ", transverse shear tied"
         } else {
-            ""
+            ", plain bricks (--plain-shear)"
         };
         out.push_str(&format!(
             "  solid rung: {} on {}{grading}{shear}, in {}-solid-check.json\n",

@@ -27,9 +27,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         }
         return solid(args, &g, &scenes);
     }
-    if args.tied_shear && !args.verify_solid {
+    if args.plain_shear && !args.verify_solid {
         bail!(
-            "--tied-shear applies to the solid rung: give it with --model solid or --verify-solid"
+            "--plain-shear applies to the solid rung: give it with --model solid or --verify-solid"
         );
     }
     let mut reports = evaluate_many_with(
@@ -118,7 +118,7 @@ fn verify_solid(
             symmetry: !args.no_symmetry,
             nonlinear: false,
             graded: args.graded,
-            tied_shear: args.tied_shear,
+            tied_shear: !args.plain_shear,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(&solid, acc.tol_rel);
@@ -344,7 +344,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             symmetry: !args.no_symmetry,
             nonlinear: false,
             graded: args.graded,
-            tied_shear: args.tied_shear,
+            tied_shear: !args.plain_shear,
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
@@ -585,10 +585,14 @@ pub fn modes_text(m: &PlateModes) -> String {
     s
 }
 
-/// How the solid's levels were graded and their shears taken, for its summary line (empty when
-/// uniform and plain).
+/// How the solid's bricks take their shears and its levels were graded, for its summary line.
 fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
-    let mut s = if r.graded {
+    let shear = if r.tied_shear {
+        ", transverse shear tied"
+    } else {
+        ", plain bricks (--plain-shear)"
+    };
+    let grading = if r.graded {
         ", graded at the tooth base edges".to_string()
     } else if r.graded_teeth > 0 {
         format!(
@@ -598,8 +602,5 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
     } else {
         String::new()
     };
-    if r.tied_shear {
-        s.push_str(", transverse shear tied");
-    }
-    s
+    format!("{shear}{grading}")
 }

@@ -67,7 +67,7 @@ pub struct SolidCheck {
     /// Every level graded at the tooth base edges (`--graded`: about 4x the dofs; the uniform
     /// levels can leave the edges' stresses and the deflection low).
     pub graded: bool,
-    /// The bricks' transverse shears tied (`--tied-shear`).
+    /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
 }
 

@@ -79,7 +79,7 @@ pub struct SolidReport {
     pub nonlinear: bool,
     /// The levels graded at every tooth's base edges (`--graded`).
     pub graded: bool,
-    /// The bricks' transverse shears tied (`--tied-shear`).
+    /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
     /// How many teeth's base edges the levels are graded at: every tooth under `graded`, else
     /// the plate answer's hot teeth ([`crate::sensor::edge_section::hot_teeth`]), where the worst
@@ -495,8 +495,9 @@ pub struct SolidRun {
     /// Every level graded at the tooth base edges
     /// ([`super::solid_mesh::TOOTH_EDGE_GRADING`]): about 4 times the dofs and memory.
     pub graded: bool,
-    /// The bricks' transverse shears tied ([`crate::fe::solid::TransverseShear::Tied`]): the
-    /// plate's bricks of several thicknesses do not lock (README, "Tied transverse shear").
+    /// The bricks' transverse shears tied ([`crate::fe::solid::TransverseShear::Tied`], what
+    /// `fe` does unless `--plain-shear`): the plate's bricks of several thicknesses do not lock
+    /// (README, "Tied transverse shear").
     pub tied_shear: bool,
 }
 

@@ -15,7 +15,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::fe::solid::dofs::SolidDofs;
-use crate::fe::solid::{hex27, Axis3, Outward, SolidLoad, SolidModel};
+use crate::fe::solid::{hex27, Axis3, Outward, SolidLoad, SolidModel, TransverseShear};
 use crate::process::{Axis, Scene};
 
 use super::check::SensorError;
@@ -134,6 +134,10 @@ pub struct SolidExport {
     pub mirror_x_um: Option<f64>,
     pub mirror_y_um: Option<f64>,
     pub node_order: &'static str,
+    /// How the bricks take their transverse shears: "displacement" (the plain brick) or "tied"
+    /// (`fe::solid::shear_tying`: gamma_xz from the lines xi = +-1/sqrt 3, linear in xi,
+    /// gamma_yz likewise in eta, on parallelepiped bricks only).
+    pub shear: &'static str,
     pub voigt_order: [&'static str; 6],
     /// Node positions after the map (only nodes of active elements), um.
     pub nodes_um: Vec<[f64; 3]>,
@@ -163,10 +167,23 @@ fn face_name(axis: Axis3, outward: Outward) -> String {
     format!("{s}{}", ["x", "y", "z"][axis.index()])
 }
 
-/// Builds, solves (median of `runs` timed repeats) and exports `scene` at `level` as `fe --model
-/// solid` does (base `base`, mirrors where the die and the load allow unless `symmetry` is off,
-/// graded at the base edges of `graded_teeth`: `fe` grades the plate answer's
-/// [`SceneReport::hot_teeth`](crate::sensor::SceneReport::hot_teeth)).
+/// Which level of the rung [`export_scene`] writes, and how.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExportOptions {
+    /// Mesh level, below [`MAX_SOLID_LEVELS`].
+    pub level: usize,
+    /// Mirrors where the die and the load allow.
+    pub symmetry: bool,
+    /// Timed repeats (the median is reported).
+    pub runs: usize,
+    /// The bricks' transverse shears tied, as `fe --model solid` does (unless `--plain-shear`).
+    pub tied_shear: bool,
+}
+
+/// Builds, solves (median of `runs` timed repeats) and exports `scene` at `opts.level` as `fe
+/// --model solid` does (base `base`, mirrors where the die and the load allow unless
+/// `opts.symmetry` is off, graded at the base edges of `graded_teeth`: `fe` grades the plate
+/// answer's [`SceneReport::hot_teeth`](crate::sensor::SceneReport::hot_teeth)).
 /// Panics on a level of [`MAX_SOLID_LEVELS`] or more (misuse: callers check it); every failure of
 /// the model is an error.
 #[track_caller]
@@ -174,14 +191,25 @@ pub fn export_scene(
     g: &SensorGeometry,
     scene: &Scene,
     base: Base,
-    level: usize,
-    symmetry: bool,
-    runs: usize,
+    opts: ExportOptions,
     graded_teeth: &[usize],
 ) -> Result<SolidExport, SensorError> {
+    let ExportOptions {
+        level,
+        symmetry,
+        runs,
+        tied_shear,
+    } = opts;
     assert!(level < MAX_SOLID_LEVELS, "level {level} over the rung's");
     let scene_model = SceneModel::new(g, scene, symmetry)?;
-    let opts = SolidMeshOptions::level(COARSE_ELEMENT_UM, level);
+    let opts = SolidMeshOptions {
+        shear: if tied_shear {
+            TransverseShear::Tied
+        } else {
+            TransverseShear::Displacement
+        },
+        ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
+    };
     // The same sequence as one level of `evaluate_solid`, timed whole.
     let mut times = Vec::new();
     let mut last = None;
@@ -393,6 +421,7 @@ pub fn export_scene(
         mirror_x_um: scene_model.mirror_x_um,
         mirror_y_um: scene_model.mirror_y_um,
         node_order: "a + 3 b + 9 c at (xi, eta, zeta) = (a - 1, b - 1, c - 1), xi along x",
+        shear: if tied_shear { "tied" } else { "displacement" },
         voigt_order: ["xx", "yy", "zz", "yz", "xz", "xy"],
         nodes_um,
         elements,

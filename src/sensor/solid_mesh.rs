@@ -166,8 +166,8 @@ pub struct SolidMeshOptions {
     pub base_layers: usize,
     /// Lines at [`TOOTH_EDGE_GRADING`] plate thicknesses either side of every tooth base edge.
     pub tooth_edge_grading: bool,
-    /// The bricks' transverse shear strains ([`TransverseShear::Tied`]: a thin plate on bricks of
-    /// several thicknesses does not lock).
+    /// The bricks' transverse shear strains ([`TransverseShear::Tied`], the rung's levels: a thin
+    /// plate on bricks of several thicknesses does not lock).
     pub shear: TransverseShear,
 }
 
@@ -190,7 +190,7 @@ impl SolidMeshOptions {
             support_layers: 1,
             base_layers: 1,
             tooth_edge_grading: false,
-            shear: TransverseShear::Displacement,
+            shear: TransverseShear::Tied,
         }
     }
 }

@@ -47,7 +47,7 @@ fn run(levels: usize, symmetry: bool) -> SolidRun {
         symmetry,
         nonlinear: false,
         graded: false,
-        tied_shear: false,
+        tied_shear: true,
     }
 }
 
@@ -329,7 +329,8 @@ fn tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium() {
         let total = r.support1_n + r.support2_n;
         assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
     }
-    // Through the binary: JSON and text say so; without the solid rung it is a usage error.
+    // Through the binary: tied by default and `--plain-shear` unties, JSON and text say which;
+    // without the solid rung `--plain-shear` is a usage error.
     let base = [
         "fe",
         "process/mis-grasper.yaml",
@@ -339,24 +340,24 @@ fn tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium() {
         "6,7.5,0.02,0.5",
         "--max-levels",
         "1",
-        "--tied-shear",
     ];
     let out = tactfab(&on_short_die(&[&base[..], &["--json"]].concat()));
     out.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     assert_eq!(j["scenes"][0]["tied_shear"], true);
-    let out = tactfab(&on_short_die(&base));
+    let out = tactfab(&on_short_die(&[&base[..], &["--plain-shear"]].concat()));
     out.expect_code(0);
     assert!(
-        out.stdout.contains("transverse shear tied"),
+        out.stdout.contains("plain bricks (--plain-shear)")
+            && !out.stdout.contains("transverse shear tied"),
         "{}",
         out.stdout
     );
-    let out = tactfab(&["fe", "process/mis-grasper.yaml", "--tied-shear"]);
+    let out = tactfab(&["fe", "process/mis-grasper.yaml", "--plain-shear"]);
     out.expect_code(2);
     assert!(
         out.stderr
-            .contains("--tied-shear applies to the solid rung"),
+            .contains("--plain-shear applies to the solid rung"),
         "{}",
         out.stderr
     );

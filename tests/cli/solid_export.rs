@@ -4,7 +4,7 @@
 
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::sensor::solid::{evaluate_solid, SolidRun};
-use tactfab::sensor::solid_export::export_scene;
+use tactfab::sensor::solid_export::{export_scene, ExportOptions};
 use tactfab::sensor::solid_mesh::Base;
 
 use super::sensor::geometry;
@@ -35,11 +35,23 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         symmetry: true,
         nonlinear: false,
         graded: false,
-        tied_shear: false,
+        tied_shear: true,
     };
     let rung = evaluate_solid(&g, &scene, run, &[], &[]).unwrap();
     let r = &rung.levels[0].readout;
-    let ex = export_scene(&g, &scene, Base::Rigid, 0, true, 1, &[]).unwrap();
+    let ex = export_scene(
+        &g,
+        &scene,
+        Base::Rigid,
+        ExportOptions {
+            level: 0,
+            symmetry: true,
+            runs: 1,
+            tied_shear: true,
+        },
+        &[],
+    )
+    .unwrap();
     let res = &ex.results;
     // The same model: bit-for-bit the same readings and dofs as the rung's level 0.
     assert_eq!(res.charge_pc, r.charge_pc);
