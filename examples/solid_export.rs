@@ -22,9 +22,10 @@
 //!   the 6 x 6 stiffness in die axes, Voigt order xx, yy, zz, yz, xz, xy, engineering shears;
 //!   `element_volume_um3`: tactfab's volume of each element (to check a reader's node order).
 //! - `shear`: "tied" (the rung's default) or, with `--plain-shear`, "displacement" (the plain
-//!   brick: strains from the displacement gradient). Tied: on each parallelepiped brick gamma_xz at a point is the linear
-//!   interpolation in xi of its values on the lines xi = -1/sqrt 3 and +1/sqrt 3 (at the point's
-//!   eta, zeta), gamma_yz likewise in eta; other bricks plain (`fe::solid::shear_tying`).
+//!   brick: strains from the displacement gradient). Tied: on each parallelepiped brick gamma_xz
+//!   at a point is the linear interpolation in xi of its values on the lines xi = -1/sqrt 3 and
+//!   +1/sqrt 3 (at the point's eta, zeta), gamma_yz likewise in eta; other bricks plain
+//!   (`fe::solid::shear_tying`).
 //! - `constrained`: (node, component, group) of every dof held at zero: the base's bottom face
 //!   clamped, `mirror_x`/`mirror_y` planes (normal component), group names in `groups`.
 //! - `pressures`: (element, face "+z" etc., pressure_pa) uniform pressures, positive pushing
