@@ -194,8 +194,9 @@ pub fn stiffness(
 ) -> Vec<f64> {
     let c = &material.c_pa;
     let mut k = vec![0.0; DOFS * DOFS];
+    let tied = shear_tying::ties(nodes_m, shear);
     for (xi, w) in gauss_points() {
-        let (g, bn) = shear_tying::b_at(nodes_m, xi, shear);
+        let (g, bn) = shear_tying::b_at(nodes_m, xi, tied);
         let f = w * g.det_j;
         // C B_b for every node b: 6 x 3 blocks (columns u_x, u_y, u_z; B's zeros skipped).
         let cb: [[[f64; 3]; 6]; NODES] = std::array::from_fn(|b| {
@@ -382,14 +383,7 @@ mod tests {
             let p = x[d / 3];
             (0..3).map(|j| g[d % 3][j] * p[j]).sum()
         });
-        let eps = [
-            g[0][0],
-            g[1][1],
-            g[2][2],
-            g[1][2] + g[2][1],
-            g[0][2] + g[2][0],
-            g[0][1] + g[1][0],
-        ];
+        let eps = crate::fe::solid::tests::voigt_strain(&g);
         for xi in [[0.1, 0.2, -0.9], [-1.0, 1.0, 0.0]] {
             let e = strain(&geometry(&x, xi).dn_dx, &u);
             for (a, b) in e.iter().zip(&eps) {

@@ -1,15 +1,16 @@
 //! Assumed transverse shear strains for the 27-node brick: the MITC9 tying (Bucalem & Bathe,
 //! "Higher-order MITC general shell elements", IJNME 36, 1993; Bathe, Finite Element Procedures,
 //! 2nd ed. 2014, sec. 5.4, beam, plate and shell elements) carried over to the brick whose zeta
-//! runs through the plate. The strain gamma_xz is sampled on the two lines xi = +-1/sqrt 3 (at the point's own
-//! eta and zeta) and interpolated linearly in xi; gamma_yz likewise on eta = +-1/sqrt 3. Those are
+//! runs through the plate. The strain gamma_xz is sampled on the two lines xi = +-1/sqrt 3 (at the
+//! point's own eta and zeta) and interpolated linearly in xi; gamma_yz likewise on eta = +-1/sqrt
+//! 3. Those are
 //! the points where the quadratic brick's spurious transverse shear in bending (the Legendre P2
 //! part, 3 xi^2 - 1) vanishes, so a thin plate no longer locks: a 100 um strip on 1 mm bricks reads
 //! its deflection 3.7 % low with the displacement strains and 0.016 % low tied (`tests`).
 //!
 //! Cartesian components are tied along the reference axes, so a brick's xi, eta, zeta must lie
-//! along x, y, z, as on every tensor grid here (z through the plate's thickness),
-//! and only on parallelepipeds (a constant Jacobian): there the tied strain of any displacement
+//! along x, y, z, as on every tensor grid here (z through the plate's thickness), and only on
+//! parallelepipeds (a constant Jacobian): there the tied strain of any displacement
 //! integrates to the plain one (two Gauss points in xi integrate the quadratic exactly), so the
 //! patch test stays exact. A distorted brick (the tapered ones along the {111} walls, which are
 //! stocky and do not lock) keeps its displacement strains; the mesh stays conforming either way,
@@ -80,11 +81,12 @@ pub struct NodeB {
     pub xz: [f64; 2],
 }
 
-/// The geometry at `xi` and every node's B coefficients under `shear`.
+/// The geometry at `xi` and every node's B coefficients, the shears tied if `tied` (what
+/// [`ties`] says of the brick, asked once per brick by the caller).
 pub fn b_at(
     nodes_m: &[[f64; 3]; NODES],
     xi: [f64; 3],
-    shear: TransverseShear,
+    tied: bool,
 ) -> (PointGeometry, [NodeB; NODES]) {
     let g = hex27::geometry(nodes_m, xi);
     let mut b: [NodeB; NODES] = std::array::from_fn(|n| {
@@ -95,7 +97,7 @@ pub fn b_at(
             xz: [nz, nx],
         }
     });
-    if ties(nodes_m, shear) {
+    if tied {
         for b in b.iter_mut() {
             b.yz = [0.0; 2];
             b.xz = [0.0; 2];
@@ -123,7 +125,7 @@ pub fn strain_at(
     xi: [f64; 3],
     shear: TransverseShear,
 ) -> [f64; 6] {
-    let (_, b) = b_at(nodes_m, xi, shear);
+    let (_, b) = b_at(nodes_m, xi, ties(nodes_m, shear));
     let mut e = [0.0; 6];
     for (n, bn) in b.iter().enumerate() {
         let (ux, uy, uz) = (u_m[3 * n], u_m[3 * n + 1], u_m[3 * n + 2]);

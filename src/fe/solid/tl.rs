@@ -123,7 +123,7 @@ pub fn internal_force(
         // Tied shears: E_xz (row 4) and E_yz (row 3), their variations and, for the geometric
         // part, the tying points' gradients (shear_tying; the strain is the weighted sum of the
         // tying points' Green-Lagrange strains, so every derivative is the same sum).
-        let mut ties: Vec<(usize, f64, [[f64; 3]; NODES])> = Vec::new();
+        let mut ties = [(0, 0.0, [[0.0; 3]; NODES]); 4];
         if tied {
             e[3] = 0.0;
             e[4] = 0.0;
@@ -140,7 +140,7 @@ pub fn internal_force(
                 for (p, bp) in b.iter_mut().enumerate() {
                     bp[row] += wt * b_column(&ft, &gt.dn_dx[p / 3], p % 3)[row];
                 }
-                ties.push((row, wt, gt.dn_dx));
+                ties[k] = (row, wt, gt.dn_dx);
             }
         }
         let s = material.stress_pa(&e);
@@ -171,7 +171,8 @@ pub fn internal_force(
         // Geometric part: (g_a . S g_b) on the diagonal of each 3 x 3 node block; tied shears
         // take theirs from the tying points' gradients.
         let mut st = voigt_tensor(&s);
-        if !ties.is_empty() {
+        let ties = if tied { &ties[..] } else { &[] };
+        if tied {
             for (i, j) in [(1, 2), (0, 2)] {
                 st[i][j] = 0.0;
                 st[j][i] = 0.0;
@@ -183,7 +184,7 @@ pub fn internal_force(
             for bn in a..NODES {
                 let gb = g.dn_dx[bn];
                 let mut v = sa[0] * gb[0] + sa[1] * gb[1] + sa[2] * gb[2];
-                for (row, wt, gt) in &ties {
+                for (row, wt, gt) in ties {
                     let i = if *row == 4 { 0 } else { 1 };
                     let (ta, tb) = (gt[a], gt[bn]);
                     v += wt * s[*row] * (ta[i] * tb[2] + ta[2] * tb[i]);
