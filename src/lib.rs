@@ -47,7 +47,8 @@
 //!    CG on the last factor where factorising is the cost); [`fe::solid::corner`] resolves
 //!    a solved solid's field at a sharp re-entrant edge (a 2-D submodel graded into the edge),
 //!    [`fe::solid::vertex`] at a frustum's base vertex (3-D submodels graded into the vertex and
-//!    its edges, nested down to the critical distance on one factorisation).
+//!    its edges, nested down to the critical distance on one factorisation). Every factor is
+//!    sized by its symbolic analysis and refused when it cannot fit in memory ([`fe::memory`]).
 //! 8. [`sensor`] builds the plate from a design ([`sensor::SensorGeometry::new`]), splits each
 //!    scene's load between the plate and the supports (clamped at the etched walls, or on the
 //!    supports' elastic footing, [`sensor::footing`]), pressing the upward faces only as the solid

@@ -42,7 +42,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
             stations: true,
         },
     )
-    .context("finite-element solve failed")?;
+    .context("the plate rungs")?;
     let solid = if args.verify_solid {
         verify_solid(args, &g, &scenes, &mut reports)?
     } else {

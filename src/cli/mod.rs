@@ -50,6 +50,8 @@ pub fn run() -> anyhow::Result<Outcome> {
     // Cholesky ran 1.3-1.8x slower on 2 cores (benches/README.md); studies run their scenes
     // and designs in parallel with rayon instead.
     faer::set_global_parallelism(faer::Par::Seq);
+    // A malformed memory limit is bad input whichever subcommand would meet it.
+    tactfab::fe::memory::budget()?;
     dispatch(cli.command)
 }
 

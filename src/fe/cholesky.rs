@@ -64,6 +64,7 @@ impl SymbolicFactor {
             detail: format!("{e:?}"),
             hint: "out of memory or index overflow: use a coarser mesh",
         })
+        .and_then(|s| s.ensure_fits().map(|()| s))
     }
 
     /// Analyse `pattern` (lower triangle) in faer's approximate-minimum-degree order (to compare
@@ -75,6 +76,7 @@ impl SymbolicFactor {
                 detail: format!("{e:?}"),
                 hint: "out of memory or index overflow: use a coarser mesh",
             })
+            .and_then(|s| s.ensure_fits().map(|()| s))
     }
 
     /// The global parallelism, except for factors above [`THREADED_FACTOR_ENTRIES`], which use
@@ -87,6 +89,26 @@ impl SymbolicFactor {
         }
     }
 
+    /// Bytes a numeric factorisation allocates: the factor's values and faer's scratch.
+    pub fn numeric_bytes(&self) -> u64 {
+        let scratch = self
+            .0
+            .factorize_numeric_llt_scratch::<f64>(self.parallelism(), Default::default());
+        (self.0.len_val() as u64)
+            .saturating_mul(8)
+            .saturating_add(scratch.size_bytes() as u64)
+    }
+
+    /// Refuses a factor that cannot fit in memory ([`crate::fe::memory`]); asked after every
+    /// symbolic analysis and again before each numeric one, since an overcommitted factor ends in
+    /// the OOM killer, not in an error.
+    pub fn ensure_fits(&self) -> FeResult<()> {
+        crate::fe::memory::ensure_fits(
+            &format!("a Cholesky factor of {} entries", self.0.len_val()),
+            self.numeric_bytes(),
+        )
+    }
+
     /// Entries of L (the memory the numeric factor takes, in f64s).
     pub fn factor_len(&self) -> usize {
         self.0.len_val()
@@ -96,12 +118,12 @@ impl SymbolicFactor {
     /// definite is a returned error naming the likely cause, never NaN.
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
         let par = self.parallelism();
+        let scratch = self
+            .0
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+        self.ensure_fits()?;
         let mut values = vec![0.0; self.0.len_val()];
-        let mut mem = MemBuffer::try_new(
-            self.0
-                .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        )
-        .map_err(|_| FeError::Sparse {
+        let mut mem = MemBuffer::try_new(scratch).map_err(|_| FeError::Sparse {
             detail: "scratch allocation failed".into(),
             hint: "out of memory: use a coarser mesh",
         })?;

@@ -68,11 +68,23 @@ pub enum FeError {
         limit: usize,
         hint: &'static str,
     },
+    #[error(
+        "{what} needs {needed_mb} MB, more than the {budget_mb} MB {budget_source}\n  hint: {hint}"
+    )]
+    OutOfMemory {
+        what: String,
+        needed_mb: u64,
+        budget_mb: u64,
+        budget_source: &'static str,
+        hint: &'static str,
+    },
+    #[error("TACTFAB_MEMORY_LIMIT_MB is `{value}`, not a positive number of MB\n  hint: {hint}")]
+    MemoryLimit { value: String, hint: &'static str },
     #[error("element {element} has a non-positive or non-finite mass\n  hint: {hint}")]
     InvalidMass { element: usize, hint: &'static str },
     #[error("the natural frequencies did not converge: {detail}\n  hint: {hint}")]
     Eigen { detail: String, hint: &'static str },
-    #[error("the large-deflection plate did not converge: {detail}\n  hint: {hint}")]
+    #[error("the geometrically nonlinear solve did not converge: {detail}\n  hint: {hint}")]
     Newton { detail: String, hint: &'static str },
 }
 

@@ -33,6 +33,7 @@ pub mod footing;
 pub mod loads;
 pub mod mass;
 pub mod material;
+pub mod memory;
 pub mod mesh;
 pub mod mirror;
 pub mod modal;

@@ -5,7 +5,7 @@ use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidRun};
 use tactfab::sensor::solid_mesh::{build, Base, SolidMeshOptions, BASE, PVDF, SILICON};
 
-use super::harness::tactfab;
+use super::harness::{run_env, tactfab};
 use super::sensor::geometry;
 
 /// A 12 mm die with four columns of teeth (the bundled scenes moved onto it): cheap to solve
@@ -24,6 +24,20 @@ fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
         out.extend(["--set", s]);
     }
     out
+}
+
+/// `fe` on the bundled file's short die with the solid rung on one level, then `rest`.
+fn solid_one_level<'a>(rest: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--max-levels",
+        "1",
+    ];
+    args.extend_from_slice(rest);
+    on_short_die(&args)
 }
 
 fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
@@ -270,22 +284,12 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
         assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
     }
     // Through the binary: `--graded` reaches the solid, which says so in JSON and text.
-    let base = [
-        "fe",
-        "process/mis-grasper.yaml",
-        "--model",
-        "solid",
-        "--point",
-        "6,7.5,0.02,0.5",
-        "--max-levels",
-        "1",
-        "--graded",
-    ];
-    let out = tactfab(&on_short_die(&[&base[..], &["--json"]].concat()));
+    let base = ["--point", "6,7.5,0.02,0.5", "--graded"];
+    let out = tactfab(&solid_one_level(&[&base[..], &["--json"]].concat()));
     out.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     assert_eq!(j["scenes"][0]["graded"], true);
-    let out = tactfab(&on_short_die(&base));
+    let out = tactfab(&solid_one_level(&base));
     out.expect_code(0);
     assert!(
         out.stdout.contains("graded at the tooth base edges")
@@ -331,21 +335,12 @@ fn tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium() {
     }
     // Through the binary: tied by default and `--plain-shear` unties, JSON and text say which;
     // without the solid rung `--plain-shear` is a usage error.
-    let base = [
-        "fe",
-        "process/mis-grasper.yaml",
-        "--model",
-        "solid",
-        "--point",
-        "6,7.5,0.02,0.5",
-        "--max-levels",
-        "1",
-    ];
-    let out = tactfab(&on_short_die(&[&base[..], &["--json"]].concat()));
+    let base = ["--point", "6,7.5,0.02,0.5"];
+    let out = tactfab(&solid_one_level(&[&base[..], &["--json"]].concat()));
     out.expect_code(0);
     let j: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
     assert_eq!(j["scenes"][0]["tied_shear"], true);
-    let out = tactfab(&on_short_die(&[&base[..], &["--plain-shear"]].concat()));
+    let out = tactfab(&solid_one_level(&[&base[..], &["--plain-shear"]].concat()));
     out.expect_code(0);
     assert!(
         out.stdout.contains("plain bricks (--plain-shear)")
@@ -531,17 +526,7 @@ fn contact_loads_find_the_tooth_tops() {
 
 #[test]
 fn fe_model_solid_through_the_binary() {
-    let args = on_short_die(&[
-        "fe",
-        "process/mis-grasper.yaml",
-        "--model",
-        "solid",
-        "--scene",
-        "line-y5mm",
-        "--max-levels",
-        "1",
-        "--json",
-    ]);
+    let args = solid_one_level(&["--scene", "line-y5mm", "--json"]);
     let out = tactfab(&args);
     out.expect_code(0);
     let v: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
@@ -626,16 +611,7 @@ fn fe_model_solid_through_the_binary() {
     );
     // A press on a support leaves the averaged stress under the plate in compression: no
     // negative factor from it either.
-    let on_support = on_short_die(&[
-        "fe",
-        "process/mis-grasper.yaml",
-        "--model",
-        "solid",
-        "--point",
-        "6,1.25,0.02,0.5",
-        "--max-levels",
-        "1",
-    ]);
+    let on_support = solid_one_level(&["--point", "6,1.25,0.02,0.5"]);
     let text = tactfab(&on_support);
     text.expect_code(0);
     let averaged = text
@@ -983,4 +959,42 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
     ]);
     run.expect_code(2);
     assert!(run.stderr.contains("--verify-solid"), "{}", run.stderr);
+}
+
+/// A factor larger than the memory allowed is refused after the symbolic analysis, before it is
+/// allocated (exit 2, what it needs against what there is), not left to the OOM killer; a
+/// malformed limit is bad input whatever the subcommand.
+#[test]
+fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
+    let args = solid_one_level(&["--scene", "centre-1n"]);
+    let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
+    assert_eq!(code, 2, "{stdout}\n{stderr}");
+    assert!(stdout.is_empty(), "{stdout}");
+    assert!(
+        stderr.contains("a Cholesky factor of")
+            && stderr.contains("more than the 300 MB the limit TACTFAB_MEMORY_LIMIT_MB sets")
+            && stderr.contains("hint:"),
+        "{stderr}"
+    );
+    // The factor it refused is the one the run takes without the limit: over 300 MB.
+    let needed: u64 = stderr
+        .split(" MB, more than")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no size in {stderr}"));
+    assert!(needed > 300, "{stderr}");
+    for bad in ["abc", "0", "-5", "inf"] {
+        let (code, _, stderr) = run_env(
+            &["etch", "process/mis-grasper.yaml"],
+            &[("TACTFAB_MEMORY_LIMIT_MB", bad)],
+        );
+        assert_eq!(code, 2, "{bad}: {stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "TACTFAB_MEMORY_LIMIT_MB is `{bad}`, not a positive number"
+            )),
+            "{stderr}"
+        );
+    }
 }
