@@ -574,8 +574,8 @@ fn vertex_stress(
     }))
 }
 
-/// One kind of edge's stress at level 0 with two and with four bricks through the plate, and
-/// the error estimate of the two-brick value taken from them.
+/// One kind of edge's stress at level 0 with two and with four bricks through the plate and the
+/// teeth, and the error estimate of the two-brick value taken from them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EdgeThicknessCheck {
     pub kind: EdgeKind,
@@ -589,7 +589,7 @@ pub struct EdgeThicknessCheck {
 }
 
 /// The thickness check of each kind present in both `two` and `four` (level 0's edge stresses
-/// with two and with four bricks through the plate).
+/// with two and with four bricks through the plate and the teeth).
 pub fn thickness_checks(two: &[EdgeStress], four: &[EdgeStress]) -> Vec<EdgeThicknessCheck> {
     let lambda = williams_exponent(std::f64::consts::PI + 54.7356f64.to_radians());
     two.iter()

@@ -180,13 +180,18 @@ pub const TOOTH_EDGE_GRADING: [f64; 2] = [0.5, 2.0];
 impl SolidMeshOptions {
     /// Level `level` of a refinement sequence: the in-plane size halves every two levels (a
     /// factor sqrt 2 per level) from `coarse_um`; through the thickness two quadratic bricks in
-    /// the plate (bending) and one in every other layer (the fill of a 3D factor grows with the
-    /// square of the node layers).
+    /// the plate (bending) and in the teeth, one in every other layer (the fill of a 3D factor
+    /// grows with the square of the node layers). The teeth's second brick is for the
+    /// re-entrant edge at their base, whose field the edge submodels are driven from: measured
+    /// on the bundled `centre-1n` (1 N, level 0), one brick of the tooth's 200 um read the tooth
+    /// base 2108 MPa, two 2158, and with every brick near the edge halved again (four in the
+    /// plate and the teeth) 2181; the deflection moves 0.17 %, for 11 % more time and 8 % more
+    /// memory.
     pub fn level(coarse_um: f64, level: usize) -> Self {
         SolidMeshOptions {
             element_um: coarse_um / 2f64.sqrt().powi(level as i32),
             plate_layers: 2,
-            teeth_layers: 1,
+            teeth_layers: 2,
             support_layers: 1,
             base_layers: 1,
             tooth_edge_grading: false,
