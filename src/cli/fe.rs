@@ -516,9 +516,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         }
         for c in &r.edge_thickness {
             println!(
-                "  {} through the thickness (level 0, 2 against 4 bricks through the plate): {} \
-                 against {} MPa, taken as an error of {} MPa in its disc. (the difference over 1 \
-                 - 2^-lambda, the corner's rate)",
+                "  {} through the thickness (level 0, 2 against 4 bricks through the plate and the \
+                 teeth): {} against {} MPa, taken as an error of {} MPa in its disc. (the \
+                 difference over 1 - 2^-lambda, the corner's rate)",
                 c.kind.as_str(),
                 f(c.two_bricks_mpa, 4),
                 f(c.four_bricks_mpa, 4),

@@ -576,6 +576,23 @@ pub fn evaluate_solid(
         },
         ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
     };
+    // Level 0 again with twice the bricks through the plate and the teeth: the edges' thickness
+    // check (below).
+    let doubled = || {
+        let mut opts = mesh(0);
+        opts.plate_layers *= 2;
+        opts.teeth_layers *= 2;
+        opts
+    };
+    // The largest meshes first, analysed but not solved: a run whose finest level or thickness
+    // check cannot fit in memory (`fe::memory`) stops in seconds, not after its first levels.
+    if levels > 1 {
+        let largest = std::iter::once(mesh(levels - 1)).chain((levels >= 3).then(doubled));
+        for opts in largest {
+            let solid = scene_model.build(g, base, opts, graded_teeth)?;
+            TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
+        }
+    }
     // The nonlinear solve of each level starts from the coarser level's field.
     let mut coarser: Option<crate::fe::solid::TlSolution> = None;
     for level in 0..levels {
@@ -590,11 +607,8 @@ pub fn evaluate_solid(
     // to (three levels).
     let edge_thickness = match out.first() {
         Some(first) if levels >= 3 && !first.readout.edge_stress.is_empty() => {
-            let mut opts = mesh(0);
-            opts.plate_layers *= 2;
-            opts.teeth_layers *= 2;
-            let (doubled, _, _) = solve(opts, coarser.as_ref())?;
-            thickness_checks(&first.readout.edge_stress, &doubled.readout.edge_stress)
+            let (thick, _, _) = solve(doubled(), coarser.as_ref())?;
+            thickness_checks(&first.readout.edge_stress, &thick.readout.edge_stress)
         }
         _ => Vec::new(),
     };

@@ -962,28 +962,43 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
 }
 
 /// A factor larger than the memory allowed is refused after the symbolic analysis, before it is
-/// allocated (exit 2, what it needs against what there is), not left to the OOM killer; a
-/// malformed limit is bad input whatever the subcommand.
+/// allocated (exit 2, what it needs against what there is), not left to the OOM killer; with
+/// several levels the largest mesh is asked first; a malformed limit is bad input whatever the
+/// subcommand.
 #[test]
 fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
-    let args = solid_one_level(&["--scene", "centre-1n"]);
-    let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
-    assert_eq!(code, 2, "{stdout}\n{stderr}");
-    assert!(stdout.is_empty(), "{stdout}");
-    assert!(
-        stderr.contains("a Cholesky factor of")
-            && stderr.contains("more than the 300 MB the limit TACTFAB_MEMORY_LIMIT_MB sets")
-            && stderr.contains("hint:"),
-        "{stderr}"
-    );
-    // The factor it refused is the one the run takes without the limit: over 300 MB.
-    let needed: u64 = stderr
-        .split(" MB, more than")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no size in {stderr}"));
-    assert!(needed > 300, "{stderr}");
+    // The factor (MB) a run of `levels` solid levels under a 300 MB limit refuses.
+    let refused = |levels: &str| -> u64 {
+        let args = on_short_die(&[
+            "fe",
+            "process/mis-grasper.yaml",
+            "--model",
+            "solid",
+            "--scene",
+            "centre-1n",
+            "--max-levels",
+            levels,
+        ]);
+        let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
+        assert_eq!(code, 2, "{stdout}\n{stderr}");
+        assert!(stdout.is_empty(), "{stdout}");
+        assert!(
+            stderr.contains("a Cholesky factor of")
+                && stderr.contains("more than the 300 MB the limit TACTFAB_MEMORY_LIMIT_MB sets")
+                && stderr.contains("hint:"),
+            "{stderr}"
+        );
+        stderr
+            .split(" MB, more than")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no size in {stderr}"))
+    };
+    // One level: level 0's own factor. Three: a larger one (the finest level's or the thickness
+    // check's), so it was asked before level 0, whose factor would have been refused first.
+    let (level0, three) = (refused("1"), refused("3"));
+    assert!(level0 > 300 && three > level0, "{level0} {three}");
     for bad in ["abc", "0", "-5", "inf"] {
         let (code, _, stderr) = run_env(
             &["etch", "process/mis-grasper.yaml"],
