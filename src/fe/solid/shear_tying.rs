@@ -30,14 +30,21 @@ pub enum TransverseShear {
     Tied,
 }
 
-/// True if the tying applies to this brick under `shear`: tied, and the brick a parallelepiped
-/// (every node at x_c + J xi_n with the centre's Jacobian, to 1e-9 of its size).
+/// True if the tying applies to this brick under `shear`: tied, the brick a parallelepiped
+/// (every node at x_c + J xi_n with the centre's Jacobian, to 1e-9 of its size), and its
+/// reference axes xi, eta, zeta running mostly along x, y, z (each row of J largest on its own
+/// axis: gamma_xz is tied along xi and gamma_yz along eta, which on a brick whose zeta runs
+/// along x would tie the wrong shears; such a brick keeps its plain strains).
 pub fn ties(nodes_m: &[[f64; 3]; NODES], shear: TransverseShear) -> bool {
     if shear != TransverseShear::Tied {
         return false;
     }
     let centre = nodes_m[13];
     let j = hex27::jacobian(nodes_m, [0.0; 3]);
+    let along_axes = (0..3).all(|r| (0..3).all(|d| d == r || j[r][d].abs() < j[r][r].abs()));
+    if !along_axes {
+        return false;
+    }
     let size = (0..3)
         .map(|r| j[r].iter().map(|v| v.abs()).sum::<f64>())
         .fold(0.0, f64::max);

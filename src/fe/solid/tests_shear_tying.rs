@@ -166,6 +166,13 @@ fn only_parallelepipeds_are_tied() {
         TransverseShear::Displacement
     ));
     assert!(!shear_tying::ties(&brick(0.2), TransverseShear::Tied));
+    // The same box with its reference axes turned (xi along z, eta along x, zeta along y): a
+    // parallelepiped whose tying lines would cut the wrong shears, so it stays plain.
+    let turned: [[f64; 3]; NODES] = std::array::from_fn(|n| {
+        let (a, b, c) = (n % 3, (n / 3) % 3, n / 9);
+        [500e-6 * b as f64, 400e-6 * c as f64, 50e-6 * a as f64]
+    });
+    assert!(!shear_tying::ties(&turned, TransverseShear::Tied));
     let k = |x: &[[f64; 3]; NODES], s| hex27::stiffness(x, &Elasticity::isotropic(1e11, 0.3), s);
     let t = brick(0.2);
     assert_eq!(
