@@ -8,9 +8,9 @@
 //! part, 3 xi^2 - 1) vanishes, so a thin plate no longer locks: a 100 um strip on 1 mm bricks reads
 //! its deflection 3.7 % low with the displacement strains and 0.016 % low tied (`tests`).
 //!
-//! Cartesian components are tied along the reference axes, so a brick's xi, eta, zeta must lie
-//! along x, y, z, as on every tensor grid here (z through the plate's thickness), and only on
-//! parallelepipeds (a constant Jacobian): there the tied strain of any displacement
+//! Cartesian components are tied along the reference axes, so only bricks whose xi, eta, zeta
+//! run along x, y, z are tied ([`ties`] checks it; every tensor grid here has z through the
+//! plate's thickness), and only parallelepipeds (a constant Jacobian): there the tied strain of any displacement
 //! integrates to the plain one (two Gauss points in xi integrate the quadratic exactly), so the
 //! patch test stays exact. A distorted brick (the tapered ones along the {111} walls, which are
 //! stocky and do not lock) keeps its displacement strains; the mesh stays conforming either way,
