@@ -51,7 +51,7 @@ pub fn run() -> anyhow::Result<Outcome> {
     // and designs in parallel with rayon instead.
     faer::set_global_parallelism(faer::Par::Seq);
     // A malformed memory limit is bad input whichever subcommand would meet it.
-    tactfab::fe::memory::budget()?;
+    tactfab::fe::memory::limit()?;
     dispatch(cli.command)
 }
 

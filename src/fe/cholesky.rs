@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -89,11 +89,18 @@ impl SymbolicFactor {
         }
     }
 
+    /// faer's scratch for one numeric factorisation.
+    fn scratch(&self) -> StackReq {
+        self.0
+            .factorize_numeric_llt_scratch::<f64>(self.parallelism(), Default::default())
+    }
+
     /// Bytes a numeric factorisation allocates: the factor's values and faer's scratch.
     pub fn numeric_bytes(&self) -> u64 {
-        let scratch = self
-            .0
-            .factorize_numeric_llt_scratch::<f64>(self.parallelism(), Default::default());
+        self.bytes_with(self.scratch())
+    }
+
+    fn bytes_with(&self, scratch: StackReq) -> u64 {
         (self.0.len_val() as u64)
             .saturating_mul(8)
             .saturating_add(scratch.size_bytes() as u64)
@@ -103,9 +110,13 @@ impl SymbolicFactor {
     /// symbolic analysis and again before each numeric one, since an overcommitted factor ends in
     /// the OOM killer, not in an error.
     pub fn ensure_fits(&self) -> FeResult<()> {
+        self.fits_with(self.scratch())
+    }
+
+    fn fits_with(&self, scratch: StackReq) -> FeResult<()> {
         crate::fe::memory::ensure_fits(
             &format!("a Cholesky factor of {} entries", self.0.len_val()),
-            self.numeric_bytes(),
+            self.bytes_with(scratch),
         )
     }
 
@@ -118,10 +129,8 @@ impl SymbolicFactor {
     /// definite is a returned error naming the likely cause, never NaN.
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
         let par = self.parallelism();
-        let scratch = self
-            .0
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
-        self.ensure_fits()?;
+        let scratch = self.scratch();
+        self.fits_with(scratch)?;
         let mut values = vec![0.0; self.0.len_val()];
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| FeError::Sparse {
             detail: "scratch allocation failed".into(),

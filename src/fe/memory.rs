@@ -41,23 +41,30 @@ impl BudgetSource {
 /// system does not say (not Linux) and no limit is set. A limit that is not a positive number of
 /// MB is an error naming the variable.
 pub fn budget() -> FeResult<Option<(u64, BudgetSource)>> {
-    if let Some(v) = std::env::var_os(LIMIT_ENV) {
-        let text = v.to_string_lossy();
-        return match text.trim().parse::<f64>() {
-            Ok(mb) if mb.is_finite() && mb > 0.0 && mb < 1e12 => {
-                Ok(Some(((mb * 1048576.0) as u64, BudgetSource::Limit)))
-            }
-            _ => Err(FeError::MemoryLimit {
-                value: text.into_owned(),
-                hint: "set TACTFAB_MEMORY_LIMIT_MB to a positive number of MB, e.g. 4000, or \
-                       unset it to use what the system has available",
-            }),
-        };
+    if let Some(bytes) = limit()? {
+        return Ok(Some((bytes, BudgetSource::Limit)));
     }
     Ok(std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|s| mem_available_bytes(&s))
         .map(|b| (b, BudgetSource::Available)))
+}
+
+/// The limit [`LIMIT_ENV`] sets (bytes), None when it is unset; anything but a positive number
+/// of MB is an error naming the variable.
+pub fn limit() -> FeResult<Option<u64>> {
+    let Some(v) = std::env::var_os(LIMIT_ENV) else {
+        return Ok(None);
+    };
+    let text = v.to_string_lossy();
+    match text.trim().parse::<f64>() {
+        Ok(mb) if mb.is_finite() && mb > 0.0 && mb < 1e12 => Ok(Some((mb * 1048576.0) as u64)),
+        _ => Err(FeError::MemoryLimit {
+            value: text.into_owned(),
+            hint: "set TACTFAB_MEMORY_LIMIT_MB to a positive number of MB, e.g. 4000, or unset \
+                   it to use what the system has available",
+        }),
+    }
 }
 
 /// `MemAvailable` of a /proc/meminfo text (its value is in kB), bytes.

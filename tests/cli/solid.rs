@@ -26,18 +26,23 @@ fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
     out
 }
 
-/// `fe` on the bundled file's short die with the solid rung on one level, then `rest`.
-fn solid_one_level<'a>(rest: &[&'a str]) -> Vec<&'a str> {
+/// `fe` on the bundled file's short die with the solid rung on `levels` levels, then `rest`.
+fn solid_levels<'a>(levels: &'a str, rest: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec![
         "fe",
         "process/mis-grasper.yaml",
         "--model",
         "solid",
         "--max-levels",
-        "1",
+        levels,
     ];
     args.extend_from_slice(rest);
     on_short_die(&args)
+}
+
+/// [`solid_levels`] on one level.
+fn solid_one_level<'a>(rest: &[&'a str]) -> Vec<&'a str> {
+    solid_levels("1", rest)
 }
 
 fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
@@ -969,16 +974,7 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
 fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     // The factor (MB) a run of `levels` solid levels under a 300 MB limit refuses.
     let refused = |levels: &str| -> u64 {
-        let args = on_short_die(&[
-            "fe",
-            "process/mis-grasper.yaml",
-            "--model",
-            "solid",
-            "--scene",
-            "centre-1n",
-            "--max-levels",
-            levels,
-        ]);
+        let args = solid_levels(levels, &["--scene", "centre-1n"]);
         let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
         assert_eq!(code, 2, "{stdout}\n{stderr}");
         assert!(stdout.is_empty(), "{stdout}");

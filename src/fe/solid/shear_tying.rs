@@ -3,19 +3,20 @@
 //! 2nd ed. 2014, sec. 5.4, beam, plate and shell elements) carried over to the brick whose zeta
 //! runs through the plate. The strain gamma_xz is sampled on the two lines xi = +-1/sqrt 3 (at the
 //! point's own eta and zeta) and interpolated linearly in xi; gamma_yz likewise on eta = +-1/sqrt
-//! 3. Those are
-//! the points where the quadratic brick's spurious transverse shear in bending (the Legendre P2
-//! part, 3 xi^2 - 1) vanishes, so a thin plate no longer locks: a 100 um strip on 1 mm bricks reads
-//! its deflection 3.7 % low with the displacement strains and 0.016 % low tied (`tests`).
+//! 3. Those are the points where the quadratic brick's spurious transverse shear in bending (the
+//! Legendre P2 part, 3 xi^2 - 1) vanishes, so a thin plate no longer locks: a 100 um strip on 1 mm
+//! bricks reads its deflection 3.7 % low with the displacement strains and 0.016 % low tied
+//! (`tests`).
 //!
-//! Cartesian components are tied along the reference axes, so only bricks whose xi, eta, zeta
-//! run along x, y, z are tied ([`ties`] checks it; every tensor grid here has z through the
-//! plate's thickness), and only parallelepipeds (a constant Jacobian): there the tied strain of any displacement
-//! integrates to the plain one (two Gauss points in xi integrate the quadratic exactly), so the
-//! patch test stays exact. A distorted brick (the tapered ones along the {111} walls, which are
-//! stocky and do not lock) keeps its displacement strains; the mesh stays conforming either way,
-//! tying changes an element's strain operator, not its displacements. The tying is linear in the
-//! displacements, so the linear B keeps its sparsity per node (only rows yz and xz change).
+//! Cartesian components are tied along the reference axes, so only bricks whose xi, eta, zeta run
+//! along x, y, z are tied ([`ties`] checks it; every tensor grid here has z through the plate's
+//! thickness), and only parallelepipeds (a constant Jacobian): there the tied strain of any
+//! displacement integrates to the plain one (two Gauss points in xi integrate the quadratic
+//! exactly), so the patch test stays exact. A distorted brick (the tapered ones along the {111}
+//! walls, which are stocky and do not lock) keeps its displacement strains; the mesh stays
+//! conforming either way, tying changes an element's strain operator, not its displacements. The
+//! tying is linear in the displacements, so the linear B keeps its sparsity per node (only rows yz
+//! and xz change).
 
 use crate::fe::solid::hex27::{self, PointGeometry, NODES};
 
