@@ -16,6 +16,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{get_global_parallelism, Conj, MatMut, Par, Side};
 
 use crate::fe::error::{FeError, FeResult};
+use crate::fe::memory::Held;
 
 /// Symbolic analysis of a lower-triangle pattern under a given elimination order.
 #[derive(Debug, Clone)]
@@ -31,6 +32,8 @@ pub const THREADED_FACTOR_ENTRIES: usize = 20_000_000;
 pub struct CholeskyFactor {
     symbolic: SymbolicFactor,
     values: Vec<f64>,
+    /// The factor's entry in [`crate::fe::memory::LEDGER`] while it lives (large factors).
+    _held: Option<Held<'static>>,
 }
 
 /// Always supernodal: faer's flop-ratio heuristic picks the scalar simplicial kernel for the plate
@@ -106,18 +109,16 @@ impl SymbolicFactor {
             .saturating_add(scratch.size_bytes() as u64)
     }
 
-    /// Refuses a factor that cannot fit in memory ([`crate::fe::memory`]); asked after every
-    /// symbolic analysis and again before each numeric one, since an overcommitted factor ends in
-    /// the OOM killer, not in an error.
+    /// Refuses a factor that cannot fit in memory beside the factorisations of the run
+    /// ([`crate::fe::memory`]); asked after every symbolic analysis, and again, entering the
+    /// ledger, before each numeric one, since an overcommitted factor ends in the OOM killer,
+    /// not in an error.
     pub fn ensure_fits(&self) -> FeResult<()> {
-        self.fits_with(self.scratch())
+        crate::fe::memory::ensure_fits(&self.describe(), self.numeric_bytes())
     }
 
-    fn fits_with(&self, scratch: StackReq) -> FeResult<()> {
-        crate::fe::memory::ensure_fits(
-            &format!("a Cholesky factor of {} entries", self.0.len_val()),
-            self.bytes_with(scratch),
-        )
+    fn describe(&self) -> String {
+        format!("a Cholesky factor of {} entries", self.0.len_val())
     }
 
     /// Entries of L (the memory the numeric factor takes, in f64s).
@@ -130,7 +131,11 @@ impl SymbolicFactor {
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
         let par = self.parallelism();
         let scratch = self.scratch();
-        self.fits_with(scratch)?;
+        let reservation = crate::fe::memory::reserve(
+            &self.describe(),
+            self.bytes_with(scratch),
+            (self.0.len_val() as u64).saturating_mul(8),
+        )?;
         let mut values = vec![0.0; self.0.len_val()];
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| FeError::Sparse {
             detail: "scratch allocation failed".into(),
@@ -151,9 +156,11 @@ impl SymbolicFactor {
                 hint: "the plate is not fully constrained or has zero stiffness somewhere: check \
                        that supports exist and thicknesses are positive",
             })?;
+        drop(mem);
         Ok(CholeskyFactor {
             symbolic: self.clone(),
             values,
+            _held: reservation.map(|r| r.finished()),
         })
     }
 }

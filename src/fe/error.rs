@@ -69,13 +69,17 @@ pub enum FeError {
         hint: &'static str,
     },
     #[error(
-        "{what} needs {needed_mb} MB, more than the {budget_mb} MB {budget_source}\n  hint: {hint}"
+        "{what} needs {needed_mb} MB{}, more than the {budget_mb} MB {budget_source}\n  \
+         hint: {hint}",
+        beside(.others_mb)
     )]
     OutOfMemory {
         what: String,
         needed_mb: u64,
         budget_mb: u64,
         budget_source: &'static str,
+        /// What other factorisations of the run took from the budget when this one asked.
+        others_mb: u64,
         hint: &'static str,
     },
     #[error("TACTFAB_MEMORY_LIMIT_MB is `{value}`, not a positive number of MB\n  hint: {hint}")]
@@ -86,6 +90,25 @@ pub enum FeError {
     Eigen { detail: String, hint: &'static str },
     #[error("the geometrically nonlinear solve did not converge: {detail}\n  hint: {hint}")]
     Newton { detail: String, hint: &'static str },
+}
+
+impl FeError {
+    /// A factor refused for memory that would fit alone: factorisations under way beside it
+    /// took the room, so it can be solved once they are done
+    /// ([`crate::fe::memory::in_parallel_then_alone`]).
+    pub fn is_crowded_out(&self) -> bool {
+        matches!(self, FeError::OutOfMemory { needed_mb, budget_mb, others_mb, .. }
+            if *others_mb > 0 && needed_mb <= budget_mb)
+    }
+}
+
+/// The [`FeError::OutOfMemory`] clause for what other factorisations take.
+fn beside(others_mb: &u64) -> String {
+    if *others_mb == 0 {
+        String::new()
+    } else {
+        format!(" beside the {others_mb} MB that other factorisations of this run take")
+    }
 }
 
 /// Result alias of the plate solver.

@@ -742,7 +742,7 @@ impl VonKarman {
         let work: f64 = f.iter().zip(&u).map(|(a, b)| a * b).sum::<f64>().abs();
         if work > 0.0
             && self
-                .newton(&mut u, &f, 1.0, Some(work), true, &mut stats)
+                .newton(&mut u, &f, 1.0, Some(work), true, &mut stats)?
                 .is_some()
         {
             stats.load_steps = 1;
@@ -817,7 +817,7 @@ impl VonKarman {
                     *t = a + s * (a - b);
                 }
             }
-            match self.newton(&mut trial, &f, target, None, false, &mut stats) {
+            match self.newton(&mut trial, &f, target, None, false, &mut stats)? {
                 Some(iterations) => {
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
@@ -911,7 +911,8 @@ impl VonKarman {
     /// Corrections are measured against `reference` (an energy), else against the first one.
     /// With `chord`, the factorisation is kept while it contracts the correction by at least
     /// [`CHORD_CONTRACTION`] per iteration (modified Newton from a close guess: a solve costs a
-    /// fraction of a factorisation) and refreshed when it does not.
+    /// fraction of a factorisation) and refreshed when it does not. None when the step fails
+    /// (divergence, a tangent not positive definite); Err when a factor is refused for memory.
     fn newton(
         &self,
         u: &mut [f64],
@@ -920,7 +921,7 @@ impl VonKarman {
         reference: Option<f64>,
         chord: bool,
         stats: &mut NewtonStats,
-    ) -> Option<usize> {
+    ) -> FeResult<Option<usize>> {
         let mut first_energy = reference;
         let mut last_energy = f64::INFINITY;
         let mut llt: Option<CholeskyFactor> = None;
@@ -933,24 +934,30 @@ impl VonKarman {
                 rhs[(i, 0)] = lambda * f[d] - r_int[d];
             }
             if let Some(vals) = vals {
-                llt = Some(
-                    self.symbolic
-                        .factor(
-                            SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), vals)
-                                .as_ref(),
-                        )
-                        .ok()?,
-                );
+                // The old factor goes before the new one is built.
+                drop(llt.take());
+                // A tangent that is not positive definite fails the step; a factor refused for
+                // memory ends the solve (smaller steps need the same factor).
+                llt = match self.symbolic.factor(
+                    SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), vals).as_ref(),
+                ) {
+                    Ok(l) => Some(l),
+                    Err(e @ FeError::OutOfMemory { .. }) => return Err(e),
+                    Err(_) => return Ok(None),
+                };
                 stats.factorisations += 1;
             }
             stats.iterations += 1;
             let r0: Vec<f64> = (0..self.free_dofs.len()).map(|i| rhs[(i, 0)]).collect();
-            llt.as_ref()?.solve_in_place(rhs.as_mut());
+            let Some(l) = llt.as_ref() else {
+                return Ok(None);
+            };
+            l.solve_in_place(rhs.as_mut());
             let mut energy = 0.0;
             for (i, &d) in self.free_dofs.iter().enumerate() {
                 let du = rhs[(i, 0)];
                 if !du.is_finite() {
-                    return None;
+                    return Ok(None);
                 }
                 energy += du * r0[i];
                 u[d] += du;
@@ -963,15 +970,15 @@ impl VonKarman {
             // only linearly: its slow step is not the floor, and the next step refactors.
             let floor = refactor && ratio <= ROUND_OFF_RATIO && energy.abs() > 1e-2 * last_energy;
             if ratio <= self.opts.energy_tol || floor {
-                return Some(it);
+                return Ok(Some(it));
             }
             contraction = energy.abs() / last_energy;
             last_energy = energy.abs();
             if energy.abs() > 1e6 * e0 {
-                return None;
+                return Ok(None);
             }
         }
-        None
+        Ok(None)
     }
 
     /// The converged field as a plate solution: w part and membrane part, reactions f - R_int at

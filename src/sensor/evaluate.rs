@@ -3,7 +3,6 @@
 
 use std::time::Instant;
 
-use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fe::problem::Axis as FeAxis;
@@ -1235,13 +1234,15 @@ impl LevelContext<'_> {
                 (s, vec![0; n])
             }
             PreparedRung::Nonlinear(vk) => {
-                let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> = self
+                let cases: Vec<_> = self
                     .part_cases
-                    .par_iter()
+                    .iter()
                     .zip(self.loads)
                     .zip(previous)
                     .zip(active)
-                    .map(|(((c, l), prev), &on)| {
+                    .collect();
+                let solved: Vec<Option<(crate::fe::PlateSolution, usize)>> =
+                    crate::fe::memory::in_parallel_then_alone(&cases, |&(((c, l), prev), &on)| {
                         (on && !l.plate.is_empty())
                             .then(|| {
                                 match prev {
@@ -1251,8 +1252,7 @@ impl LevelContext<'_> {
                                 .map(|(s, st)| (self.sym.expand(s), st.iterations))
                             })
                             .transpose()
-                    })
-                    .collect::<Result<_, _>>()?;
+                    })?;
                 let iterations = solved
                     .iter()
                     .map(|s| s.as_ref().map_or(0, |s| s.1))

@@ -138,6 +138,9 @@ struct Work {
     limit: f64,
     /// One conjugate-gradient step's share of a factorisation.
     cg_step: f64,
+    /// An error that ends the solve rather than the step: a factor refused for memory (a
+    /// smaller step needs the same factor).
+    fatal: Option<FeError>,
 }
 
 impl Work {
@@ -152,8 +155,22 @@ impl Work {
         self.used > self.limit
     }
 
-    /// The error that says the budget is spent, with how far the load got; Ok while it is not.
-    fn check(&self, lambda: f64) -> FeResult<()> {
+    /// A factorisation's error as the step's failure (`context` first); a factor refused for
+    /// memory is kept to end the solve.
+    fn factor_failed(&mut self, e: FeError, context: String) -> StepFailure {
+        let why = format!("{context}: {e}");
+        if matches!(e, FeError::OutOfMemory { .. }) {
+            self.fatal.get_or_insert(e);
+        }
+        why
+    }
+
+    /// The error that ends the solve: a factor refused for memory, or the budget spent (with how
+    /// far the load got); Ok while neither.
+    fn check(&mut self, lambda: f64) -> FeResult<()> {
+        if let Some(e) = self.fatal.take() {
+            return Err(e);
+        }
         if !self.spent() {
             return Ok(());
         }
@@ -477,6 +494,7 @@ impl TlSolid {
             used: 0.0,
             limit: self.opts.max_factorisations.max(floor),
             cg_step: (ENTRIES_PER_DOF_PER_STEP * n.max(1)) as f64 / len.max(1) as f64,
+            fatal: None,
         }
     }
 
@@ -593,7 +611,10 @@ impl TlSolid {
                 .as_ref(),
             )
             .map_err(|e| {
-                format!("tangent not positive definite at {lambda:.3} of the load: {e}")
+                work.factor_failed(
+                    e,
+                    format!("tangent not positive definite at {lambda:.3} of the load"),
+                )
             })?;
         work.factorised();
         work.stats.iterations += 1;
@@ -749,7 +770,12 @@ impl TlSolid {
         let llt = self
             .symbolic
             .factor(SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref())
-            .map_err(|e| format!("tangent not positive definite at iteration {it}: {e}"))?;
+            .map_err(|e| {
+                work.factor_failed(
+                    e,
+                    format!("tangent not positive definite at iteration {it}"),
+                )
+            })?;
         work.factorised();
         let du = solve_with(&llt, r);
         *lagged = Some(llt);
