@@ -438,7 +438,7 @@ fn touch_down(
         } else {
             Symmetry::none(g)
         };
-        let base = base_lines(g, std::slice::from_ref(l), &sym, mesh.graded, mesh.stations);
+        let base = base_lines(g, std::slice::from_ref(l), &sym, &mesh);
         let vk = VonKarman::new(&build_problem(g, &base, 0, &sym)?, opts)?;
         let part = sym.restrict(&l.plate);
         let mut last: Option<crate::fe::PlateSolution> = None;
@@ -979,7 +979,7 @@ fn solve_levels(
     } else {
         1
     };
-    let base = base_lines(g, loads, &sym, mesh.graded, mesh.stations);
+    let base = base_lines(g, loads, &sym, &mesh);
     let (kind, in_plane) = match rung {
         Rung::Linear => (ModelKind::Plate, None),
         Rung::LargeDeflection(o) | Rung::Estimate(o) => {

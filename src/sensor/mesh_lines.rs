@@ -90,12 +90,12 @@ impl Default for MeshOptions {
 /// dropped only within [`STATION_LINE_GAP_UM`] of a kept line.
 ///
 /// On a symmetric problem the lines are folded into the part solved ([`Symmetry::fold`]).
+/// `opts` says whether to grade and to put in the station lines (its `symmetry` is `sym`'s).
 pub(super) fn base_lines(
     g: &SensorGeometry,
     loads: &[SceneLoads],
     sym: &Symmetry,
-    graded: bool,
-    stations: bool,
+    opts: &MeshOptions,
 ) -> (Vec<f64>, Vec<f64>) {
     let (mut xs, mut ys) = g.exact_lines();
     // Rotated patches' bounding boxes only where they keep clear of the other lines.
@@ -118,7 +118,7 @@ pub(super) fn base_lines(
     let mut ys = merge_lines(sym.fold(false, ys), sym.fold(false, ty.clone()), y0, y1);
     xs = merge_lines_within(xs, sym.fold(true, rx), x0, x1, ROTATED_LINE_GAP_UM);
     ys = merge_lines_within(ys, sym.fold(false, ry), y0, y1, ROTATED_LINE_GAP_UM);
-    if graded {
+    if opts.graded {
         let (mut gx, mut gy) = (Vec::new(), Vec::new());
         for l in loads {
             let p = &l.patch;
@@ -150,7 +150,7 @@ pub(super) fn base_lines(
     // The tooth-base stations' lines go in last, closer than MIN_LINE_GAP_UM where need be (a
     // base edge is a half run-out from the plate's step line): what they buy is a station that
     // keeps its place in its element from level to level.
-    if stations {
+    if opts.stations {
         let (sx, sy) = station_lines_um(g);
         xs = merge_lines_within(xs, sym.fold(true, sx), x0, x1, STATION_LINE_GAP_UM);
         ys = merge_lines_within(ys, sym.fold(false, sy), y0, y1, STATION_LINE_GAP_UM);
@@ -252,7 +252,7 @@ mod tests {
         // Two base edges and two end stations per direction for each tooth (25).
         let n = 4 * g.etched.tooth_tops_um.len();
         assert_eq!((n, sx.len(), sy.len()), (100, n, n));
-        let (xs, ys) = base_lines(&g, &[], &Symmetry::none(&g), false, true);
+        let (xs, ys) = base_lines(&g, &[], &Symmetry::none(&g), &MeshOptions::default());
         // Each station line inside the plate is a line (the first and last rows' teeth stand
         // on the supports, so some of theirs are outside it, and one base edge 8 um inside its
         // edge, which the gap drops).

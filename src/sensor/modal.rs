@@ -16,7 +16,7 @@ use crate::fe::{Factorised, MassModel, ModalOptions, ThreeMesh};
 use super::check::SensorError;
 use super::evaluate::build_problem;
 use super::geometry::SensorGeometry;
-use super::mesh_lines::{base_lines, level_ratios, SUBDIVISIONS};
+use super::mesh_lines::{base_lines, level_ratios, MeshOptions, SUBDIVISIONS};
 use super::symmetry::Symmetry;
 
 /// The test force of paper 002 sec. VII.A: a 5 Hz sinusoid (a grasp has little power above
@@ -76,7 +76,7 @@ pub fn plate_modes(
     assert!(modes >= 1 && levels >= 1, "at least one mode and one level");
     let levels = levels.min(SUBDIVISIONS.len());
     let sym = Symmetry::none(g);
-    let base = base_lines(g, &[], &sym, false, false);
+    let base = base_lines(g, &[], &sym, &MeshOptions::READINGS);
     let film_kg_per_m2 = g.film_density_kg_per_m3 * g.film_thickness_um * 1e-6;
     let mass = MassModel {
         density_kg_per_m3: g.si_density_kg_per_m3,
