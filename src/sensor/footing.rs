@@ -218,7 +218,7 @@ mod tests {
     /// The whole plate at level 1 under a point load at (x, y) um.
     fn solve(g: &SensorGeometry, x_um: f64, y_um: f64, force_n: f64) -> PlateSolution {
         let sym = Symmetry::none(g);
-        let base = base_lines(g, &[], &sym, &MeshOptions::READINGS);
+        let base = base_lines(g, &[], &sym, &MeshOptions::FEATURE_LINES);
         let mut p = build_problem(g, &base, 1, &sym).unwrap();
         assert_eq!(p.edge_springs.len(), 2, "the footing replaces the clamps");
         assert!(p.supports.is_empty());
@@ -400,7 +400,7 @@ mod tests {
             let mut gc = g.clone();
             gc.support_model = crate::process::SupportModel::Clamped;
             let sym = Symmetry::none(&gc);
-            let base = base_lines(&gc, &[], &sym, &MeshOptions::READINGS);
+            let base = base_lines(&gc, &[], &sym, &MeshOptions::FEATURE_LINES);
             let mut p = build_problem(&gc, &base, 1, &sym).unwrap();
             p.load_cases.push(vec![Load::Point {
                 x_um: 15_000.0,

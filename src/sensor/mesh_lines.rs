@@ -57,7 +57,11 @@ impl MeshOptions {
     /// For studies that answer readings only (calibration, orientation, the tissue's cells):
     /// no station lines, so each level is about a third the size; their tooth-base stress is
     /// read off the lines, with the optimistic estimate that goes with it.
-    pub const READINGS: MeshOptions = MeshOptions {
+    pub const READINGS: MeshOptions = MeshOptions::FEATURE_LINES;
+
+    /// The feature lines alone, ungraded and without station lines: the meshes that read no
+    /// tooth-base stress (the natural frequencies, the footing's fit).
+    pub const FEATURE_LINES: MeshOptions = MeshOptions {
         symmetry: true,
         graded: false,
         stations: false,

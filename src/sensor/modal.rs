@@ -76,7 +76,7 @@ pub fn plate_modes(
     assert!(modes >= 1 && levels >= 1, "at least one mode and one level");
     let levels = levels.min(SUBDIVISIONS.len());
     let sym = Symmetry::none(g);
-    let base = base_lines(g, &[], &sym, &MeshOptions::READINGS);
+    let base = base_lines(g, &[], &sym, &MeshOptions::FEATURE_LINES);
     let film_kg_per_m2 = g.film_density_kg_per_m3 * g.film_thickness_um * 1e-6;
     let mass = MassModel {
         density_kg_per_m3: g.si_density_kg_per_m3,
