@@ -27,6 +27,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         }
         return solid(args, &g, &scenes);
     }
+    if args.solid_levels.is_some() {
+        bail!("--solid-levels sets the solid rung's levels: give it with --model solid");
+    }
     if args.plain_shear && !args.verify_solid {
         bail!(
             "--plain-shear applies to the solid rung: give it with --model solid or --verify-solid"
@@ -332,7 +335,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
     use tactfab::sensor::solid::{solid_against_plate, SolidReport, SolidRun};
     use tactfab::sensor::Accuracy;
     let acc: Accuracy = args.accuracy.into();
-    let levels = usize::from(args.accuracy.max_levels).min(3);
+    let levels = args
+        .solid_levels
+        .map_or(usize::from(args.accuracy.max_levels).min(3), usize::from);
     let mut reports: Vec<SolidReport> = Vec::new();
     let progress = super::Progress::new();
     for (i, s) in scenes.iter().enumerate() {

@@ -1029,3 +1029,59 @@ fn factors_that_fit_only_one_at_a_time_are_solved_one_at_a_time() {
         "{stderr}"
     );
 }
+
+/// `--solid-levels` sets the solid's levels past the default three (the fourth at 354 um), whose
+/// estimate then comes from the last three; anything but 1-5, or without `--model solid`, is
+/// exit 2. (A rigid base: the fourth level costs a minute of the dev build instead of two.)
+#[test]
+fn solid_levels_sets_the_solid_rungs_levels() {
+    let mut args = on_short_die(&["fe", "process/mis-grasper.yaml", "--model", "solid"]);
+    args.extend([
+        "--solid-levels",
+        "4",
+        "--set",
+        "materials.base.kind=rigid",
+        "--point",
+        "6,7.5,0.02,0.5",
+        "--json",
+    ]);
+    let out = tactfab(&args);
+    out.expect_code(0);
+    let four: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
+    let l4 = four["scenes"][0]["levels"].as_array().unwrap().clone();
+    assert_eq!(l4.len(), 4);
+    let h = |l: &serde_json::Value| l["element_um"].as_f64().unwrap();
+    assert!(
+        (h(&l4[3]) - 500.0 / 2f64.sqrt()).abs() < 1e-6,
+        "{}",
+        h(&l4[3])
+    );
+    let w = |l: &serde_json::Value| l["readout"]["deflection_at_load_um"].as_f64().unwrap();
+    let q = four["scenes"][0]["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|q| q["name"] == "deflection_at_load")
+        .unwrap()
+        .clone();
+    assert_eq!(q["value"].as_f64().unwrap(), w(&l4[3]));
+    // The fourth level's estimate: the shipped three-mesh one on levels 1-3.
+    let est =
+        tactfab::fe::ThreeMesh::new(w(&l4[1]), w(&l4[2]), w(&l4[3]), 2f64.sqrt(), 2f64.sqrt())
+            .fine_error();
+    let disc = q["discretisation"].as_f64().unwrap();
+    assert!(
+        (disc * w(&l4[3]).abs() - est).abs() <= 1e-9 * est.max(1e-30),
+        "{disc} {est}"
+    );
+    let solid = ["fe", "process/mis-grasper.yaml", "--model", "solid"];
+    for bad in [
+        vec!["fe", "process/mis-grasper.yaml", "--solid-levels", "2"],
+        [&solid[..], &["--solid-levels", "0"]].concat(),
+        [&solid[..], &["--solid-levels", "6"]].concat(),
+    ] {
+        let out = tactfab(&bad);
+        out.expect_code(2);
+        assert!(out.stderr.contains("--solid-levels"), "{}", out.stderr);
+    }
+}
