@@ -87,8 +87,8 @@ pub struct AccuracyArgs {
     pub max_levels: u8,
     /// Model rung: auto (the cheapest meeting --tol: strip, linear plate, large-deflection
     /// plate), or force beam, plate or large-deflection; `fe` also takes solid (the 3D rung, at
-    /// most 3 levels unless --solid-levels, nonlinear where auto picks the large-deflection plate, each quantity
-    /// compared with the plate rung auto picks).
+    /// most 3 levels unless --solid-levels, nonlinear where auto picks the large-deflection
+    /// plate, each quantity compared with the plate rung auto picks).
     #[arg(long, value_enum, default_value = "auto")]
     pub model: ModelArg,
     /// In-plane support condition of the large-deflection plate: immovable (the supports hold
@@ -447,8 +447,9 @@ pub enum ModelArg {
     Beam,
     Plate,
     LargeDeflection,
-    /// The 3D solid (`fe` only): at most 3 levels unless --solid-levels, nonlinear where auto picks the
-    /// large-deflection plate (and compared with it), else linear against the linear plate.
+    /// The 3D solid (`fe` only): at most 3 levels unless --solid-levels, nonlinear where auto
+    /// picks the large-deflection plate (and compared with it), else linear against the linear
+    /// plate.
     Solid,
 }
 
