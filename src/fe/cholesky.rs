@@ -104,9 +104,13 @@ impl SymbolicFactor {
     }
 
     fn bytes_with(&self, scratch: StackReq) -> u64 {
-        (self.0.len_val() as u64)
-            .saturating_mul(8)
+        self.values_bytes()
             .saturating_add(scratch.size_bytes() as u64)
+    }
+
+    /// Bytes of the factor's values (what stays allocated after the factorisation).
+    fn values_bytes(&self) -> u64 {
+        (self.0.len_val() as u64).saturating_mul(8)
     }
 
     /// Refuses a factor that cannot fit in memory beside the factorisations of the run
@@ -134,7 +138,7 @@ impl SymbolicFactor {
         let reservation = crate::fe::memory::reserve(
             &self.describe(),
             self.bytes_with(scratch),
-            (self.0.len_val() as u64).saturating_mul(8),
+            self.values_bytes(),
         )?;
         let mut values = vec![0.0; self.0.len_val()];
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| FeError::Sparse {
