@@ -27,8 +27,11 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         }
         return solid(args, &g, &scenes);
     }
-    if args.solid_levels.is_some() {
-        bail!("--solid-levels sets the solid rung's levels: give it with --model solid");
+    if args.solid_levels.is_some() && !args.verify_solid {
+        bail!(
+            "--solid-levels sets the solid rung's levels: give it with --model solid or \
+             --verify-solid"
+        );
     }
     if args.plain_shear && !args.verify_solid {
         bail!(
@@ -98,8 +101,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     })
 }
 
-/// `--verify-solid`: each scene on the solid rung ([`super::VERIFY_SOLID_LEVELS`] levels, fewer
-/// when `--max-levels` is lower, as `build --verify-solid`), whose
+/// `--verify-solid`: each scene on the solid rung (`--solid-levels`, else
+/// [`super::VERIFY_SOLID_LEVELS`] levels or fewer when `--max-levels` is lower, as `build
+/// --verify-solid`), whose
 /// differences become the plate answers' model error where the solid was compared with the rung
 /// that answered.
 fn verify_solid(
@@ -116,7 +120,7 @@ fn verify_solid(
         progress.message(solid_stage(&s.name, i, scenes.len()));
         let run = SolidRun {
             base: g.base,
-            levels: super::VERIFY_SOLID_LEVELS.min(acc.max_levels),
+            levels: super::verify_solid_levels(args.solid_levels, acc.max_levels),
             tol: acc.tol_rel,
             symmetry: !args.no_symmetry,
             nonlinear: false,

@@ -40,8 +40,14 @@ impl From<Outcome> for std::process::ExitCode {
 }
 
 /// Solid levels of `--verify-solid` (`fe` and `build`), fewer when `--max-levels` is lower: the
-/// second takes minutes on the bundled design, a third would take tens of minutes.
+/// second takes minutes on the bundled design, a third tens of minutes (`--solid-levels`).
 const VERIFY_SOLID_LEVELS: usize = 2;
+
+/// The levels `--verify-solid` runs: `--solid-levels` as given, else [`VERIFY_SOLID_LEVELS`] or
+/// `--max-levels` if lower.
+fn verify_solid_levels(solid_levels: Option<u8>, max_levels: usize) -> usize {
+    solid_levels.map_or(VERIFY_SOLID_LEVELS.min(max_levels), usize::from)
+}
 
 /// Parses the command line and runs the subcommand.
 pub fn run() -> anyhow::Result<Outcome> {

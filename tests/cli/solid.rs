@@ -1087,3 +1087,111 @@ fn solid_levels_sets_the_solid_rungs_levels() {
         assert!(out.stderr.contains("--solid-levels"), "{}", out.stderr);
     }
 }
+
+/// `--solid-levels` with `--verify-solid` (`fe` and `build`): three levels give the solid its own
+/// estimate, and the plate answer's model part is then the difference plus that estimate; the
+/// flag without `--verify-solid` on `build` is exit 2. (The plain plate on a rigid base, one
+/// light scene: seconds a level.)
+#[test]
+fn verify_solid_takes_its_levels_from_solid_levels() {
+    const PLAIN: [&str; 4] = [
+        "materials.base.kind=rigid",
+        "geometry.teeth.pattern=none",
+        "checks.scenes=[{name: light, load: {point: {x_um: 6000, y_um: 7500, force_n: 0.02, \
+         radius_um: 500}}}]",
+        "geometry.die_length_um=12000",
+    ];
+    fn with_plain<'a>(args: &[&'a str]) -> Vec<&'a str> {
+        let mut out = args.to_vec();
+        for s in PLAIN {
+            out.extend(["--set", s]);
+        }
+        out
+    }
+    let run = tactfab(&with_plain(&[
+        "fe",
+        "process/mis-grasper.yaml",
+        "--verify-solid",
+        "--solid-levels",
+        "3",
+        "--json",
+    ]));
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
+        panic!("{e}\n{}\n{}", run.stdout, run.stderr);
+    });
+    let (solid, plate) = (&v["solid"][0], &v["scenes"][0]);
+    assert_eq!(solid["levels"].as_array().unwrap().len(), 3);
+    assert_eq!(solid["plate_rung"], plate["model"]["kind"]);
+    let mut taken = 0;
+    for q in plate["quantities"].as_array().unwrap() {
+        let name = q["name"].as_str().unwrap();
+        let Some(s) = solid["quantities"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["name"] == name)
+        else {
+            continue;
+        };
+        let (Some(d), Some(est)) = (s["plate_difference"].as_f64(), s["discretisation"].as_f64())
+        else {
+            panic!("{name}: no difference or no estimate on three levels: {s}");
+        };
+        let model = q["error"]["model"].as_f64().unwrap();
+        assert!(model >= d + est - 1e-15, "{name}: {model} < {d} + {est}");
+        taken += 1;
+    }
+    assert!(taken >= 5, "{taken}");
+
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("b");
+    let run = tactfab(&with_plain(&[
+        "build",
+        "process/mis-grasper.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--verify-solid",
+        "--solid-levels",
+        "3",
+        "--allow-unconverged",
+    ]));
+    assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
+    assert!(
+        run.stdout.contains("solid rung: 1 scene on 3 levels"),
+        "{}",
+        run.stdout
+    );
+    let text = std::fs::read_to_string(out.join("mis-grasper-solid-check.json")).unwrap();
+    let check: serde_json::Value = serde_json::from_str(&text).unwrap();
+    // The same solve as `fe`'s: the same levels, bit for bit.
+    assert_eq!(check["scenes"][0]["levels"], solid["levels"]);
+    assert!(check["scenes"][0]["quantities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|q| q["name"] == "max_principal_stress" || !q["discretisation"].is_null()));
+    for bad in [
+        vec![
+            "build",
+            "process/mis-grasper.yaml",
+            "-o",
+            "x",
+            "--solid-levels",
+            "3",
+        ],
+        vec![
+            "build",
+            "process/mis-grasper.yaml",
+            "-o",
+            "x",
+            "--verify-solid",
+            "--solid-levels",
+            "9",
+        ],
+        vec!["fe", "process/mis-grasper.yaml", "--solid-levels", "3"],
+    ] {
+        let run = tactfab(&bad);
+        run.expect_code(2);
+        assert!(run.stderr.contains("--solid-levels"), "{}", run.stderr);
+    }
+}
