@@ -6,12 +6,24 @@ mod cli;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    restore_sigpipe();
     match cli::run() {
         Ok(code) => code.into(),
         Err(e) => {
             eprintln!("error: {}", chain(&e));
             ExitCode::from(2)
         }
+    }
+}
+
+/// A reader that stops early (`tactfab fe FILE | head -1`) ends tactfab as it ends `cat`, by
+/// SIGPIPE: Rust's runtime ignores the signal, so each print to the closed pipe would instead
+/// panic with a backtrace.
+fn restore_sigpipe() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: first thing in main, before any thread starts; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -11,6 +11,7 @@ mod masks;
 mod modes;
 mod options;
 mod peer;
+mod pipe;
 mod process_cli;
 mod properties;
 mod readme;

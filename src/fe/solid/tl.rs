@@ -90,6 +90,65 @@ pub struct Inverted {
     pub det_f: f64,
 }
 
+/// One tying point's share of a tied transverse shear: the shape gradients there, its
+/// Green-Lagrange shear and that shear's B_NL row (the Voigt row it ties).
+struct Tie {
+    dn_dx: [[f64; 3]; NODES],
+    strain: f64,
+    b: [f64; DOFS],
+}
+
+impl Tie {
+    fn at(nodes_m: &[[f64; 3]; NODES], u_m: &[f64; DOFS], pt: [f64; 3], row: usize) -> Tie {
+        let gt = hex27::geometry(nodes_m, pt);
+        let ht = displacement_gradient(&gt.dn_dx, u_m);
+        let ft = deformation_gradient(&gt.dn_dx, u_m);
+        Tie {
+            strain: green_lagrange(&ht)[row],
+            b: std::array::from_fn(|p| b_column(&ft, &gt.dn_dx[p / 3], p % 3)[row]),
+            dn_dx: gt.dn_dx,
+        }
+    }
+}
+
+/// The brick's 36 distinct tying points, each evaluated once: the 27 Gauss points' 108 tying
+/// points are the lines xi = -+1/sqrt 3 at the 9 (eta, zeta) of the rule (gamma_xz) and eta =
+/// -+1/sqrt 3 at its 9 (xi, zeta) (gamma_yz). `xz[s][j + 3 k]`, `yz[s][i + 3 k]` for the Gauss
+/// point i + 3 j + 9 k, s the line (the order of [`shear_tying::tying_points`]).
+struct Ties {
+    xz: [[Tie; 9]; 2],
+    yz: [[Tie; 9]; 2],
+}
+
+impl Ties {
+    fn new(nodes_m: &[[f64; 3]; NODES], u_m: &[f64; DOFS]) -> Box<Ties> {
+        let gp = hex27::gauss_points();
+        // The same points [`shear_tying::tying_points`] gives each Gauss point, bit for bit.
+        let pt = |n: usize, k: usize| shear_tying::tying_points(gp[n].0)[k].0;
+        Box::new(Ties {
+            xz: std::array::from_fn(|s| {
+                std::array::from_fn(|jk| {
+                    Tie::at(nodes_m, u_m, pt(3 * (jk % 3) + 9 * (jk / 3), s), 4)
+                })
+            }),
+            yz: std::array::from_fn(|s| {
+                std::array::from_fn(|ik| Tie::at(nodes_m, u_m, pt(ik % 3 + 9 * (ik / 3), 2 + s), 3))
+            }),
+        })
+    }
+
+    /// Gauss point `n`'s four tying points in [`shear_tying::tying_points`]' order.
+    fn of(&self, n: usize) -> [&Tie; 4] {
+        let (i, j, k) = (n % 3, (n / 3) % 3, n / 9);
+        [
+            &self.xz[0][j + 3 * k],
+            &self.xz[1][j + 3 * k],
+            &self.yz[0][i + 3 * k],
+            &self.yz[1][i + 3 * k],
+        ]
+    }
+}
+
 /// Internal force f_int = sum_g w_g det J0 B_NL^T S (N, 81 values) and, if `tangent` is given
 /// (81 x 81 row-major), the consistent tangent K_T = K_material + K_geometric (module doc). The
 /// reference geometry is the caller's to check (det J0 > 0, as the linear core does).
@@ -107,9 +166,10 @@ pub fn internal_force(
         k.fill(0.0);
     }
     let c = &material.c_pa;
-    let tied = shear_tying::ties(nodes_m, shear);
+    // Each tying point serves three Gauss points: evaluated once per call, not per Gauss point.
+    let ties_cache = shear_tying::ties(nodes_m, shear).then(|| Ties::new(nodes_m, u_m));
     let mut fint = [0.0; DOFS];
-    for (xi, w) in hex27::gauss_points() {
+    for (n, (xi, w)) in hex27::gauss_points().into_iter().enumerate() {
         let g = hex27::geometry(nodes_m, xi);
         let dv = w * g.det_j;
         let h = displacement_gradient(&g.dn_dx, u_m);
@@ -123,24 +183,23 @@ pub fn internal_force(
         // Tied shears: E_xz (row 4) and E_yz (row 3), their variations and, for the geometric
         // part, the tying points' gradients (shear_tying; the strain is the weighted sum of the
         // tying points' Green-Lagrange strains, so every derivative is the same sum).
-        let mut ties = [(0, 0.0, [[0.0; 3]; NODES]); 4];
-        if tied {
+        let mut ties: [(usize, f64, Option<&Tie>); 4] = [(0, 0.0, None); 4];
+        if let Some(cache) = &ties_cache {
             e[3] = 0.0;
             e[4] = 0.0;
             for bp in b.iter_mut() {
                 bp[3] = 0.0;
                 bp[4] = 0.0;
             }
-            for (k, (pt, wt)) in shear_tying::tying_points(xi).into_iter().enumerate() {
+            let at = cache.of(n);
+            for (k, (_, wt)) in shear_tying::tying_points(xi).into_iter().enumerate() {
                 let row = if k < 2 { 4 } else { 3 };
-                let gt = hex27::geometry(nodes_m, pt);
-                let ht = displacement_gradient(&gt.dn_dx, u_m);
-                let ft = deformation_gradient(&gt.dn_dx, u_m);
-                e[row] += wt * green_lagrange(&ht)[row];
-                for (p, bp) in b.iter_mut().enumerate() {
-                    bp[row] += wt * b_column(&ft, &gt.dn_dx[p / 3], p % 3)[row];
+                let tie = at[k];
+                e[row] += wt * tie.strain;
+                for (bp, tb) in b.iter_mut().zip(&tie.b) {
+                    bp[row] += wt * tb;
                 }
-                ties[k] = (row, wt, gt.dn_dx);
+                ties[k] = (row, wt, Some(tie));
             }
         }
         let s = material.stress_pa(&e);
@@ -150,29 +209,37 @@ pub fn internal_force(
         let Some(k) = tangent.as_deref_mut() else {
             continue;
         };
-        // Material part, upper triangle: B^T (C B).
-        let cb: [[f64; 6]; DOFS] = std::array::from_fn(|q| {
-            std::array::from_fn(|r| (0..6).map(|t| c[r][t] * b[q][t]).sum())
+        // Material part, upper triangle: B^T (C B), C B stored by Voigt row so the inner loop
+        // runs along contiguous columns (vectorised; the same sums in the same order).
+        let cb: [[f64; DOFS]; 6] = std::array::from_fn(|r| {
+            std::array::from_fn(|q| (0..6).map(|t| c[r][t] * b[q][t]).sum())
         });
         for p in 0..DOFS {
             let bp = &b[p];
-            let row = &mut k[p * DOFS..(p + 1) * DOFS];
-            for q in p..DOFS {
-                let x = &cb[q];
-                row[q] += dv
-                    * (bp[0] * x[0]
-                        + bp[1] * x[1]
-                        + bp[2] * x[2]
-                        + bp[3] * x[3]
-                        + bp[4] * x[4]
-                        + bp[5] * x[5]);
+            let row = &mut k[p * DOFS + p..(p + 1) * DOFS];
+            let cols = (
+                &cb[0][p..],
+                &cb[1][p..],
+                &cb[2][p..],
+                &cb[3][p..],
+                &cb[4][p..],
+                &cb[5][p..],
+            );
+            for (q, kq) in row.iter_mut().enumerate() {
+                *kq += dv
+                    * (bp[0] * cols.0[q]
+                        + bp[1] * cols.1[q]
+                        + bp[2] * cols.2[q]
+                        + bp[3] * cols.3[q]
+                        + bp[4] * cols.4[q]
+                        + bp[5] * cols.5[q]);
             }
         }
         // Geometric part: (g_a . S g_b) on the diagonal of each 3 x 3 node block; tied shears
         // take theirs from the tying points' gradients.
         let mut st = voigt_tensor(&s);
-        let ties = if tied { &ties[..] } else { &[] };
-        if tied {
+        let ties: &[(usize, f64, Option<&Tie>)] = if ties_cache.is_some() { &ties } else { &[] };
+        if ties_cache.is_some() {
             for (i, j) in [(1, 2), (0, 2)] {
                 st[i][j] = 0.0;
                 st[j][i] = 0.0;
@@ -184,7 +251,8 @@ pub fn internal_force(
             for bn in a..NODES {
                 let gb = g.dn_dx[bn];
                 let mut v = sa[0] * gb[0] + sa[1] * gb[1] + sa[2] * gb[2];
-                for (row, wt, gt) in ties {
+                for (row, wt, tie) in ties {
+                    let gt = &tie.expect("a tied point").dn_dx;
                     let i = if *row == 4 { 0 } else { 1 };
                     let (ta, tb) = (gt[a], gt[bn]);
                     v += wt * s[*row] * (ta[i] * tb[2] + ta[2] * tb[i]);
