@@ -17,13 +17,18 @@ const SHORT: [&str; 4] = [
     "checks.scenes[1].load.point.x_um=6000",
 ];
 
-/// `args` followed by the `--set`s that make the short test die.
-fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
+/// `args` followed by a `--set` of each of `sets`.
+fn with_sets<'a>(args: &[&'a str], sets: &[&'a str]) -> Vec<&'a str> {
     let mut out = args.to_vec();
-    for s in SHORT {
+    for s in sets {
         out.extend(["--set", s]);
     }
     out
+}
+
+/// `args` followed by the `--set`s that make the short test die.
+fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    with_sets(args, &SHORT)
 }
 
 /// `fe` on the bundled file's short die with the solid rung on `levels` levels, then `rest`.
@@ -1101,21 +1106,17 @@ fn verify_solid_takes_its_levels_from_solid_levels() {
          radius_um: 500}}}]",
         "geometry.die_length_um=12000",
     ];
-    fn with_plain<'a>(args: &[&'a str]) -> Vec<&'a str> {
-        let mut out = args.to_vec();
-        for s in PLAIN {
-            out.extend(["--set", s]);
-        }
-        out
-    }
-    let run = tactfab(&with_plain(&[
-        "fe",
-        "process/mis-grasper.yaml",
-        "--verify-solid",
-        "--solid-levels",
-        "3",
-        "--json",
-    ]));
+    let run = tactfab(&with_sets(
+        &[
+            "fe",
+            "process/mis-grasper.yaml",
+            "--verify-solid",
+            "--solid-levels",
+            "3",
+            "--json",
+        ],
+        &PLAIN,
+    ));
     let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
         panic!("{e}\n{}\n{}", run.stdout, run.stderr);
     });
@@ -1145,16 +1146,19 @@ fn verify_solid_takes_its_levels_from_solid_levels() {
 
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("b");
-    let run = tactfab(&with_plain(&[
-        "build",
-        "process/mis-grasper.yaml",
-        "-o",
-        out.to_str().unwrap(),
-        "--verify-solid",
-        "--solid-levels",
-        "3",
-        "--allow-unconverged",
-    ]));
+    let run = tactfab(&with_sets(
+        &[
+            "build",
+            "process/mis-grasper.yaml",
+            "-o",
+            out.to_str().unwrap(),
+            "--verify-solid",
+            "--solid-levels",
+            "3",
+            "--allow-unconverged",
+        ],
+        &PLAIN,
+    ));
     assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
     assert!(
         run.stdout.contains("solid rung: 1 scene on 3 levels"),
