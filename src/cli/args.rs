@@ -231,10 +231,10 @@ pub struct FeArgs {
     /// and write the plot of error against dofs and time (see --plot).
     #[arg(long)]
     pub convergence: bool,
-    /// Also solve each scene on the 3D solid rung (2 levels, or --max-levels if lower; minutes)
-    /// and take the plate answer's model error from it: each quantity's `model` part becomes its
-    /// difference from the solid plus the solid's own estimate (or stays, if larger). Not with
-    /// --model solid.
+    /// Also solve each scene on the 3D solid rung (2 levels, or --max-levels if lower; the
+    /// bundled design's four scenes take about half an hour and 12 GB) and take the plate
+    /// answer's model error from it: each quantity's `model` part becomes its difference from the
+    /// solid plus the solid's own estimate (or stays, if larger). Not with --model solid.
     #[arg(long)]
     pub verify_solid: bool,
     /// Where --convergence writes its SVG plot.
@@ -287,8 +287,9 @@ pub struct BuildArgs {
     #[command(flatten)]
     pub gate: GateArgs,
     /// Also solve each declared scene on the 3D solid rung (2 levels, or --max-levels if lower;
-    /// minutes) and fail where the plate rung the ladder picks differs from it by more than
-    /// --tol; writes `<device>-solid-check.json`.
+    /// the bundled design's four scenes take about half an hour and 12 GB) and fail where the
+    /// plate rung the ladder picks differs from it by more than --tol; writes
+    /// `<device>-solid-check.json`.
     #[arg(long)]
     pub verify_solid: bool,
     /// With --verify-solid: grade every solid level at the tooth base edges (lines at 0.5 and 2
