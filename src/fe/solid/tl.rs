@@ -183,23 +183,23 @@ pub fn internal_force(
         // Tied shears: E_xz (row 4) and E_yz (row 3), their variations and, for the geometric
         // part, the tying points' gradients (shear_tying; the strain is the weighted sum of the
         // tying points' Green-Lagrange strains, so every derivative is the same sum).
-        let mut ties: [(usize, f64, Option<&Tie>); 4] = [(0, 0.0, None); 4];
-        if let Some(cache) = &ties_cache {
+        // (Voigt row, weight, point) of this Gauss point's four tying points.
+        let ties: Option<[(usize, f64, &Tie); 4]> = ties_cache.as_ref().map(|cache| {
+            let (at, pts) = (cache.of(n), shear_tying::tying_points(xi));
+            std::array::from_fn(|k| (if k < 2 { 4 } else { 3 }, pts[k].1, at[k]))
+        });
+        if let Some(ties) = &ties {
             e[3] = 0.0;
             e[4] = 0.0;
             for bp in b.iter_mut() {
                 bp[3] = 0.0;
                 bp[4] = 0.0;
             }
-            let at = cache.of(n);
-            for (k, (_, wt)) in shear_tying::tying_points(xi).into_iter().enumerate() {
-                let row = if k < 2 { 4 } else { 3 };
-                let tie = at[k];
+            for &(row, wt, tie) in ties {
                 e[row] += wt * tie.strain;
                 for (bp, tb) in b.iter_mut().zip(&tie.b) {
                     bp[row] += wt * tb;
                 }
-                ties[k] = (row, wt, Some(tie));
             }
         }
         let s = material.stress_pa(&e);
@@ -238,8 +238,8 @@ pub fn internal_force(
         // Geometric part: (g_a . S g_b) on the diagonal of each 3 x 3 node block; tied shears
         // take theirs from the tying points' gradients.
         let mut st = voigt_tensor(&s);
-        let ties: &[(usize, f64, Option<&Tie>)] = if ties_cache.is_some() { &ties } else { &[] };
-        if ties_cache.is_some() {
+        let ties: &[(usize, f64, &Tie)] = ties.as_ref().map_or(&[], |t| &t[..]);
+        if !ties.is_empty() {
             for (i, j) in [(1, 2), (0, 2)] {
                 st[i][j] = 0.0;
                 st[j][i] = 0.0;
@@ -252,7 +252,7 @@ pub fn internal_force(
                 let gb = g.dn_dx[bn];
                 let mut v = sa[0] * gb[0] + sa[1] * gb[1] + sa[2] * gb[2];
                 for (row, wt, tie) in ties {
-                    let gt = &tie.expect("a tied point").dn_dx;
+                    let gt = &tie.dn_dx;
                     let i = if *row == 4 { 0 } else { 1 };
                     let (ta, tb) = (gt[a], gt[bn]);
                     v += wt * s[*row] * (ta[i] * tb[2] + ta[2] * tb[i]);
