@@ -4,7 +4,7 @@ use tactfab::report::{build, summary, Options, SolidCheck};
 
 use super::args::BuildArgs;
 use super::output::count;
-use super::{design, origin, verify_solid_levels, write_dir, Outcome, Progress};
+use super::{design, origin, solid_levels, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS};
 
 /// The summary's name.
 pub const SUMMARY: &str = "build.json";
@@ -17,7 +17,11 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
         gds_epoch_s: args.date.epoch_s,
         allow_unconverged: args.gate.allow_unconverged,
         verify_solid: args.verify_solid.then_some(SolidCheck {
-            levels: verify_solid_levels(args.solid_levels, usize::from(args.accuracy.max_levels)),
+            levels: solid_levels(
+                args.solid_levels,
+                VERIFY_SOLID_LEVELS,
+                usize::from(args.accuracy.max_levels),
+            ),
             graded: args.graded,
             tied_shear: !args.plain_shear,
         }),

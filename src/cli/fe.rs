@@ -120,7 +120,11 @@ fn verify_solid(
         progress.message(solid_stage(&s.name, i, scenes.len()));
         let run = SolidRun {
             base: g.base,
-            levels: super::verify_solid_levels(args.solid_levels, acc.max_levels),
+            levels: super::solid_levels(
+                args.solid_levels,
+                super::VERIFY_SOLID_LEVELS,
+                acc.max_levels,
+            ),
             tol: acc.tol_rel,
             symmetry: !args.no_symmetry,
             nonlinear: false,
@@ -339,9 +343,11 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
     use tactfab::sensor::solid::{solid_against_plate, SolidReport, SolidRun};
     use tactfab::sensor::Accuracy;
     let acc: Accuracy = args.accuracy.into();
-    let levels = args
-        .solid_levels
-        .map_or(usize::from(args.accuracy.max_levels).min(3), usize::from);
+    let levels = super::solid_levels(
+        args.solid_levels,
+        super::MODEL_SOLID_LEVELS,
+        usize::from(args.accuracy.max_levels),
+    );
     let mut reports: Vec<SolidReport> = Vec::new();
     let progress = super::Progress::new();
     for (i, s) in scenes.iter().enumerate() {

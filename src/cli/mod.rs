@@ -40,13 +40,16 @@ impl From<Outcome> for std::process::ExitCode {
 }
 
 /// Solid levels of `--verify-solid` (`fe` and `build`), fewer when `--max-levels` is lower: the
-/// second takes minutes on the bundled design, a third tens of minutes (`--solid-levels`).
+/// bundled design's four scenes take about half an hour on two (dev build, 2026-11-29).
 const VERIFY_SOLID_LEVELS: usize = 2;
 
-/// The levels `--verify-solid` runs: `--solid-levels` as given, else [`VERIFY_SOLID_LEVELS`] or
-/// `--max-levels` if lower.
-fn verify_solid_levels(solid_levels: Option<u8>, max_levels: usize) -> usize {
-    solid_levels.map_or(VERIFY_SOLID_LEVELS.min(max_levels), usize::from)
+/// Solid levels of `fe --model solid`: three give the estimate.
+const MODEL_SOLID_LEVELS: usize = 3;
+
+/// The solid levels a run takes: `--solid-levels` as given, else `default` or `--max-levels` if
+/// lower.
+fn solid_levels(solid_levels: Option<u8>, default: usize, max_levels: usize) -> usize {
+    solid_levels.map_or(default.min(max_levels), usize::from)
 }
 
 /// Parses the command line and runs the subcommand.
