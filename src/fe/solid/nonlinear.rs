@@ -225,6 +225,13 @@ pub struct TlSolution {
 /// Why a Newton step failed (becomes the detail of [`FeError::Newton`]).
 type StepFailure = String;
 
+/// A converged Newton step: its iterations, and the internal force of the converged field (all
+/// dofs, N), which the last convergence check computed (the reactions' f_int).
+struct Converged {
+    history: Vec<NewtonIterate>,
+    force: Vec<f64>,
+}
+
 /// What [`TlSolid::internal`] computes.
 struct Internal {
     /// Internal force over all dofs, N.
@@ -455,9 +462,9 @@ impl TlSolid {
         }
         let mut work = self.work();
         match self.newton(&mut u, &f, 1.0, &mut None, &mut work) {
-            Ok(history) => {
+            Ok(done) => {
                 work.stats.load_steps = 1;
-                self.solution(u, &f, work.stats, history)
+                self.solution(u, &f, work.stats, done)
             }
             Err(_) => {
                 work.check(0.0)?;
@@ -503,7 +510,7 @@ impl TlSolid {
         let c = &self.ctx;
         let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
         let mut u = vec![0.0; f.len()];
-        let mut history = Vec::new();
+        let mut last: Option<Converged> = None;
         let (mut lambda, mut step) = (0.0f64, self.opts.first_step);
         let mut previous: Option<(f64, Vec<f64>)> = None;
         // The last factorised tangent, carried across load steps as the preconditioner.
@@ -548,8 +555,9 @@ impl TlSolid {
             });
             match step_result {
                 Ok((trial, res)) => {
-                    let fast = res.len() <= 5; // at most 4 iterations, then the final residual
-                    history = res;
+                    // At most 4 iterations, then the final residual.
+                    let fast = res.history.len() <= 5;
+                    last = Some(res);
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
                     work.stats.load_steps += 1;
@@ -577,7 +585,8 @@ impl TlSolid {
                 }
             }
         }
-        self.solution(u, &f, work.stats, history)
+        let done = last.expect("the loop ends after a converged step at the full load");
+        self.solution(u, &f, work.stats, done)
     }
 
     /// The Euler predictor from the converged state `u` at `lambda` to `target`: the constrained
@@ -636,7 +645,7 @@ impl TlSolid {
     }
 
     /// Newton iterations at load factor `lambda` from `u` (constrained dofs already set); the
-    /// history of the step on convergence.
+    /// history of the step and the converged field's internal force on convergence.
     ///
     /// Converged when the largest free residual is under `residual_tol` of the force scale (the
     /// load, the step's first residual and the largest sum of element force magnitudes at a dof,
@@ -650,7 +659,7 @@ impl TlSolid {
         lambda: f64,
         lagged: &mut Option<CholeskyFactor>,
         work: &mut Work,
-    ) -> Result<Vec<NewtonIterate>, StepFailure> {
+    ) -> Result<Converged, StepFailure> {
         let dofs = &self.ctx.dofs;
         let residual = |r_int: &[f64]| -> Vec<f64> {
             dofs.free_dofs
@@ -722,7 +731,10 @@ impl TlSolid {
                     residual_n: r_inf,
                     energy_j: 0.0,
                 });
-                return Ok(history);
+                return Ok(Converged {
+                    history,
+                    force: now.force,
+                });
             }
         }
         Err(format!(
@@ -855,25 +867,24 @@ impl TlSolid {
         out
     }
 
+    /// The converged field `u` with its reactions, from the internal force the last convergence
+    /// check computed on it (one pass over the elements fewer per solve).
     fn solution(
         &self,
         u: Vec<f64>,
         f: &[f64],
         stats: NewtonStats,
-        history: Vec<NewtonIterate>,
+        done: Converged,
     ) -> FeResult<TlSolution> {
         if u.iter().any(|v| !v.is_finite()) {
             return Err(FeError::NonFinite {
                 hint: "check material constants and load values for NaN/inf",
             });
         }
-        let r_int = self
-            .internal(&u, false, None)
-            .map_err(|detail| FeError::Newton {
-                detail,
-                hint: "the converged field inverts an element: refine the grid",
-            })?
-            .force;
+        let Converged {
+            history,
+            force: r_int,
+        } = done;
         let reactions = self
             .ctx
             .dofs
