@@ -510,7 +510,6 @@ impl TlSolid {
         let c = &self.ctx;
         let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
         let mut u = vec![0.0; f.len()];
-        let mut last: Option<Converged> = None;
         let (mut lambda, mut step) = (0.0f64, self.opts.first_step);
         let mut previous: Option<(f64, Vec<f64>)> = None;
         // The last factorised tangent, carried across load steps as the preconditioner.
@@ -518,7 +517,8 @@ impl TlSolid {
         let mut tries = 0;
         let mut why = String::new();
         let prescribed = c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0);
-        while lambda < 1.0 {
+        // Ends with the step that reaches the full load, or an error.
+        loop {
             work.check(lambda)?;
             tries += 1;
             if tries > self.opts.max_load_steps {
@@ -557,10 +557,12 @@ impl TlSolid {
                 Ok((trial, res)) => {
                     // At most 4 iterations, then the final residual.
                     let fast = res.history.len() <= 5;
-                    last = Some(res);
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
                     work.stats.load_steps += 1;
+                    if lambda >= 1.0 {
+                        return self.solution(u, &f, work.stats, res);
+                    }
                     if fast {
                         step *= 2.0;
                     }
@@ -585,8 +587,6 @@ impl TlSolid {
                 }
             }
         }
-        let done = last.expect("the loop ends after a converged step at the full load");
-        self.solution(u, &f, work.stats, done)
     }
 
     /// The Euler predictor from the converged state `u` at `lambda` to `target`: the constrained
