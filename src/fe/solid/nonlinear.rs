@@ -555,14 +555,14 @@ impl TlSolid {
             });
             match step_result {
                 Ok((trial, res)) => {
+                    work.stats.load_steps += 1;
+                    if target >= 1.0 {
+                        return self.solution(trial, &f, work.stats, res);
+                    }
                     // At most 4 iterations, then the final residual.
                     let fast = res.history.len() <= 5;
                     previous = Some((lambda, std::mem::replace(&mut u, trial)));
                     lambda = target;
-                    work.stats.load_steps += 1;
-                    if lambda >= 1.0 {
-                        return self.solution(u, &f, work.stats, res);
-                    }
                     if fast {
                         step *= 2.0;
                     }
