@@ -167,7 +167,8 @@ pub struct EtchArgs {
     #[arg(long, requires = "simulate")]
     pub sensitivity: bool,
     /// Write the plan view of the simulated tooth (contours at several times) to this SVG file,
-    /// and the back corner's beside it (`<stem>-back.svg`).
+    /// and the back corner's beside it (`<stem>-back.svg`). An existing file is replaced only
+    /// if it is an unedited plot of tactfab's (never the process file).
     #[arg(long, value_name = "FILE", requires = "simulate")]
     pub svg: Option<std::path::PathBuf>,
     /// Size the compensators by simulation: for each geometry the layout draws, the a (ratio
@@ -237,7 +238,8 @@ pub struct FeArgs {
     /// solid plus the solid's own estimate (or stays, if larger). Not with --model solid.
     #[arg(long)]
     pub verify_solid: bool,
-    /// Where --convergence writes its SVG plot.
+    /// Where --convergence writes its SVG plot. An existing file is replaced only if it is an
+    /// unedited plot of tactfab's (never the process file).
     #[arg(
         long,
         value_name = "SVG",
@@ -387,11 +389,12 @@ pub struct SweepArgs {
         required_unless_present = "merge"
     )]
     pub out: Option<PathBuf>,
-    /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv.
+    /// Run shard i of n (1-based, e.g. $SLURM_ARRAY_TASK_ID/8); writes DIR/sweep-i-of-n.csv
+    /// (replacing only a shard's own CSV, so a failed shard can be rerun).
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
     /// Merge DIR/sweep-i-of-n.csv into DIR/sweep.csv (same bytes as an unsharded run) and draw
-    /// DIR/family.svg.
+    /// DIR/family.svg (replacing only a previous merge's files).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "shard", "out"])]
     pub merge: Option<PathBuf>,
     /// Relative tolerance on the elongation for the family, in (0, 1) (paper 001 gives none).

@@ -4,13 +4,16 @@ use tactfab::report::{build, summary, Options, SolidCheck};
 
 use super::args::BuildArgs;
 use super::output::count;
-use super::{design, origin, solid_levels, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS};
+use super::{
+    check_out, design, origin, solid_levels, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS,
+};
 
 /// The summary's name.
 pub const SUMMARY: &str = "build.json";
 
 pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    check_out(&args.out, args.replace, &args.process)?;
     let opts = Options {
         origin: origin(&args.process, &loaded),
         fe: Some(args.accuracy.into()),

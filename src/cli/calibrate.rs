@@ -13,10 +13,11 @@ use tactfab::sensor::SensorGeometry;
 
 use super::args::CalibrateArgs;
 use super::output::f;
-use super::{design, origin, write_dir, Outcome};
+use super::{check_out, design, origin, write_dir, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    check_out(&args.out, args.replace, &args.process)?;
     let origin = origin(&args.process, &loaded);
     let g = SensorGeometry::new(&design);
     let cp = CalibrationPlan::new(

@@ -1,10 +1,12 @@
 //! `tactfab etch FILE [--json] [--simulate]`: the etch plan, and the simulated tooth.
 
+use anyhow::Context;
 use tactfab::etch::sim::richardson::ToleranceDecision;
 use tactfab::etch::sim::sensitivity::{self, Sensitivity};
 use tactfab::etch::sim::sizing::{self, Sizing};
 use tactfab::etch::sim::{BackSimulation, SimError, ToothSimulation};
 use tactfab::etch::EtchPlan;
+use tactfab::export::file::{self, Proof};
 use tactfab::layout::MaskSet;
 use tactfab::process::Process;
 use tactfab::spelling::yaml;
@@ -14,6 +16,12 @@ use super::output::{checks, f};
 use super::{load, Outcome};
 
 pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
+    if let Some(path) = &args.svg {
+        // Before the simulation: neither plot may cost the user a file.
+        for p in [path.clone(), back_svg_path(path)] {
+            file::check(&p, Proof::SvgStamp, &[&args.process.file]).context("--svg")?;
+        }
+    }
     let loaded = load(&args.process)?;
     let mut plan = tactfab::etch::plan(&loaded.process);
     let sim = if args.simulate {
@@ -215,12 +223,18 @@ fn simulate(args: &EtchArgs, p: &Process, plan: &mut EtchPlan) -> anyhow::Result
         args.grid_um,
     )?;
     if let Some(path) = &args.svg {
-        tactfab::export::write_atomic(path, tactfab::etch::sim::svg::plan_view(&sim).as_bytes())?;
+        let inputs = [args.process.file.as_path()];
+        let plan_view = file::stamp_svg(tactfab::etch::sim::svg::plan_view(&sim));
+        file::write(path, plan_view.as_bytes(), Proof::SvgStamp, &inputs).context("--svg")?;
         if let Some(b) = &back {
-            tactfab::export::write_atomic(
+            let back_view = file::stamp_svg(tactfab::etch::sim::svg::back_plan_view(b));
+            file::write(
                 &back_svg_path(path),
-                tactfab::etch::sim::svg::back_plan_view(b).as_bytes(),
-            )?;
+                back_view.as_bytes(),
+                Proof::SvgStamp,
+                &inputs,
+            )
+            .context("--svg")?;
         }
     }
     plan.warnings.extend(tactfab::etch::sim::finding(&sim));

@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Context};
 
+use tactfab::export::file::{self, Proof};
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::report::limit_failures;
 use tactfab::sensor::support_stiffness::SupportStiffness;
@@ -15,6 +16,10 @@ use super::output::{count, f};
 use super::{design, Outcome};
 
 pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
+    if args.convergence {
+        // Before the solve: a plot path that would cost the user a file is refused at once.
+        file::check(&args.plot, Proof::SvgStamp, &[&args.process.file]).context("--plot")?;
+    }
     let (_, design) = design(&args.process)?;
     let scenes = scenes(args, &design.process.checks.scenes)?;
     let g = SensorGeometry::new(&design);
@@ -87,9 +92,14 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         print!("{}", modes_text(&modes));
     }
     if args.convergence {
-        let svg = convergence_svg(&reports);
-        tactfab::export::write_atomic(&args.plot, svg.as_bytes())
-            .with_context(|| format!("writing {}", args.plot.display()))?;
+        let svg = file::stamp_svg(convergence_svg(&reports));
+        file::write(
+            &args.plot,
+            svg.as_bytes(),
+            Proof::SvgStamp,
+            &[&args.process.file],
+        )
+        .context("--plot")?;
         if !args.json {
             println!("convergence plot: {}", args.plot.display());
         }

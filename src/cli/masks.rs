@@ -8,10 +8,11 @@
 use tactfab::export::gds::GdsOptions;
 
 use super::args::{Format, MasksArgs};
-use super::{design, write_dir, Outcome};
+use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(args: &MasksArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
+    check_out(&args.out, args.replace, &args.process)?;
     let (p, plan, set) = (&design.process, &design.plan, &design.masks);
     let drc = tactfab::drc::check(set, p, plan);
 

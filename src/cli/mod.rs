@@ -105,6 +105,18 @@ pub fn origin(args: &ProcessArgs, loaded: &tactfab::process::Loaded) -> tactfab:
     tactfab::report::Origin::new(&name, &loaded.source_sha256, &loaded.overrides)
 }
 
+/// The refusals of [`write_dir`] for `out`, checked before a command's work so a refused
+/// directory costs no solve (`build --verify-solid` takes half an hour).
+pub fn check_out(
+    out: &std::path::Path,
+    replace: args::OverwriteArgs,
+    process: &ProcessArgs,
+) -> anyhow::Result<()> {
+    let inputs = [process.file.as_path()];
+    tactfab::export::dir::check_dir(out, &guard(replace, &inputs))?;
+    Ok(())
+}
+
 /// Writes `files` as the whole directory `out`: replaces only a previous output of tactfab (or
 /// anything, with `--overwrite`), never the directory holding the process file.
 pub fn write_dir(
@@ -113,13 +125,21 @@ pub fn write_dir(
     replace: args::OverwriteArgs,
     process: &ProcessArgs,
 ) -> anyhow::Result<()> {
-    let guard = tactfab::export::dir::Guard {
+    let inputs = [process.file.as_path()];
+    tactfab::export::dir::write_dir_atomic(out, files, &guard(replace, &inputs))?;
+    Ok(())
+}
+
+/// What an output directory may replace: anything with `--overwrite`, never the process file.
+fn guard<'a>(
+    replace: args::OverwriteArgs,
+    inputs: &'a [&'a std::path::Path],
+) -> tactfab::export::dir::Guard<'a> {
+    tactfab::export::dir::Guard {
         overwrite: replace.overwrite,
         flag: "--overwrite",
-        inputs: &[process.file.as_path()],
-    };
-    tactfab::export::dir::write_dir_atomic(out, files, &guard)?;
-    Ok(())
+        inputs,
+    }
 }
 
 /// A spinner on stderr when it is a terminal; nothing otherwise.

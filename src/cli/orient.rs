@@ -12,10 +12,13 @@ use tactfab::sensor::SensorGeometry;
 
 use super::args::OrientArgs;
 use super::output::f;
-use super::{design, write_dir, Outcome};
+use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
+    if let Some(dir) = &args.out {
+        check_out(dir, args.replace, &args.process)?;
+    }
     let g = SensorGeometry::new(&design);
     let mut op = OrientationPlan::paper(&g, args.step_deg, args.accuracy.into());
     op.degree = usize::from(args.degree);

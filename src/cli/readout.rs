@@ -11,10 +11,11 @@ use tactfab::sensor::{Accuracy, SensorGeometry};
 
 use super::args::ReadoutArgs;
 use super::output::f;
-use super::{design, write_dir, Outcome};
+use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(a: &ReadoutArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&a.process)?;
+    check_out(&a.out, a.replace, &a.process)?;
     let g = SensorGeometry::new(&design);
     let spec = ReadoutSpec {
         x_um: a.x_mm.map_or(g.length_um / 2.0, |x| x * 1000.0),

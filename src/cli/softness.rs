@@ -10,10 +10,13 @@ use tactfab::softness::tissue_fe::TissueMesh;
 use tactfab::softness::TISSUE_THICKNESS_UM;
 
 use super::args::SoftnessArgs;
-use super::{design, write_dir, Outcome};
+use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(a: &SoftnessArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&a.process)?;
+    if let Some(dir) = &a.out {
+        check_out(dir, a.replace, &a.process)?;
+    }
     let spec = StudySpec {
         tissue_thickness_um: a.tissue_thickness_um,
         tissue_nu: a.tissue_nu,

@@ -9,14 +9,27 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
-use tactfab::export::write_atomic;
+use tactfab::export::file::{self, Proof};
 use tactfab::sweep::{
     estimate_error, run::corner_designs, shard, Design, DesignModel, Grid, Matching, Mode, Range,
     Row, Shard,
 };
 
 use super::args::{ProcessArgs, SweepArgs};
-use super::{load, write_dir, Outcome};
+use super::{check_out, load, write_dir, Outcome};
+
+/// The family's plot, in a whole sweep's directory and beside merged shards.
+const FAMILY_SVG: &str = "family.svg";
+/// How a sweep's CSV (whole, merged or a shard's) shows it is tactfab's.
+const SWEEP_CSV: Proof = Proof::CsvHeader(shard::HEADER);
+/// How the prototype's CSV shows it is tactfab's.
+const PROTOTYPE_CSV: Proof = Proof::CsvHeader(shard::PROTOTYPE_HEADER);
+
+/// The family plot, stamped: a merge may replace it, and a merged sweep's plot is the whole
+/// sweep's, byte for byte.
+fn family_svg(family: &[Design], tol: f64, proto: Option<&Design>) -> String {
+    file::stamp_svg(tactfab::sweep::plot::family_svg(family, Some(tol), proto))
+}
 
 /// A flag's range as the sweep's axis.
 fn axis(r: &super::parse::Range) -> Range {
@@ -60,8 +73,15 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         si.fracture_strength_mpa / si.safety_factor,
     )?;
     let range = shard.map_or(0..grid.len(), |s| s.range(grid.len()));
-    if shard.is_some() {
+    if shard.is_none() {
+        check_out(out, a.replace, process)?;
+    }
+    if let Some(s) = shard {
         ensure_dir(out)?;
+        // Before the sweep: a shard may replace only a shard's own files.
+        let inputs = [process.file.as_path()];
+        file::check(&out.join(s.file_name()), SWEEP_CSV, &inputs).context("-o")?;
+        file::check(&out.join(shard::PROTOTYPE), PROTOTYPE_CSV, &inputs).context("-o")?;
     }
 
     let bar = progress_bar(range.len());
@@ -103,17 +123,22 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
 fn merge(dir: &Path, tol: f64) -> anyhow::Result<Outcome> {
     let merged = tactfab::sweep::merge_dir(dir, tol)?;
     let proto = shard::read_prototype(dir)?;
-    write_atomic(&dir.join(shard::UNSHARDED), merged.csv.as_bytes())?;
-    write_atomic(
-        &dir.join("family.svg"),
-        tactfab::sweep::plot::family_svg(&merged.family, Some(tol), proto.as_ref()).as_bytes(),
+    let svg = family_svg(&merged.family, tol, proto.as_ref());
+    file::check(&dir.join(shard::UNSHARDED), SWEEP_CSV, &[]).context("--merge")?;
+    file::check(&dir.join(FAMILY_SVG), Proof::SvgStamp, &[]).context("--merge")?;
+    file::write(
+        &dir.join(shard::UNSHARDED),
+        merged.csv.as_bytes(),
+        SWEEP_CSV,
+        &[],
     )?;
+    file::write(&dir.join(FAMILY_SVG), svg.as_bytes(), Proof::SvgStamp, &[])?;
     println!(
         "merged {} designs into {}; family {} designs -> {}",
         merged.total,
         dir.join(shard::UNSHARDED).display(),
         merged.family.len(),
-        dir.join("family.svg").display()
+        dir.join(FAMILY_SVG).display()
     );
     Ok(Outcome::Ok)
 }
@@ -157,16 +182,28 @@ fn write_rows(
     let proto_csv = shard::prototype_csv(proto);
     match shard {
         Some(s) => {
-            write_atomic(&out.join(s.file_name()), shard::csv(rows).as_bytes())?;
-            write_atomic(&out.join(shard::PROTOTYPE), proto_csv.as_bytes())?;
+            let inputs = [process.file.as_path()];
+            let rows = shard::csv(rows);
+            file::write(
+                &out.join(s.file_name()),
+                rows.as_bytes(),
+                SWEEP_CSV,
+                &inputs,
+            )?;
+            file::write(
+                &out.join(shard::PROTOTYPE),
+                proto_csv.as_bytes(),
+                PROTOTYPE_CSV,
+                &inputs,
+            )?;
         }
         None => {
             let files = [
                 (shard::UNSHARDED.to_string(), shard::csv(rows).into_bytes()),
                 (shard::PROTOTYPE.to_string(), proto_csv.into_bytes()),
                 (
-                    "family.svg".to_string(),
-                    tactfab::sweep::plot::family_svg(family, Some(a.tol), Some(proto)).into_bytes(),
+                    FAMILY_SVG.to_string(),
+                    family_svg(family, a.tol, Some(proto)).into_bytes(),
                 ),
             ];
             write_dir(out, &files, a.replace, process)?;

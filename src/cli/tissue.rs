@@ -13,11 +13,12 @@ use tactfab::softness::slab3d::{face_field, FaceField, Mesh3d, Slab3d};
 
 use super::args::{FeatureArg, ModelArg, ShapeArg, SlabArg, TissueArgs};
 use super::output::f;
-use super::{design, write_dir, Outcome};
+use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
     // The process file is validated (and names the output) as for every study.
     let (_, design) = design(&a.process)?;
+    check_out(&a.out, a.replace, &a.process)?;
     let sensor = a.through_sensor || a.locate || a.detectability || a.vessel;
     if a.vessel && a.feature != FeatureArg::Void {
         anyhow::bail!(

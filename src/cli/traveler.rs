@@ -4,10 +4,11 @@
 use tactfab::report::{build, Options};
 
 use super::args::TravelerArgs;
-use super::{design, origin, write_dir, Outcome, Progress};
+use super::{check_out, design, origin, write_dir, Outcome, Progress};
 
 pub fn run(args: &TravelerArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    check_out(&args.out, args.replace, &args.process)?;
     let opts = Options {
         origin: origin(&args.process, &loaded),
         fe: (!args.no_fe).then(|| args.accuracy.into()),

@@ -188,20 +188,17 @@ fn resolve(dir: &Path) -> std::io::Result<PathBuf> {
     }
 }
 
-/// Writes `files` (plus the manifest) as the complete content of `dir`, replacing a previous
-/// output of tactfab; see the module documentation for what is refused.
-pub fn write_dir_atomic(
-    dir: &Path,
-    files: &[(String, Vec<u8>)],
-    guard: &Guard,
-) -> Result<(), ExportError> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |cause| ExportError::Io { path, cause }
+/// What [`write_dir_atomic`] would refuse, checked alone: callers run it before the work, so a
+/// refused directory costs the user nothing (the write checks again). Returns the directory
+/// resolved (`.`, `..` and symlinks), its parent and its name.
+pub fn check_dir(dir: &Path, guard: &Guard) -> Result<(PathBuf, PathBuf, String), ExportError> {
+    let io = |cause| ExportError::Io {
+        path: dir.to_path_buf(),
+        cause,
     };
     // `.`, `..` and symlinks resolved, so `-o .` is the directory it names (and is refused when
     // it holds the input), not a path without a name.
-    let resolved = resolve(dir).map_err(io(dir))?;
+    let resolved = resolve(dir).map_err(io)?;
     let dir = resolved.as_path();
     let parent: PathBuf = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -228,6 +225,22 @@ pub fn write_dir_atomic(
             });
         }
     }
+    Ok((resolved, parent, stem))
+}
+
+/// Writes `files` (plus the manifest) as the complete content of `dir`, replacing a previous
+/// output of tactfab; see the module documentation for what is refused.
+pub fn write_dir_atomic(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+    guard: &Guard,
+) -> Result<(), ExportError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |cause| ExportError::Io { path, cause }
+    };
+    let (resolved, parent, stem) = check_dir(dir, guard)?;
+    let dir = resolved.as_path();
     std::fs::create_dir_all(&parent).map_err(io(&parent))?;
     remove_stale(&parent, &stem);
     let pid = std::process::id();

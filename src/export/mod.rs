@@ -3,6 +3,7 @@
 //! (database unit 1 nm, user unit 1 um).
 
 pub mod dir;
+pub mod file;
 pub mod gds;
 pub mod lyp;
 pub mod lyrdb;
@@ -47,6 +48,23 @@ pub enum ExportError {
     )]
     InputInside {
         dir: std::path::PathBuf,
+        input: std::path::PathBuf,
+    },
+    /// An output file's path holds what tactfab cannot prove it wrote ([`mod@file`]).
+    #[error(
+        "{}: not replaced: tactfab did not write it (or it changed since)\n  \
+         hint: name another output path, or move the file away first",
+        path.display()
+    )]
+    ForeignFile { path: std::path::PathBuf },
+    /// An output file's path is an input file.
+    #[error(
+        "{}: not replaced: it is the input {}\n  hint: name another output path",
+        path.display(),
+        input.display()
+    )]
+    InputFile {
+        path: std::path::PathBuf,
         input: std::path::PathBuf,
     },
 }

@@ -54,10 +54,13 @@ pub const UNSHARDED: &str = "sweep.csv";
 /// bytes) so a merge can mark it on the plot as the unsharded run does.
 pub const PROTOTYPE: &str = "sweep-prototype.csv";
 
+/// [`PROTOTYPE`]'s header (units in the names).
+pub const PROTOTYPE_HEADER: &str = "length_um,width_um,thickness_um";
+
 /// [`PROTOTYPE`]'s text: one design, units in the header.
 pub fn prototype_csv(d: &Design) -> String {
     format!(
-        "length_um,width_um,thickness_um\n{:.3},{:.3},{:.3}\n",
+        "{PROTOTYPE_HEADER}\n{:.3},{:.3},{:.3}\n",
         d.length_um, d.width_um, d.thickness_um
     )
 }

@@ -60,7 +60,15 @@ fn simulation_reports_the_corner_and_writes_the_plan_view() {
     assert_eq!(s["history"].as_array().unwrap().len(), 41);
     assert!(codes(&v).contains(&"ETCHED_CORNER_DEVIATION"));
     let text = std::fs::read_to_string(&svg).unwrap();
-    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+    // The plot, then the stamp that lets the next run replace it (`export::file`).
+    assert!(text.starts_with("<svg"), "{text}");
+    let (svg, stamp) = text.rsplit_once("</svg>").unwrap();
+    assert!(
+        stamp.starts_with("\n<!-- tactfab sha256 of the bytes above: ")
+            && stamp.ends_with(" -->\n"),
+        "{stamp}"
+    );
+    assert!(svg.contains("<path"));
     assert!(text.matches("<path").count() > 10, "contours drawn");
 }
 

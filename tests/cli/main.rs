@@ -10,6 +10,7 @@ mod kill;
 mod masks;
 mod modes;
 mod options;
+mod output_files;
 mod peer;
 mod pipe;
 mod process_cli;

@@ -573,7 +573,11 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
             switch("convergence"),
             maybe(flag(
                 "plot",
-                value(m, &["@CASE/conv.svg"], &["@OUT/conv.svg", "", "@CASE"]),
+                value(
+                    m,
+                    &["@CASE/conv.svg"],
+                    &["@OUT/conv.svg", "", "@CASE", "@FILE"],
+                ),
             )),
         ],
         "masks" => vec![

@@ -294,7 +294,7 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
         assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
     }
     // Through the binary: `--graded` reaches the solid, which says so (the JSON's `graded`:
-    // `build_verify_solid_graded_grades_every_solid_level`).
+    // `build_verify_solid_graded_reaches_the_solid_rung`).
     let out = tactfab(&solid_one_level(&["--point", "6,7.5,0.02,0.5", "--graded"]));
     out.expect_code(0);
     assert!(
@@ -833,9 +833,10 @@ fn the_support_section_brings_the_plain_plate_to_the_solid() {
 }
 
 #[test]
-fn build_verify_solid_graded_grades_every_solid_level() {
+fn build_verify_solid_graded_reaches_the_solid_rung() {
     // `build --verify-solid --graded` reaches the solid rung (one light scene on the short die,
-    // the build's two solid levels) and says so; --graded alone is a usage error.
+    // one level: the flag is the scene's, every level takes it) and says so; --graded alone is
+    // a usage error.
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("b");
     let run = tactfab(&[
@@ -846,7 +847,7 @@ fn build_verify_solid_graded_grades_every_solid_level() {
         "--verify-solid",
         "--graded",
         "--max-levels",
-        "2",
+        "1",
         "--allow-unconverged",
         "--set",
         SHORT[0],
@@ -859,7 +860,7 @@ fn build_verify_solid_graded_grades_every_solid_level() {
     assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
     assert!(
         run.stdout
-            .contains("solid rung: 1 scene on 2 levels, graded at the tooth base edges"),
+            .contains("solid rung: 1 scene on 1 level, graded at the tooth base edges"),
         "{}",
         run.stdout
     );
@@ -868,7 +869,7 @@ fn build_verify_solid_graded_grades_every_solid_level() {
     let scene = &v["scenes"][0];
     assert_eq!(scene["scene"], "light");
     assert_eq!(scene["graded"], true);
-    assert_eq!(scene["levels"].as_array().unwrap().len(), 2);
+    assert_eq!(scene["levels"].as_array().unwrap().len(), 1);
     let run = tactfab(&["build", "process/mis-grasper.yaml", "-o", "x", "--graded"]);
     run.expect_code(2);
     assert!(run.stderr.contains("--verify-solid"), "{}", run.stderr);
