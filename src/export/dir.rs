@@ -121,7 +121,7 @@ fn check_inputs(dir: &Path, inputs: &[&Path]) -> Result<(), ExportError> {
 }
 
 /// Whether process `pid` still runs (no `/proc`: assume it does, and keep its directory).
-fn alive(pid: u32) -> bool {
+pub(super) fn alive(pid: u32) -> bool {
     let proc = Path::new("/proc");
     !proc.is_dir() || proc.join(pid.to_string()).exists()
 }
