@@ -229,7 +229,8 @@ pub struct FeArgs {
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
     pub solid_levels: Option<u8>,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)
-    /// and write the plot of error against dofs and time (see --plot).
+    /// and write the plot of error against dofs and time (see --plot). The plate rungs only:
+    /// with --model solid, --json --timings gives the solid's levels and their times.
     #[arg(long)]
     pub convergence: bool,
     /// Also solve each scene on the 3D solid rung (2 levels, or --max-levels if lower; the

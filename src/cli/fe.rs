@@ -192,6 +192,27 @@ fn strip_timings(scenes: &mut serde_json::Value) {
     }
 }
 
+/// `--timings` on the solid's JSON: each level's `time_ms` and each scene's `solve_ms` (their
+/// sum), as the plate's JSON names them; left out by default so the bytes are stable.
+fn add_solid_timings(
+    scenes: &mut serde_json::Value,
+    reports: &[tactfab::sensor::solid::SolidReport],
+) {
+    for (scene, r) in scenes.as_array_mut().into_iter().flatten().zip(reports) {
+        let mut total_ms = 0.0;
+        for (level, l) in scene["levels"]
+            .as_array_mut()
+            .into_iter()
+            .flatten()
+            .zip(&r.levels)
+        {
+            level["time_ms"] = serde_json::json!(1e3 * l.seconds);
+            total_ms += 1e3 * l.seconds;
+        }
+        scene["solve_ms"] = serde_json::json!(total_ms);
+    }
+}
+
 /// The scenes to run: `--point`/`--pressure` if given, else the file's (optionally one `--scene`).
 fn scenes(args: &FeArgs, declared: &[Scene]) -> anyhow::Result<Vec<Scene>> {
     let mut out = Vec::new();
@@ -352,6 +373,14 @@ fn convergence_table(r: &SceneReport) -> String {
 fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<Outcome> {
     use tactfab::sensor::solid::{solid_against_plate, SolidReport, SolidRun};
     use tactfab::sensor::Accuracy;
+    if args.convergence {
+        // The plate ladder's table and plot; the solid's levels are in its summary line and
+        // its JSON (`levels`, with `--timings` their times).
+        bail!(
+            "--convergence tabulates the plate rungs' levels; with --model solid use --json \
+             (each scene's `levels`, --timings for their times)"
+        );
+    }
     let acc: Accuracy = args.accuracy.into();
     let levels = super::solid_levels(
         args.solid_levels,
@@ -375,9 +404,13 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
     }
     drop(progress);
     if args.json {
+        let mut scenes = serde_json::to_value(&reports)?;
+        if args.timings {
+            add_solid_timings(&mut scenes, &reports);
+        }
         println!(
             "{}",
-            serde_json::to_string_pretty(&serde_json::json!({ "scenes": reports }))?
+            serde_json::to_string_pretty(&serde_json::json!({ "scenes": scenes }))?
         );
         return Ok(Outcome::Ok);
     }

@@ -550,6 +550,8 @@ fn fe_model_solid_through_the_binary() {
     // Each electrode's charge split by piezo term adds up to it; the middle islands read the
     // plate's bending through d31 (the film under the span is in plane stress: s3 is small).
     let readout = &r["levels"][0]["readout"];
+    // No wall-clock fields without --timings: the same input gives the same bytes.
+    assert!(r.get("solve_ms").is_none() && r["levels"][0].get("time_ms").is_none());
     let charges = readout["charge_pc"].as_array().unwrap();
     let terms = readout["charge_terms_pc"].as_array().unwrap();
     assert_eq!(charges.len(), 9);
@@ -1058,10 +1060,26 @@ fn solid_levels_sets_the_solid_rungs_levels() {
         "--point",
         "6,7.5,0.02,0.5",
         "--json",
+        "--timings",
     ]);
     let out = tactfab(&args);
     out.expect_code(0);
     let four: serde_json::Value = serde_json::from_str(&out.stdout).expect("json");
+    // --timings: each level's time and the scene's, their sum (without it, none:
+    // `fe_model_solid_through_the_binary`).
+    let ms = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{v}"));
+    let times: Vec<f64> = four["scenes"][0]["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| ms(&l["time_ms"]))
+        .collect();
+    let total = ms(&four["scenes"][0]["solve_ms"]);
+    assert!(times.iter().all(|t| *t > 0.0), "{times:?}");
+    assert!(
+        (times.iter().sum::<f64>() - total).abs() <= 1e-9 * total,
+        "{times:?} {total}"
+    );
     // Tied shears by default (`--plain-shear` unties them:
     // `tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium`).
     assert_eq!(four["scenes"][0]["tied_shear"], true);
@@ -1101,6 +1119,14 @@ fn solid_levels_sets_the_solid_rungs_levels() {
         out.expect_code(2);
         assert!(out.stderr.contains("--solid-levels"), "{}", out.stderr);
     }
+    // The plate ladder's convergence table is not the solid's: refused, not ignored.
+    let out = tactfab(&[&solid[..], &["--convergence"]].concat());
+    out.expect_code(2);
+    assert!(
+        out.stderr.contains("--convergence") && out.stderr.contains("--json"),
+        "{}",
+        out.stderr
+    );
 }
 
 /// `--solid-levels` with `--verify-solid` (`fe` and `build`): three levels give the solid its own
