@@ -177,7 +177,7 @@ fn exchange(_: &Path, _: &Path) -> std::io::Result<()> {
 
 /// `dir` as an absolute path without `.` or `..`: canonical when it exists, else its existing
 /// parent canonical with its name.
-fn resolve(dir: &Path) -> std::io::Result<PathBuf> {
+pub(super) fn resolve(dir: &Path) -> std::io::Result<PathBuf> {
     if dir.exists() {
         return dir.canonicalize();
     }

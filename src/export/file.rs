@@ -5,9 +5,9 @@
 //! proof instead ([`Proof`]): an SVG ends with a comment holding the SHA-256 of everything
 //! before it ([`stamp_svg`]), so an existing file whose hash still matches is an unchanged
 //! tactfab plot; a CSV begins with tactfab's header line. An existing file without its proof
-//! (a user's notes, an edited plot, a directory) is refused, and so is every input file, proof or
-//! not. The check runs before the work ([`check`]) and again at the write ([`write()`]), which goes
-//! through a temporary file and a rename ([`super::write_atomic`]).
+//! (a user's notes, an edited plot, a directory) is refused, and so is every input file, proof
+//! or not. The check runs before the work ([`check`]) and again at the write ([`write()`]),
+//! which goes through a temporary file and a rename ([`super::write_atomic`]).
 
 use std::path::{Path, PathBuf};
 
@@ -69,14 +69,10 @@ fn proven(bytes: &[u8], proof: Proof) -> bool {
     }
 }
 
-/// `path` made absolute: canonical when it exists, else its parent canonical with its name.
+/// `path` made absolute as [`super::dir`] resolves its directories (or as given, if it cannot
+/// be), so two spellings of one file compare equal.
 fn resolve(path: &Path) -> PathBuf {
-    path.canonicalize().unwrap_or_else(|_| {
-        std::path::absolute(path)
-            .ok()
-            .and_then(|a| Some(a.parent()?.canonicalize().ok()?.join(a.file_name()?)))
-            .unwrap_or_else(|| path.to_path_buf())
-    })
+    super::dir::resolve(path).unwrap_or_else(|_| path.to_path_buf())
 }
 
 /// Refuses `path` if it is one of `inputs`, or holds something tactfab cannot prove by `proof`
