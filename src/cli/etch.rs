@@ -16,13 +16,14 @@ use super::output::{checks, f};
 use super::{load, Outcome};
 
 pub fn run(args: &EtchArgs) -> anyhow::Result<Outcome> {
+    let loaded = load(&args.process)?;
     if let Some(path) = &args.svg {
-        // Before the simulation: neither plot may cost the user a file.
+        // Before the simulation (after the process file's own errors): neither plot may cost
+        // the user a file.
         for p in [path.clone(), back_svg_path(path)] {
             file::check(&p, Proof::SvgStamp, &[&args.process.file]).context("--svg")?;
         }
     }
-    let loaded = load(&args.process)?;
     let mut plan = tactfab::etch::plan(&loaded.process);
     let sim = if args.simulate {
         Some(simulate(args, &loaded.process, &mut plan)?)

@@ -16,12 +16,13 @@ use super::output::{count, f};
 use super::{design, Outcome};
 
 pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
-    if args.convergence {
-        // Before the solve: a plot path that would cost the user a file is refused at once.
-        file::check(&args.plot, Proof::SvgStamp, &[&args.process.file]).context("--plot")?;
-    }
     let (_, design) = design(&args.process)?;
     let scenes = scenes(args, &design.process.checks.scenes)?;
+    if args.convergence {
+        // Before the solve (after the process file's own errors): a plot path that would cost
+        // the user a file is refused at once.
+        file::check(&args.plot, Proof::SvgStamp, &[&args.process.file]).context("--plot")?;
+    }
     let g = SensorGeometry::new(&design);
     if args.accuracy.model == super::args::ModelArg::Solid {
         if args.verify_solid {
