@@ -73,15 +73,15 @@ pub fn run(a: &SweepArgs) -> anyhow::Result<Outcome> {
         si.fracture_strength_mpa / si.safety_factor,
     )?;
     let range = shard.map_or(0..grid.len(), |s| s.range(grid.len()));
-    if shard.is_none() {
-        check_out(out, a.replace, process)?;
-    }
-    if let Some(s) = shard {
-        ensure_dir(out)?;
-        // Before the sweep: a shard may replace only a shard's own files.
-        let inputs = [process.file.as_path()];
-        file::check(&out.join(s.file_name()), SWEEP_CSV, &inputs).context("-o")?;
-        file::check(&out.join(shard::PROTOTYPE), PROTOTYPE_CSV, &inputs).context("-o")?;
+    // Before the sweep: a whole sweep's directory as every -o DIR, a shard's own two files.
+    match shard {
+        None => check_out(out, a.replace, process)?,
+        Some(s) => {
+            ensure_dir(out)?;
+            let inputs = [process.file.as_path()];
+            file::check(&out.join(s.file_name()), SWEEP_CSV, &inputs).context("-o")?;
+            file::check(&out.join(shard::PROTOTYPE), PROTOTYPE_CSV, &inputs).context("-o")?;
+        }
     }
 
     let bar = progress_bar(range.len());
