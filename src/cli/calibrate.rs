@@ -17,6 +17,7 @@ use super::{check_out, design, origin, write_dir, Outcome};
 
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    super::warn_process_errors(&args.process, &design);
     check_out(&args.out, args.replace, &args.process)?;
     let origin = origin(&args.process, &loaded);
     let g = SensorGeometry::new(&design);

@@ -17,6 +17,7 @@ use super::{design, Outcome};
 
 pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
+    super::warn_process_errors(&args.process, &design);
     let scenes = scenes(args, &design.process.checks.scenes)?;
     if args.convergence {
         // Before the solve (after the process file's own errors): a plot path that would cost
@@ -276,9 +277,13 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         r.model.dofs,
         count(r.model.levels, "level"),
         f(r.solve_ms, 1),
-        r.error_estimate
-            .map(|e| format!("{e:.1e}"))
-            .unwrap_or_else(|| "n/a".into())
+        // Without the model part the number is the discretisation's alone: said in the header
+        // too, where a reader stops (the large-deflection plate's model error needs the solid).
+        match (r.error_estimate, r.error.model) {
+            (Some(e), Some(_)) => format!("{e:.1e}"),
+            (Some(e), None) => format!("{e:.1e} (discretisation only: model not estimated)"),
+            (None, _) => "n/a".into(),
+        }
     );
     if !r.model.reason.is_empty() {
         s.push_str(&format!("  rung: {}\n", r.model.reason));
@@ -288,8 +293,14 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
     s.push_str(&format!(
         "  error: discretisation {} + model {} = {}\n",
         part(r.error.discretisation),
-        part(r.error.model),
-        part(r.error.total)
+        match r.error.model {
+            Some(m) => format!("{m:.1e}"),
+            None => "not estimated (--verify-solid measures it against the 3D solid)".into(),
+        },
+        match (r.error.total, r.error.model) {
+            (Some(t), None) => format!("at least {t:.1e}"),
+            (t, _) => part(t),
+        }
     ));
     if let Some(t) = &r.touch_down {
         s.push_str(&format!(
@@ -498,13 +509,16 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             .find(|q| q.name == "max_stress_averaged")
         {
             // Averaged in compression (a load on a support): nothing opens, no finite factor.
+            // Not read (no averaging square on the die) is no factor at all, never "inf".
             let sf = |s: f64| {
                 if s > 0.0 {
                     f(g.fracture_strength_mpa / s, 2)
                 } else if s < 0.0 {
                     "inf (in compression)".to_string()
-                } else {
+                } else if s == 0.0 {
                     "inf".to_string()
+                } else {
+                    "not read".to_string()
                 }
             };
             println!(

@@ -15,6 +15,7 @@ use super::{design, origin, Outcome};
 
 pub fn run(args: &LocateArgs) -> anyhow::Result<Outcome> {
     let (loaded, design) = design(&args.process)?;
+    super::warn_process_errors(&args.process, &design);
     let g = SensorGeometry::new(&design);
     let names: Vec<String> = g.electrodes.iter().map(|e| e.name.clone()).collect();
     if args.voltages.len() != names.len() {

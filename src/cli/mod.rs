@@ -94,6 +94,32 @@ pub fn design(
     tactfab::design::Design::load(&args.file, &args.set).map_err(anyhow::Error::new)
 }
 
+/// The process's failed checks, on stderr, for the commands that analyse the design without
+/// reporting them (`fe` and the studies): the model is the design as its recipe makes it, so
+/// `--set geometry.plate_thickness_um=5` with a recipe that leaves 92 um answers for 92 um,
+/// which the user must be told (until 2026-11-29 it was silent). Stdout stays the answer.
+pub fn warn_process_errors(args: &ProcessArgs, design: &tactfab::design::Design) {
+    let errors: Vec<&tactfab::finding::Finding> = design
+        .plan
+        .warnings
+        .iter()
+        .filter(|w| w.is_error())
+        .collect();
+    if errors.is_empty() {
+        return;
+    }
+    let mut text = format!(
+        "warning: the process fails {} (`tactfab check {}` lists every finding); the answer is \
+         for the design as its recipe makes it:\n",
+        output::count(errors.len(), "check"),
+        args.file.display()
+    );
+    for e in errors {
+        text.push_str(&format!("  {e}\n"));
+    }
+    eprint!("{text}");
+}
+
 /// How outputs name the process file: its name and the SHA-256 of the bytes loaded, never the path
 /// as typed (a relative and an absolute path must give the same bytes), with the overrides
 /// applied.

@@ -16,6 +16,7 @@ use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(args: &OrientArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&args.process)?;
+    super::warn_process_errors(&args.process, &design);
     if let Some(dir) = &args.out {
         check_out(dir, args.replace, &args.process)?;
     }

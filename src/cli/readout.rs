@@ -15,6 +15,7 @@ use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(a: &ReadoutArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&a.process)?;
+    super::warn_process_errors(&a.process, &design);
     check_out(&a.out, a.replace, &a.process)?;
     let g = SensorGeometry::new(&design);
     let spec = ReadoutSpec {

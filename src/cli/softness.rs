@@ -14,6 +14,7 @@ use super::{check_out, design, write_dir, Outcome};
 
 pub fn run(a: &SoftnessArgs) -> anyhow::Result<Outcome> {
     let (_, design) = design(&a.process)?;
+    super::warn_process_errors(&a.process, &design);
     if let Some(dir) = &a.out {
         check_out(dir, a.replace, &a.process)?;
     }

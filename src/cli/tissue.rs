@@ -18,6 +18,7 @@ use super::{check_out, design, write_dir, Outcome};
 pub fn run(a: &TissueArgs) -> anyhow::Result<Outcome> {
     // The process file is validated (and names the output) as for every study.
     let (_, design) = design(&a.process)?;
+    super::warn_process_errors(&a.process, &design);
     check_out(&a.out, a.replace, &a.process)?;
     let sensor = a.through_sensor || a.locate || a.detectability || a.vessel;
     if a.vessel && a.feature != FeatureArg::Void {

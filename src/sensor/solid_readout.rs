@@ -53,22 +53,48 @@ fn principal_in_plane(s: [f64; 3]) -> f64 {
     0.5 * (s[0] + s[1]) + (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt()
 }
 
+/// (x, y) carried into the part solved through the model's mirrors, and the sign the in-plane
+/// shear takes there: s_xy is odd under a reflection of x or of y, s_xx and s_yy even.
+fn fold(s: &SensorSolid, (x, y): (f64, f64)) -> ((f64, f64), f64) {
+    let mut shear = 1.0;
+    let mut reflect = |v: f64, mirror: Option<f64>| match mirror {
+        // The part solved ends at the mirror (`solid_mesh`: [0, m]).
+        Some(m) if v > m => {
+            shear = -shear;
+            2.0 * m - v
+        }
+        _ => v,
+    };
+    let p = (reflect(x, s.mirror_x_um), reflect(y, s.mirror_y_um));
+    (p, shear)
+}
+
 /// The stress tensor (xx, yy, xy) averaged over a square of side `side_um` centred at (x, y) on
-/// the plate's underside (4 x 4 Gauss points); None if part of it is off the part solved.
+/// the plate's underside of the whole die, clipped to the die as the plate rungs clip it (4 x 4
+/// Gauss points, each beyond a mirror read at its image); None if nothing of it is on the part
+/// meshed.
 fn underside_mean(
+    s: &SensorSolid,
     sol: &impl SolidField,
+    g: &SensorGeometry,
     z_um: f64,
     (x, y): (f64, f64),
     side_um: f64,
 ) -> Option<[f64; 3]> {
     let h = 0.5 * side_um;
+    let (x0, x1) = ((x - h).max(0.0), (x + h).min(g.length_um));
+    let (y0, y1) = ((y - h).max(0.0), (y + h).min(g.width_um));
+    if x1 <= x0 || y1 <= y0 {
+        return None;
+    }
     let mut sum = [0.0; 3];
     let mut area = 0.0;
-    for (px, wx) in crate::fe::bfs::gauss4_on(x - h, x + h) {
-        for (py, wy) in crate::fe::bfs::gauss4_on(y - h, y + h) {
-            let (e, xi) = sol.locate([px, py, z_um])?;
-            let s = sol.stress_at(e, xi)?;
-            for (acc, v) in sum.iter_mut().zip([s[0], s[1], s[5]]) {
+    for (px, wx) in crate::fe::bfs::gauss4_on(x0, x1) {
+        for (py, wy) in crate::fe::bfs::gauss4_on(y0, y1) {
+            let ((qx, qy), shear) = fold(s, (px, py));
+            let (e, xi) = sol.locate([qx, qy, z_um])?;
+            let st = sol.stress_at(e, xi)?;
+            for (acc, v) in sum.iter_mut().zip([st[0], st[1], shear * st[5]]) {
                 *acc += wx * wy * v;
             }
             area += wx * wy;
@@ -78,7 +104,9 @@ fn underside_mean(
 }
 
 /// The largest [`underside_mean`] principal stress over centres on a grid (at most 12 x 12)
-/// across `patch` (x0, y0, x1, y1), clipped to the part solved.
+/// across `patch` (x0, y0, x1, y1) on the whole die, as the plate rungs read it on the mirrored
+/// whole plate (until 2026-11-29 the patch was clipped to the part solved, and a contact within
+/// half a square of a mirror read NaN: no square fitted).
 fn averaged_stress(
     s: &SensorSolid,
     sol: &impl SolidField,
@@ -86,12 +114,11 @@ fn averaged_stress(
     patch: [f64; 4],
 ) -> f64 {
     let side = STRESS_AVERAGING_THICKNESSES * g.plate_thickness_um;
-    let (x0, x1, y0, y1) = s.domain_um;
     let r = [
-        patch[0].max(x0),
-        patch[1].max(y0),
-        patch[2].min(x1),
-        patch[3].min(y1),
+        patch[0].max(0.0),
+        patch[1].max(0.0),
+        patch[2].min(g.length_um),
+        patch[3].min(g.width_um),
     ];
     if r[2] < r[0] || r[3] < r[1] {
         return f64::NAN;
@@ -105,7 +132,7 @@ fn averaged_stress(
         for j in 0..ny {
             let x = r[0] + (r[2] - r[0]) * (i as f64 + 0.5) / nx as f64;
             let y = r[1] + (r[3] - r[1]) * (j as f64 + 0.5) / ny as f64;
-            if let Some(m) = underside_mean(sol, z, (x, y), side) {
+            if let Some(m) = underside_mean(s, sol, g, z, (x, y), side) {
                 best = best.max(principal_in_plane(m) * 1e-6);
             }
         }

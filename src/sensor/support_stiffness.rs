@@ -139,9 +139,15 @@ impl SupportStiffness {
     pub fn text(&self) -> String {
         let model = crate::spelling::yaml(&self.support_model);
         let Some(bare) = &self.bare else {
+            // The support islands' readings are the clamp's reaction, not the film under them:
+            // said where the user reads them (the solid reads the film; README, "the support
+            // islands read").
             return format!(
                 "supports: `support_model: {model}`: w and the slope held where the etched walls \
-                 meet the plate (an infinitely stiff edge)\n"
+                 meet the plate (an infinitely stiff edge); the support islands read d33 x the \
+                 clamp's reaction along them (paper 001 Eq. 6), not the film under them, which \
+                 the 3D solid reads (on the bundled design with the opposite sign): \
+                 `support_model: solid_section` or --verify-solid for those readings\n"
             );
         };
         let edge = |name: &str, e: &EdgeStiffness| {
@@ -228,7 +234,12 @@ mod tests {
     fn the_clamp_and_the_footing_say_what_they_hold() {
         let r = SupportStiffness::of(&geometry(&[])).unwrap();
         assert_eq!(r.bare, None);
-        assert!(r.text().contains("infinitely stiff"), "{}", r.text());
+        assert!(
+            r.text().contains("infinitely stiff")
+                && r.text().contains("d33 x the clamp's reaction"),
+            "{}",
+            r.text()
+        );
         let g = geometry(&["materials.base.support_model=elastic_footing"]);
         let r = SupportStiffness::of(&g).unwrap();
         let ft = SupportFooting::new(&g);

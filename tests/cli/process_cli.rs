@@ -276,3 +276,39 @@ fn resist_going_into_tmah_is_a_warning() {
         plan.warnings
     );
 }
+
+#[test]
+fn analyses_say_when_the_process_fails_its_checks() {
+    // The recipe leaves a 92 um plate whatever geometry.plate_thickness_um says; `fe` answers
+    // for that plate and must say the process fails its checks (on stderr: stdout stays JSON).
+    let fe = |extra: &[&str]| {
+        let mut args = vec![
+            "fe",
+            REFERENCE,
+            "--scene",
+            "pressure-2n",
+            "--model",
+            "plate",
+            "--max-levels",
+            "1",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        tactfab(&args)
+    };
+    let plain = fe(&[]);
+    plain.expect_code(0);
+    assert!(!plain.stderr.contains("fails"), "{}", plain.stderr);
+    let run = fe(&["--set", "geometry.plate_thickness_um=5"]);
+    run.expect_code(0);
+    assert!(
+        run.stderr.contains("warning: the process fails 2 checks")
+            && run.stderr.contains("error[PLATE_THICKNESS_MISMATCH]")
+            && run.stderr.contains("92.0 um plate"),
+        "{}",
+        run.stderr
+    );
+    // The answer is the recipe's plate: the same bytes as without the override.
+    assert_eq!(run.stdout, plain.stdout);
+    let _: Value = serde_json::from_str(&run.stdout).expect("JSON");
+}

@@ -922,6 +922,20 @@ fn fe_cli_states_the_symmetry_used() {
         "{}",
         run.stdout
     );
+    // 1 N at the centre is the large-deflection plate's: its model error needs the solid, and
+    // the header says its estimate is the discretisation's alone (until 2026-11-29 it did not).
+    assert!(
+        run.stdout.contains("large_deflection_plate model")
+            && run
+                .stdout
+                .contains("(discretisation only: model not estimated)\n")
+            && run.stdout.contains(
+                "+ model not estimated (--verify-solid measures it against the 3D solid) = at \
+                 least "
+            ),
+        "{}",
+        run.stdout
+    );
     let run = tactfab(&[
         "fe",
         REFERENCE,

@@ -493,6 +493,19 @@ fn mirrored_parts_read_as_the_whole_die() {
         w.deflection_at_load_um
     ));
     assert!(close(q.support1_n, w.support1_n, 1.0) && close(q.support2_n, w.support2_n, 1.0));
+    // The stress averaged under the contact, whose squares reach over both mirrors: read at the
+    // images in the quarter (until 2026-11-29 NaN there, and "safety factor inf").
+    assert!(
+        w.stress_averaged_mpa > 0.0
+            && close(
+                q.stress_averaged_mpa,
+                w.stress_averaged_mpa,
+                w.stress_averaged_mpa
+            ),
+        "{} vs {}",
+        q.stress_averaged_mpa,
+        w.stress_averaged_mpa
+    );
     // The left and right units read alike by symmetry, in the whole model too.
     assert!(close(w.charge_pc[0], w.charge_pc[2], qmax));
     // The sharp edges: the quarter's stations are the whole die's in that quarter, and the
