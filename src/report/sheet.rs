@@ -572,7 +572,7 @@ fn scene_table(fe: &FeSummary) -> Table {
                     .unwrap_or_default()
             )
             .into(),
-            err_text(sc.error_estimate, sc.converged).into(),
+            err_text(sc.error_estimate, sc.error.model.is_some(), sc.converged).into(),
             format!("{:.2}", sc.deflection_at_load_um).into(),
             format!("{:.1} ({})", sc.max_stress_mpa, sc.stress_from.short()).into(),
             format!("{:.2}", sc.safety_factor).into(),
@@ -736,9 +736,17 @@ fn defaults(t: &Traveler) -> Section {
 }
 
 /// The error estimate in words.
-pub fn err_text(e: Option<f64>, converged: bool) -> String {
+pub fn err_text(e: Option<f64>, model_estimated: bool, converged: bool) -> String {
     match e {
-        Some(e) => format!("{e:.1e}{}", if converged { "" } else { " (not converged)" }),
+        Some(e) => format!(
+            "{e:.1e}{}{}",
+            if model_estimated {
+                ""
+            } else {
+                " (discretisation only: model not estimated)"
+            },
+            if converged { "" } else { " (not converged)" }
+        ),
         None => "n/a".into(),
     }
 }

@@ -193,6 +193,11 @@ fn build_writes_everything_and_the_html_renders() {
     assert!(f(1, "m2_feature_mv") < f(1, "m2_background_mv"), "{tissue}");
     let md = String::from_utf8_lossy(&files["mis-grasper-traveler.md"]);
     assert!(md.contains("Hidden features in grasped tissue"));
+    // The large-deflection scenes' estimate is the discretisation's alone: the table says so.
+    assert!(
+        md.contains("(discretisation only: model not estimated)"),
+        "{md}"
+    );
     // What the plate stood on: the bundled file clamps it, so no springs to state.
     assert_eq!(s["fe"]["supports"]["support_model"], "clamped");
     assert!(s["fe"]["supports"].get("bare").is_none(), "{}", s["fe"]);
