@@ -71,8 +71,8 @@ fn fold(s: &SensorSolid, (x, y): (f64, f64)) -> ((f64, f64), f64) {
 
 /// The stress tensor (xx, yy, xy) averaged over a square of side `side_um` centred at (x, y) on
 /// the plate's underside of the whole die, clipped to the die as the plate rungs clip it (4 x 4
-/// Gauss points, each beyond a mirror read at its image); None if nothing of it is on the part
-/// meshed.
+/// Gauss points, each beyond a mirror read at its image); None if a Gauss point falls off the
+/// part meshed.
 fn underside_mean(
     s: &SensorSolid,
     sol: &impl SolidField,
