@@ -278,12 +278,8 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         count(r.model.levels, "level"),
         f(r.solve_ms, 1),
         // Without the model part the number is the discretisation's alone: said in the header
-        // too, where a reader stops (the large-deflection plate's model error needs the solid).
-        match (r.error_estimate, r.error.model) {
-            (Some(e), Some(_)) => format!("{e:.1e}"),
-            (Some(e), None) => format!("{e:.1e} (discretisation only: model not estimated)"),
-            (None, _) => "n/a".into(),
-        }
+        // too, where a reader stops, in the traveler's words (convergence has its own lines).
+        tactfab::report::sheet::err_text(r.error_estimate, r.error.model.is_some(), true)
     );
     if !r.model.reason.is_empty() {
         s.push_str(&format!("  rung: {}\n", r.model.reason));

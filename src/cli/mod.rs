@@ -99,25 +99,23 @@ pub fn design(
 /// `--set geometry.plate_thickness_um=5` with a recipe that leaves 92 um answers for 92 um,
 /// which the user must be told (until 2026-11-29 it was silent). Stdout stays the answer.
 pub fn warn_process_errors(args: &ProcessArgs, design: &tactfab::design::Design) {
-    let errors: Vec<&tactfab::finding::Finding> = design
+    let errors: Vec<tactfab::finding::Finding> = design
         .plan
         .warnings
         .iter()
         .filter(|w| w.is_error())
+        .cloned()
         .collect();
     if errors.is_empty() {
         return;
     }
-    let mut text = format!(
+    eprint!(
         "warning: the process fails {} (`tactfab check {}` lists every finding); the answer is \
-         for the design as its recipe makes it:\n",
+         for the design as its recipe makes it:\n{}",
         output::count(errors.len(), "check"),
-        args.file.display()
+        args.file.display(),
+        output::checks(&errors)
     );
-    for e in errors {
-        text.push_str(&format!("  {e}\n"));
-    }
-    eprint!("{text}");
 }
 
 /// How outputs name the process file: its name and the SHA-256 of the bytes loaded, never the path

@@ -105,8 +105,8 @@ fn underside_mean(
 
 /// The largest [`underside_mean`] principal stress over centres on a grid (at most 12 x 12)
 /// across `patch` (x0, y0, x1, y1) on the whole die, as the plate rungs read it on the mirrored
-/// whole plate (until 2026-11-29 the patch was clipped to the part solved, and a contact within
-/// half a square of a mirror read NaN: no square fitted).
+/// whole plate (until 2026-11-29 the patch was clipped to the part solved, and a contact on a
+/// mirror reaching less than a square's width into that part read NaN: no square fitted).
 fn averaged_stress(
     s: &SensorSolid,
     sol: &impl SolidField,
