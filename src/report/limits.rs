@@ -56,6 +56,15 @@ impl std::fmt::Display for LimitCheck {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let k = self.limit;
         let (label, d, unit) = k.shown();
+        if self.value.is_nan() {
+            return write!(
+                f,
+                "{label} not judged (the load stands wholly on a support, which no rung judges \
+                 for fracture; bound {} {}{unit})",
+                if k.is_minimum() { ">=" } else { "<=" },
+                self.bound
+            );
+        }
         let op = match (k.is_minimum(), self.passed) {
             (true, true) => ">=",
             (true, false) => "<",
@@ -94,10 +103,16 @@ type Estimated = (f64, f64, bool);
 /// bounds |max deflection|.
 pub fn check_limits(r: &SceneReport, l: &Limits) -> Vec<LimitCheck> {
     let [(sensitivity, ms), (stress, mt), (deflection, md)] = r.limit_errors();
+    // A load wholly on a support: no stress judged what carries it, so those limits fail.
+    let (stress_mpa, safety) = if r.stress_from.judged() {
+        (r.max_stress_mpa, r.safety_factor)
+    } else {
+        (f64::NAN, f64::NAN)
+    };
     check_values(
         (r.sensitivity_mv_per_n, sensitivity, ms),
-        (r.max_stress_mpa, stress, mt),
-        (r.safety_factor, stress, mt),
+        (stress_mpa, stress, mt),
+        (safety, stress, mt),
         (r.max_deflection_um, deflection, md),
         l,
     )

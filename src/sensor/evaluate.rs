@@ -485,6 +485,12 @@ pub enum StressFrom {
     ToothBase,
     /// The strip's bending stress at the load line.
     StripAtLoad,
+    /// None: the load stands wholly on a support (the direct model), so the plate does not bend,
+    /// and the support, the film and the base under the load, which no rung judges for fracture,
+    /// carry it. The stress reads 0, and the safety factor and the permissible load are not
+    /// judged (infinite in the report, null in JSON; a declared stress or safety-factor limit
+    /// fails).
+    OnSupport,
 }
 
 impl SceneReport {
@@ -510,7 +516,7 @@ impl SceneReport {
         };
         let stress = match self.stress_from {
             StressFrom::ToothBase => super::rung::TOOTH_BASE_STRESS,
-            StressFrom::AveragedOverContact | StressFrom::StripAtLoad => {
+            StressFrom::AveragedOverContact | StressFrom::StripAtLoad | StressFrom::OnSupport => {
                 super::rung::STRESS_AVERAGED
             }
         };
@@ -523,12 +529,22 @@ impl SceneReport {
 }
 
 impl StressFrom {
+    /// Whether a safety factor and a permissible load were judged from this stress (not for a
+    /// load standing wholly on a support).
+    pub fn judged(self) -> bool {
+        self != StressFrom::OnSupport
+    }
+
     /// What the text output says.
     pub fn describe(self) -> &'static str {
         match self {
             StressFrom::AveragedOverContact => "averaged over the contact",
             StressFrom::ToothBase => "at a tooth's base edge, at the critical distance",
             StressFrom::StripAtLoad => "the strip's, at the load",
+            StressFrom::OnSupport => {
+                "in the plate (the load stands wholly on a support; the support, the film and \
+                 the base under it are not judged)"
+            }
         }
     }
 
@@ -538,6 +554,7 @@ impl StressFrom {
             StressFrom::AveragedOverContact => "contact",
             StressFrom::ToothBase => "tooth base",
             StressFrom::StripAtLoad => "strip",
+            StressFrom::OnSupport => "on a support: not judged",
         }
     }
 }
@@ -1512,7 +1529,9 @@ fn scene_report(
         deflection_at_load_um: w_load * 1e6,
         max_deflection_um: w_max * 1e6,
         max_stress_mpa: stress_pa * 1e-6,
-        stress_from: if edge.is_some_and(|e| e.stress_pa > averaged_pa) {
+        stress_from: if info.kind == ModelKind::Direct {
+            StressFrom::OnSupport
+        } else if edge.is_some_and(|e| e.stress_pa > averaged_pa) {
             StressFrom::ToothBase
         } else {
             StressFrom::AveragedOverContact

@@ -452,6 +452,45 @@ fn failed_limit_exits_1() {
 }
 
 #[test]
+fn a_load_on_a_support_is_not_judged_for_fracture() {
+    // centre-1n moved onto support 1 (y 1 mm, the support 0 to 2.5 mm): the direct model, no
+    // plate bending. The plate's stress is 0, but the support, film and base that carry the load
+    // are in no rung, so its declared min_safety_factor (1) cannot pass.
+    let args = [
+        "fe",
+        REFERENCE,
+        "--scene",
+        "centre-1n",
+        "--set",
+        "checks.scenes[0].load.point.y_um=1000",
+    ];
+    let run = tactfab(&args);
+    run.expect_code(1);
+    let out = &run.stdout;
+    assert!(out.contains("direct model"), "{out}");
+    assert!(
+        out.contains("safety factor not judged; max load not judged\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains("FAIL: safety factor not judged") && out.contains("bound >= 1)"),
+        "{out}"
+    );
+    assert!(
+        !out.contains("factor inf") && !out.contains("inf N"),
+        "{out}"
+    );
+    let run = tactfab(&[&args[..], &["--json"]].concat());
+    run.expect_code(1);
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let scene = &v["scenes"][0];
+    assert_eq!(scene["stress_from"], "on_support");
+    assert_eq!(scene["max_stress_mpa"], 0.0);
+    assert!(scene["safety_factor"].is_null() && scene["max_permissible_load_n"].is_null());
+    assert_eq!(scene["reactions_n"]["support1"], 1.0);
+}
+
+#[test]
 fn a_limit_met_only_within_its_error_fails() {
     // The safety factor and the error of the stress it is judged on, then a bound between the
     // factor taken on its unsafe side and the factor as reported.
