@@ -179,6 +179,7 @@ pub struct EtchArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("json_out").args(["json", "json_file"])))]
 pub struct FeArgs {
     #[command(flatten)]
     pub process: ProcessArgs,
@@ -196,11 +197,17 @@ pub struct FeArgs {
     pub accuracy: AccuracyArgs,
     /// Print JSON (`{"scenes": [...]}`, stable contract: the same input gives the same bytes)
     /// instead of text.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "json_file")]
     pub json: bool,
+    /// Write the JSON that --json prints to FILE, and the text to stdout: one solve gives both
+    /// (a solid run takes minutes). The file ends with one more key, `tactfab_sha256`, the
+    /// SHA-256 of the bytes before it; an existing file is replaced only if it is such an
+    /// unedited JSON of tactfab's (never the process file).
+    #[arg(long, value_name = "FILE")]
+    pub json_file: Option<PathBuf>,
     /// Add the wall-clock fields to the JSON (`solve_ms` per scene, `time_ms` per mesh level);
     /// they vary run to run, so they are left out by default.
-    #[arg(long, requires = "json")]
+    #[arg(long, requires = "json_out")]
     pub timings: bool,
     /// Solve the whole plate even when the teeth and every scene are mirror-symmetric (by default
     /// such scenes solve half or a quarter of it; this is the cross-check).

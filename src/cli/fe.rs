@@ -24,6 +24,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         // the user a file is refused at once.
         file::check(&args.plot, Proof::SvgStamp, &[&args.process.file]).context("--plot")?;
     }
+    if let Some(path) = &args.json_file {
+        file::check(path, Proof::JsonStamp, &[&args.process.file]).context("--json-file")?;
+    }
     let g = SensorGeometry::new(&design);
     if args.accuracy.model == super::args::ModelArg::Solid {
         if args.verify_solid {
@@ -70,7 +73,7 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
                 .iter()
                 .any(|w| w.severity == tactfab::finding::Severity::Error)
     });
-    if args.json {
+    if args.json || args.json_file.is_some() {
         let mut scenes = serde_json::to_value(&reports)?;
         if !args.timings {
             strip_timings(&mut scenes);
@@ -79,8 +82,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         if args.verify_solid {
             v["solid"] = serde_json::to_value(&solid)?;
         }
-        println!("{}", serde_json::to_string_pretty(&v)?);
-    } else {
+        json_out(args, &v)?;
+    }
+    if !args.json {
         for (k, (r, s)) in reports.iter().zip(&scenes).enumerate() {
             print!("{}", text(r, &limit_failures(r, &s.limits)));
             if let Some(solid) = solid.get(k) {
@@ -105,6 +109,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
         if !args.json {
             println!("convergence plot: {}", args.plot.display());
         }
+    }
+    if let Some(path) = &args.json_file {
+        println!("json: {}", path.display());
     }
     Ok(if failed {
         Outcome::CheckFailed
@@ -181,6 +188,26 @@ fn solid_line(r: &SceneReport, solid: &tactfab::sensor::solid::SolidReport) -> S
 }
 
 /// Removes the wall-clock fields (`solve_ms`, each level's `time_ms`) from the scenes' JSON.
+/// The JSON `v` on stdout (`--json`) or, stamped as tactfab's, in `--json-file` (stdout keeps
+/// the text): one solve gives both.
+fn json_out(args: &FeArgs, v: &serde_json::Value) -> anyhow::Result<()> {
+    let pretty = serde_json::to_string_pretty(v)?;
+    match &args.json_file {
+        Some(path) => {
+            let stamped = file::stamp_json(&pretty).context("--json-file: not a JSON object")?;
+            file::write(
+                path,
+                stamped.as_bytes(),
+                Proof::JsonStamp,
+                &[&args.process.file],
+            )
+            .context("--json-file")?;
+        }
+        None => println!("{pretty}"),
+    }
+    Ok(())
+}
+
 fn strip_timings(scenes: &mut serde_json::Value) {
     for scene in scenes.as_array_mut().into_iter().flatten() {
         if let Some(o) = scene.as_object_mut() {
@@ -419,16 +446,15 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
     drop(progress);
-    if args.json {
+    if args.json || args.json_file.is_some() {
         let mut scenes = serde_json::to_value(&reports)?;
         if args.timings {
             add_solid_timings(&mut scenes, &reports);
         }
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&serde_json::json!({ "scenes": scenes }))?
-        );
-        return Ok(Outcome::Ok);
+        json_out(args, &serde_json::json!({ "scenes": scenes }))?;
+        if args.json {
+            return Ok(Outcome::Ok);
+        }
     }
     for r in &reports {
         let last = r.levels.last().expect("a level");
@@ -629,6 +655,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             if r.converged { "yes" } else { "no" },
             acc.tol_rel
         );
+    }
+    if let Some(path) = &args.json_file {
+        println!("json: {}", path.display());
     }
     Ok(Outcome::Ok)
 }

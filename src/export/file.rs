@@ -4,7 +4,8 @@
 //! [`super::dir`] proves a directory is tactfab's by its manifest. A single file carries its own
 //! proof instead ([`Proof`]): an SVG ends with a comment holding the SHA-256 of everything
 //! before it ([`stamp_svg`]), so an existing file whose hash still matches is an unchanged
-//! tactfab plot; a CSV begins with tactfab's header line. An existing file without its proof
+//! tactfab plot; a JSON object ends with a key holding the same ([`stamp_json`]); a CSV begins
+//! with tactfab's header line. An existing file without its proof
 //! (a user's notes, an edited plot, a directory) is refused, and so is every input file, proof
 //! or not. The check runs before the work ([`check`]) and again at the write ([`write()`]),
 //! which goes through a temporary file and a rename ([`super::write_atomic`]).
@@ -19,6 +20,8 @@ use crate::digest::sha256_hex;
 pub enum Proof {
     /// An SVG that ends with [`stamp_svg`]'s comment and still hashes to it.
     SvgStamp,
+    /// A JSON object whose last key is [`stamp_json`]'s and still hashes to it.
+    JsonStamp,
     /// A CSV whose first line is this header.
     CsvHeader(&'static str),
 }
@@ -49,20 +52,46 @@ pub fn stamp_svg(mut svg: String) -> String {
     svg
 }
 
+/// The JSON stamp's key, opened after the object's last member; the hash and the closing follow.
+const JSON_OPEN: &str = ",\n  \"tactfab_sha256\": \"";
+const JSON_CLOSE: &str = "\"\n}\n";
+
+/// A pretty-printed JSON object (`serde_json::to_string_pretty`) with a last key,
+/// `tactfab_sha256`, holding the SHA-256 of every byte before that key's line (the object up to
+/// its last member): still JSON, and provably tactfab's until edited. The same input gives the
+/// same bytes. `None` if `json` is not a non-empty pretty-printed object.
+///
+/// ```
+/// let json = tactfab::export::file::stamp_json("{\n  \"a\": 1\n}").unwrap();
+/// assert!(json.starts_with("{\n  \"a\": 1,\n  \"tactfab_sha256\": \""));
+/// assert!(json.ends_with("\"\n}\n"));
+/// ```
+pub fn stamp_json(json: &str) -> Option<String> {
+    let body = json.trim_end().strip_suffix("\n}")?;
+    if !body.starts_with("{\n") {
+        return None;
+    }
+    let hash = sha256_hex(body.as_bytes());
+    Some(format!("{body}{JSON_OPEN}{hash}{JSON_CLOSE}"))
+}
+
+/// Whether `bytes` end with `open`, the SHA-256 (hex) of every byte before `open`, and `close`.
+fn hash_stamped(bytes: &[u8], open: &str, close: &str) -> bool {
+    let Some(body) = bytes.strip_suffix(close.as_bytes()) else {
+        return false;
+    };
+    let Some(at) = body.len().checked_sub(open.len() + 64) else {
+        return false;
+    };
+    let (above, stamp) = body.split_at(at);
+    stamp.starts_with(open.as_bytes()) && stamp[open.len()..] == *sha256_hex(above).as_bytes()
+}
+
 /// Whether `bytes` carry `proof`.
 fn proven(bytes: &[u8], proof: Proof) -> bool {
     match proof {
-        Proof::SvgStamp => {
-            let Some(body) = bytes.strip_suffix(STAMP_CLOSE.as_bytes()) else {
-                return false;
-            };
-            let Some(at) = body.len().checked_sub(STAMP_OPEN.len() + 64) else {
-                return false;
-            };
-            let (above, stamp) = body.split_at(at);
-            stamp.starts_with(STAMP_OPEN.as_bytes())
-                && stamp[STAMP_OPEN.len()..] == *sha256_hex(above).as_bytes()
-        }
+        Proof::SvgStamp => hash_stamped(bytes, STAMP_OPEN, STAMP_CLOSE),
+        Proof::JsonStamp => hash_stamped(bytes, JSON_OPEN, JSON_CLOSE),
         Proof::CsvHeader(header) => bytes
             .strip_prefix(header.as_bytes())
             .is_some_and(|rest| rest.starts_with(b"\n") || rest.starts_with(b"\r\n")),
@@ -146,6 +175,28 @@ mod tests {
         assert!(!proven(b"<svg></svg>\n", Proof::SvgStamp));
         assert!(!proven(b"", Proof::SvgStamp));
         assert!(!proven(STAMP_CLOSE.as_bytes(), Proof::SvgStamp));
+    }
+
+    #[test]
+    fn a_stamped_json_is_ours_until_it_is_edited_and_stays_json() {
+        let pretty = "{\n  \"a\": [\n    1,\n    2\n  ],\n  \"b\": \"x\"\n}";
+        let json = stamp_json(pretty).unwrap();
+        assert!(proven(json.as_bytes(), Proof::JsonStamp));
+        assert_eq!(Some(json.clone()), stamp_json(&format!("{pretty}\n")));
+        // Tests see serde_json's reading of it through the CLI; here the bytes.
+        assert!(json.starts_with("{\n  \"a\": [\n    1,\n    2\n  ],\n  \"b\": \"x\",\n"));
+        let edited = json.replacen('1', "3", 1);
+        assert!(!proven(edited.as_bytes(), Proof::JsonStamp));
+        assert!(!proven(pretty.as_bytes(), Proof::JsonStamp));
+        assert!(!proven(b"", Proof::JsonStamp));
+        assert!(!proven(JSON_CLOSE.as_bytes(), Proof::JsonStamp));
+        // An SVG's stamp is not a JSON's, nor the other way round.
+        assert!(!proven(json.as_bytes(), Proof::SvgStamp));
+        let svg = stamp_svg("<svg/>".into());
+        assert!(!proven(svg.as_bytes(), Proof::JsonStamp));
+        // Not an object, or an empty one: nothing to stamp.
+        assert_eq!(stamp_json("[1]"), None);
+        assert_eq!(stamp_json("{}"), None);
     }
 
     #[test]

@@ -181,7 +181,8 @@ fn check(o: &Outcome) -> Result<(), TestCaseError> {
         "{leftovers:?} in the crate root\n{}",
         d()
     );
-    // The case directory is the working directory: only -o DIR and fe's plots may appear.
+    // The case directory is the working directory: only -o DIR and fe's plots and JSON may
+    // appear.
     let case = o.case.path();
     let entries: Vec<String> = match std::fs::read_dir(case) {
         Ok(rd) => rd
@@ -192,7 +193,7 @@ fn check(o: &Outcome) -> Result<(), TestCaseError> {
     };
     for n in &entries {
         prop_assert!(
-            ["out", "conv.svg", "fe-convergence.svg"].contains(&n.as_str())
+            ["out", "conv.svg", "fe-convergence.svg", "fe.json"].contains(&n.as_str())
                 || o.line.contains("-o @CASE")
                 || o.line.contains("--out=@CASE"),
             "`{n}` written beside the output\n{}",
@@ -567,6 +568,14 @@ fn options(sub: &str, m: bool) -> Vec<BoxedStrategy<Vec<String>>> {
             max_levels(m),
             tol(m),
             switch("json"),
+            maybe(flag(
+                "json-file",
+                value(
+                    m,
+                    &["@CASE/fe.json"],
+                    &["@OUT/fe.json", "", "@CASE", "@FILE"],
+                ),
+            )),
             switch("timings"),
             switch("no-symmetry"),
             switch("graded"),

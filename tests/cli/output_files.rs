@@ -75,6 +75,90 @@ fn fe_plot_replaces_its_own_plot_only() {
 }
 
 #[test]
+fn fe_json_file_gives_the_text_and_the_json_from_one_solve() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = input_in(dir.path());
+    let yaml = std::fs::read(&input).unwrap();
+    let args = [
+        "fe",
+        "p.yaml",
+        "--scene",
+        "pressure-2n",
+        "--max-levels",
+        "2",
+    ];
+    let fe = |extra: &[&str]| tactfab_in(dir.path(), &[&args[..], extra].concat());
+    let printed = fe(&["--json"]);
+    printed.expect_code(0);
+    let text = fe(&[]);
+    text.expect_code(0);
+    // Stdout is the text, with the file named at its end; the file is the JSON --json prints,
+    // plus its stamp as the last key.
+    let both = fe(&["--json-file", "fe.json"]);
+    both.expect_code(0);
+    // The header's wall-clock time left out.
+    let untimed = |s: &str| {
+        s.split(", ")
+            .filter(|p| !p.ends_with(" ms"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    assert_eq!(
+        untimed(&both.stdout),
+        untimed(&format!("{}json: fe.json\n", text.stdout))
+    );
+    let written = std::fs::read_to_string(dir.path().join("fe.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&written).expect("the file is JSON");
+    let stamp = v
+        .as_object_mut()
+        .unwrap()
+        .remove("tactfab_sha256")
+        .expect("stamped");
+    assert_eq!(stamp.as_str().map(str::len), Some(64));
+    let expected: serde_json::Value = serde_json::from_str(&printed.stdout).unwrap();
+    assert_eq!(v, expected);
+    assert!(
+        written.ends_with(&format!("\"tactfab_sha256\": {stamp}\n}}\n")),
+        "{written}"
+    );
+    // Its own file is replaced (the same bytes: deterministic); --timings goes with it.
+    fe(&["--json-file", "fe.json"]).expect_code(0);
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("fe.json")).unwrap(),
+        written
+    );
+    let timed = fe(&["--json-file", "fe.json", "--timings"]);
+    timed.expect_code(0);
+    let timed = std::fs::read_to_string(dir.path().join("fe.json")).unwrap();
+    assert!(timed.contains("\"solve_ms\""), "{timed}");
+    // Edited since, a user's file, or the input: refused before the solve, left as they were.
+    let edited = timed.replacen("\"scenes\"", "\"scenes\" ", 1);
+    std::fs::write(dir.path().join("fe.json"), &edited).unwrap();
+    std::fs::write(dir.path().join("notes.json"), "{}").unwrap();
+    for (path, kept, why) in [
+        ("fe.json", edited.as_bytes(), "tactfab did not write it"),
+        ("notes.json", b"{}".as_slice(), "tactfab did not write it"),
+        ("./p.yaml", yaml.as_slice(), "it is the input"),
+    ] {
+        let r = fe(&["--json-file", path]);
+        r.expect_code(2);
+        assert!(
+            r.stderr.contains("--json-file") && r.stderr.contains(why),
+            "{}",
+            r.stderr
+        );
+        assert!(r.stdout.is_empty(), "refused before the solve");
+        assert_eq!(std::fs::read(dir.path().join(path)).unwrap(), kept);
+    }
+    // One JSON at a time; --timings needs one.
+    for bad in [&["--json", "--json-file", "x.json"][..], &["--timings"][..]] {
+        let r = fe(bad);
+        r.expect_code(2);
+        assert!(!dir.path().join("x.json").exists());
+    }
+}
+
+#[test]
 fn etch_svg_refuses_the_input_and_a_users_back_plot_before_simulating() {
     let dir = tempfile::tempdir().unwrap();
     let input = input_in(dir.path());
