@@ -187,7 +187,6 @@ fn solid_line(r: &SceneReport, solid: &tactfab::sensor::solid::SolidReport) -> S
     )
 }
 
-/// Removes the wall-clock fields (`solve_ms`, each level's `time_ms`) from the scenes' JSON.
 /// The JSON `v` on stdout (`--json`) or, stamped as tactfab's, in `--json-file` (stdout keeps
 /// the text): one solve gives both.
 fn json_out(args: &FeArgs, v: &serde_json::Value) -> anyhow::Result<()> {
@@ -208,6 +207,7 @@ fn json_out(args: &FeArgs, v: &serde_json::Value) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Removes the wall-clock fields (`solve_ms`, each level's `time_ms`) from the scenes' JSON.
 fn strip_timings(scenes: &mut serde_json::Value) {
     for scene in scenes.as_array_mut().into_iter().flatten() {
         if let Some(o) = scene.as_object_mut() {

@@ -59,8 +59,9 @@ impl std::fmt::Display for LimitCheck {
         if self.value.is_nan() {
             return write!(
                 f,
-                "{label} not judged (the load stands wholly on a support, which no rung judges \
-                 for fracture; bound {} {}{unit})",
+                "{label} not judged (no stress was judged for it: a load wholly on a support, \
+                 which the plate rungs do not judge for fracture, or a stress the solid could not \
+                 read; bound {} {}{unit})",
                 if k.is_minimum() { ">=" } else { "<=" },
                 self.bound
             );

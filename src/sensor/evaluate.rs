@@ -486,8 +486,8 @@ pub enum StressFrom {
     /// The strip's bending stress at the load line.
     StripAtLoad,
     /// None: the load stands wholly on a support (the direct model), so the plate does not bend,
-    /// and the support, the film and the base under the load, which no rung judges for fracture,
-    /// carry it. The stress reads 0, and the safety factor and the permissible load are not
+    /// and the support, the film and the base under the load, which the plate rungs do not judge
+    /// for fracture, carry it (the solid rung reads the support's edges). The stress reads 0, and the safety factor and the permissible load are not
     /// judged (infinite in the report, null in JSON; a declared stress or safety-factor limit
     /// fails).
     OnSupport,
@@ -543,7 +543,7 @@ impl StressFrom {
             StressFrom::StripAtLoad => "the strip's, at the load",
             StressFrom::OnSupport => {
                 "in the plate (the load stands wholly on a support; the support, the film and \
-                 the base under it are not judged)"
+                 the base under it are not judged: `fe --model solid` reads the support's edges)"
             }
         }
     }
