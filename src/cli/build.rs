@@ -75,11 +75,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
                     .iter()
                     .find(|r| r.scene == sc.name)
                     .map_or(0.0, |r| r.solve_ms);
-                let safety = if sc.stress_from.judged() {
-                    format!("{:.2}", sc.safety_factor)
-                } else {
-                    "not judged".into()
-                };
+                let safety = sc.stress_from.judged_text(sc.safety_factor, 2, "");
                 out.push_str(&format!(
                     "  FE `{}`: {:.3} mV/N ({}), safety factor {safety}; {} ({ms:.0} ms)\n",
                     sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, limits

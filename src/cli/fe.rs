@@ -344,14 +344,6 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
     if let Some(grading) = &r.model.grading {
         s.push_str(&format!("  graded mesh: {grading}\n"));
     }
-    // A load wholly on a support leaves the plate unstressed; nothing judged what carries it.
-    let judged = |v: f64, d: usize, unit: &str| {
-        if r.stress_from.judged() {
-            format!("{}{unit}", f(v, d))
-        } else {
-            "not judged".into()
-        }
-    };
     s.push_str(&format!(
         "  deflection {} um at the load, {} um max; stress {} MPa {}; safety factor {}; max load \
          {}\n",
@@ -359,8 +351,8 @@ fn text(r: &SceneReport, failures: &[String]) -> String {
         f(r.max_deflection_um, 2),
         f(r.max_stress_mpa, 1),
         r.stress_from.describe(),
-        judged(r.safety_factor, 2, ""),
-        judged(r.max_permissible_load_n, 2, " N")
+        r.stress_from.judged_text(r.safety_factor, 2, ""),
+        r.stress_from.judged_text(r.max_permissible_load_n, 2, " N")
     ));
     s.push_str(&format!(
         "  reactions: support 1 {} N, support 2 {} N; most sensitive {} at {} mV/N\n",

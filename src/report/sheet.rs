@@ -575,12 +575,7 @@ fn scene_table(fe: &FeSummary) -> Table {
             err_text(sc.error_estimate, sc.error.model.is_some(), sc.converged).into(),
             format!("{:.2}", sc.deflection_at_load_um).into(),
             format!("{:.1} ({})", sc.max_stress_mpa, sc.stress_from.short()).into(),
-            if sc.stress_from.judged() {
-                format!("{:.2}", sc.safety_factor)
-            } else {
-                "not judged".into()
-            }
-            .into(),
+            sc.stress_from.judged_text(sc.safety_factor, 2, "").into(),
             format!("{:.3} ({})", sc.sensitivity_mv_per_n, sc.most_sensitive).into(),
             limits,
         ]);

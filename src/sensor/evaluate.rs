@@ -535,6 +535,16 @@ impl StressFrom {
         self != StressFrom::OnSupport
     }
 
+    /// `value` (a safety factor or a permissible load judged from this stress) with `decimals`
+    /// decimals and its `unit`, or "not judged": how `fe`, `build` and the traveler show it.
+    pub fn judged_text(self, value: f64, decimals: usize, unit: &str) -> String {
+        if self.judged() {
+            format!("{}{unit}", crate::units::fixed(value, decimals))
+        } else {
+            "not judged".into()
+        }
+    }
+
     /// What the text output says.
     pub fn describe(self) -> &'static str {
         match self {
