@@ -151,7 +151,7 @@ fn verify_solid(
             tied_shear: !args.plain_shear,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
-        r.take_model_error_from(&solid, acc.tol_rel);
+        r.take_model_error_from(g, &solid, acc.tol_rel);
         out.push(solid);
     }
     Ok(out)

@@ -254,7 +254,7 @@ pub fn build(
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.
-                    r.take_model_error_from(&solid, o.tol_rel);
+                    r.take_model_error_from(&g, &solid, o.tol_rel);
                     solid_limits.push(super::limits::check_solid_limits(
                         &solid,
                         &s.limits,

@@ -60,8 +60,8 @@ impl std::fmt::Display for LimitCheck {
             return write!(
                 f,
                 "{label} not judged (no stress was judged for it: a load wholly on a support, \
-                 which the plate rungs do not judge for fracture, or a stress the solid could not \
-                 read; bound {} {}{unit})",
+                 which the plate rungs do not judge for fracture (--verify-solid does), or a stress \
+                 the solid could not read; bound {} {}{unit})",
                 if k.is_minimum() { ">=" } else { "<=" },
                 self.bound
             );

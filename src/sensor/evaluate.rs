@@ -487,10 +487,16 @@ pub enum StressFrom {
     StripAtLoad,
     /// None: the load stands wholly on a support (the direct model), so the plate does not bend,
     /// and the support, the film and the base under the load, which the plate rungs do not judge
-    /// for fracture, carry it (the solid rung reads the support's edges). The stress reads 0, and the safety factor and the permissible load are not
-    /// judged (infinite in the report, null in JSON; a declared stress or safety-factor limit
-    /// fails).
+    /// for fracture, carry it (the solid rung reads the support's edges: `--verify-solid` turns
+    /// this into [`StressFrom::SolidOnSupport`]). The stress reads 0, and the safety factor and
+    /// the permissible load are not judged (infinite in the report, null in JSON; a declared
+    /// stress or safety-factor limit fails).
     OnSupport,
+    /// A load wholly on a support, judged by the solid rung (`--verify-solid`): the stress is the
+    /// solid's governing one ([`crate::sensor::solid::SolidReport::governing_stress`]: a sharp
+    /// edge's at the critical distance or the averaged one, raised by its own estimate), which
+    /// reads the support's edges that the plate rungs leave out.
+    SolidOnSupport,
 }
 
 impl SceneReport {
@@ -515,14 +521,17 @@ impl SceneReport {
             (total, model)
         };
         let stress = match self.stress_from {
-            StressFrom::ToothBase => super::rung::TOOTH_BASE_STRESS,
+            StressFrom::ToothBase => of(super::rung::TOOTH_BASE_STRESS),
             StressFrom::AveragedOverContact | StressFrom::StripAtLoad | StressFrom::OnSupport => {
-                super::rung::STRESS_AVERAGED
+                of(super::rung::STRESS_AVERAGED)
             }
+            // The solid's governing stress already carries its estimate, and the solid is the
+            // top rung: no model error left to add.
+            StressFrom::SolidOnSupport => (0.0, true),
         };
         [
             of(&format!("charge_{}", self.most_sensitive)),
-            of(stress),
+            stress,
             of("deflection_at_load"),
         ]
     }
@@ -553,7 +562,12 @@ impl StressFrom {
             StressFrom::StripAtLoad => "the strip's, at the load",
             StressFrom::OnSupport => {
                 "in the plate (the load stands wholly on a support; the support, the film and \
-                 the base under it are not judged: `fe --model solid` reads the support's edges)"
+                 the base under it are not judged: `--verify-solid` takes the solid rung's \
+                 reading of the support's edges)"
+            }
+            StressFrom::SolidOnSupport => {
+                "from the solid rung, its governing stress with its estimate (the load stands \
+                 wholly on a support, whose edges the plate rungs do not judge)"
             }
         }
     }
@@ -565,6 +579,7 @@ impl StressFrom {
             StressFrom::ToothBase => "tooth base",
             StressFrom::StripAtLoad => "strip",
             StressFrom::OnSupport => "on a support: not judged",
+            StressFrom::SolidOnSupport => "on a support: solid rung",
         }
     }
 }

@@ -334,11 +334,35 @@ impl super::SceneReport {
     /// Where the solid's governing stress ([`SolidReport::governing_stress`]: a sharp edge's at
     /// the critical distance, or the averaged one) gives a lower safety factor than this answer's
     /// averaged stress, the answer takes it, and the permissible load with it (linear in the
-    /// load, as the plate rungs scale it), with an `EDGE_STRESS` warning naming the edge.
-    fn take_safety_from(&mut self, solid: &SolidReport) {
+    /// load, as the plate rungs scale it), with an `EDGE_STRESS` warning naming the edge. A load
+    /// wholly on a support, which no plate rung judges ([`super::StressFrom::OnSupport`]), takes
+    /// the solid's stress itself ([`super::StressFrom::SolidOnSupport`]): the solid reads the
+    /// support's edges.
+    fn take_safety_from(&mut self, g: &SensorGeometry, solid: &SolidReport) {
+        use crate::finding::{Finding, SceneCode};
         let Some((name, stress)) = solid.governing_stress() else {
             return;
         };
+        if self.stress_from == super::StressFrom::OnSupport {
+            // A support edge in compression opens no crack: still not judged.
+            if stress.is_nan() || stress <= 0.0 {
+                return;
+            }
+            // The same fracture strength and required factor as the plate rungs' own answers.
+            let sf = g.fracture_strength_mpa / stress;
+            self.max_stress_mpa = stress;
+            self.safety_factor = sf;
+            self.max_permissible_load_n = self.force_n.abs() * sf / g.safety_factor;
+            self.stress_from = super::StressFrom::SolidOnSupport;
+            self.warnings.push(Finding::warning(
+                SceneCode::EdgeStress,
+                format!(
+                    "the load stands wholly on a support: the solid rung's {name} ({stress:.1} \
+                     MPa with its estimate) gives safety factor {sf:.2}: taken"
+                ),
+            ));
+            return;
+        }
         if !(stress > 0.0 && self.safety_factor.is_finite() && self.safety_factor > 0.0) {
             return;
         }
@@ -346,7 +370,6 @@ impl super::SceneReport {
         let fracture = self.safety_factor * self.max_stress_mpa;
         let sf = fracture / stress;
         if sf < self.safety_factor {
-            use crate::finding::{Finding, SceneCode};
             self.max_permissible_load_n *= sf / self.safety_factor;
             self.warnings.push(Finding::warning(
                 SceneCode::EdgeStress,
@@ -790,8 +813,13 @@ impl super::SceneReport {
     /// that is larger; the totals, the scene's worst error and `converged` follow. Only where the
     /// solid was compared with this report's rung; the singular peak stress is left as it is.
     /// Returns how many quantities took a model part from the solid.
-    pub fn take_model_error_from(&mut self, solid: &SolidReport, tol: f64) -> usize {
-        self.take_safety_from(solid);
+    pub fn take_model_error_from(
+        &mut self,
+        g: &SensorGeometry,
+        solid: &SolidReport,
+        tol: f64,
+    ) -> usize {
+        self.take_safety_from(g, solid);
         if solid.plate_rung != self.model.kind.to_string() {
             return 0;
         }
@@ -843,5 +871,136 @@ impl super::SceneReport {
             ));
         }
         taken
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A solid report that read only `stresses` (name, MPa), as its extrapolated values with no
+    /// estimate, compared with `plate_rung`.
+    fn solid_reading(stresses: &[(&str, f64)], plate_rung: &str) -> SolidReport {
+        SolidReport {
+            scene: "s".into(),
+            force_n: 1.0,
+            part_solved: "whole die".into(),
+            base: "rigid".into(),
+            nonlinear: false,
+            graded: false,
+            tied_shear: true,
+            graded_teeth: 0,
+            plate_rung: plate_rung.into(),
+            levels: Vec::new(),
+            edge_thickness: Vec::new(),
+            quantities: stresses
+                .iter()
+                .map(|&(name, v)| SolidQuantity {
+                    name: name.into(),
+                    unit: "MPa",
+                    value: v,
+                    discretisation: None,
+                    extrapolated: v,
+                    plate_value: None,
+                    plate_difference: None,
+                })
+                .collect(),
+            converged: true,
+            contact_on_top_faces: 1.0,
+        }
+    }
+
+    /// The bundled design with `centre-1n` at `y_um`, its declared limits and the auto answer.
+    fn answer(
+        y_um: f64,
+    ) -> (
+        SensorGeometry,
+        super::super::SceneReport,
+        crate::process::Limits,
+    ) {
+        let text = std::fs::read_to_string("process/mis-grasper.yaml").expect("bundled file");
+        let sets = vec![format!("checks.scenes[0].load.point.y_um={y_um}")];
+        let p = crate::process::load_str(&text, "mis-grasper.yaml", &sets)
+            .expect("valid process")
+            .process;
+        let scene = p.checks.scenes[0].clone();
+        let g = SensorGeometry::new(&crate::design::Design::new(p).expect("design"));
+        let r = super::super::evaluate(&g, &scene, super::super::Accuracy::new(0.01, 3))
+            .expect("solved");
+        (g, r, scene.limits)
+    }
+
+    /// A load wholly on a support is judged by the solid's governing stress (`--verify-solid`),
+    /// which reads the support's edges; the plate rungs alone leave it not judged, and a solid
+    /// that finds only compression leaves it so.
+    #[test]
+    fn a_load_on_a_support_takes_the_solids_stress() {
+        use super::super::StressFrom;
+        let (g, mut r, limits) = answer(1000.0);
+        assert_eq!(r.stress_from, StressFrom::OnSupport);
+        let bound = limits
+            .min_safety_factor
+            .expect("centre-1n declares a safety factor");
+        let failed = crate::report::limits::check_limits(&r, &limits);
+        assert!(failed.iter().any(|c| !c.passed && c.value.is_nan()));
+
+        let mut squeezed = r.clone();
+        let solid = solid_reading(&[("max_stress_averaged", -3.0)], "plate");
+        squeezed.take_model_error_from(&g, &solid, 0.01);
+        assert_eq!(squeezed, r, "compression alone judges nothing");
+
+        let (vertex, edge) = (21.2, 0.8);
+        let solid = solid_reading(
+            &[
+                ("max_stress_averaged", -0.3),
+                ("tooth_vertex_stress", vertex),
+                ("support_edge_stress", edge),
+            ],
+            "plate",
+        );
+        r.take_model_error_from(&g, &solid, 0.01);
+        assert_eq!(r.stress_from, StressFrom::SolidOnSupport);
+        assert_eq!(r.max_stress_mpa, vertex);
+        let sf = g.fracture_strength_mpa / vertex;
+        assert!((r.safety_factor - sf).abs() <= 1e-12 * sf);
+        let load = r.force_n.abs() * g.fracture_strength_mpa / g.safety_factor / vertex;
+        assert!((r.max_permissible_load_n - load).abs() <= 1e-12 * load);
+        assert!(r
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("tooth_vertex_stress")));
+        // The limits judge it now: the solid's value carries its estimate and is the top rung.
+        let checks = crate::report::limits::check_limits(&r, &limits);
+        let safety = checks
+            .iter()
+            .find(|c| c.limit == crate::process::LimitKind::MinSafetyFactor)
+            .expect("checked");
+        assert!(safety.passed && sf > bound, "{safety}");
+        assert_eq!((safety.value, safety.error_rel), (sf, 0.0));
+        assert!(!safety.model_not_estimated);
+    }
+
+    /// A plate answer takes the solid's factor only where it is lower, keeping its own stress.
+    #[test]
+    fn a_plate_answer_takes_a_lower_factor_from_the_solid() {
+        let (g, r, _) = answer(7500.0);
+        let (sf, stress) = (r.safety_factor, r.max_stress_mpa);
+        assert!(r.stress_from.judged() && sf.is_finite());
+        let mut higher = r.clone();
+        let solid = solid_reading(&[("tooth_base_stress", 0.5 * stress)], "none");
+        higher.take_model_error_from(&g, &solid, 0.01);
+        assert_eq!(higher, r);
+        let mut lower = r.clone();
+        let solid = solid_reading(&[("tooth_base_stress", 2.0 * stress)], "none");
+        lower.take_model_error_from(&g, &solid, 0.01);
+        assert!((lower.safety_factor - 0.5 * sf).abs() <= 1e-12 * sf);
+        assert!(
+            (lower.max_permissible_load_n - 0.5 * r.max_permissible_load_n).abs()
+                <= 1e-12 * r.max_permissible_load_n
+        );
+        assert_eq!(
+            (lower.max_stress_mpa, lower.stress_from),
+            (stress, r.stress_from)
+        );
     }
 }
