@@ -281,7 +281,10 @@ fn a_coarser_field_starts_the_finer_newton() {
         .iter()
         .zip(warm.displacements_m())
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
+    // Each stops within what the energy tolerance leaves (1e-12 of the first correction's
+    // energy: ~1e-6 in displacement), one of them on the estimate of its next correction
+    // (measured 2e-9 apart).
+    assert!(diff < 1e-7 * scale, "{diff:e} of {scale:e}");
     let (w, k) = (warm.stats(), cold.stats());
     assert!(
         w.load_steps == 1 && w.iterations < k.iterations,
