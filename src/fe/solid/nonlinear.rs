@@ -62,8 +62,8 @@ const KRYLOV_MIN: usize = 8;
 
 /// How far under the energy tolerance the next correction's estimate must lie to end the
 /// iterations \[choice\]: the lagged factor's estimate r . K_0^-1 r differs from the current
-/// tangent's r . K_T^-1 r by the spread of K_0^-1 K_T, which conjugate gradients converging to
-/// 1e-5 in 7-9 steps on the sensor puts under a factor of 3.
+/// tangent's r . K_T^-1 r by at most the spread of K_0^-1 K_T's eigenvalues (measured on the
+/// sensor's level 0: 8.18e-21 against the next iteration's 8.46e-21 of the first energy).
 const NEXT_ENERGY_MARGIN: f64 = 0.1;
 
 /// Whether the correction that would follow residual `r` is already under the energy tolerance

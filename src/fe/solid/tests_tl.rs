@@ -300,6 +300,44 @@ fn a_coarser_field_starts_the_finer_newton() {
     assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
 }
 
+/// Newton stops once the next correction, estimated with the factor at hand, is under the
+/// energy tolerance, although the correction just made was not: fewer iterations than Newton
+/// run to round-off, on a field as close to it as the tolerance asks (~1e-6 in displacement).
+#[test]
+fn newton_stops_on_the_next_corrections_estimate() {
+    let slender = 20.0;
+    let (p, ei) = cantilever(slender, 20, 0.3);
+    let loads = tip_load(slender, ei, 2.0);
+    let default = TlSolid::new(&p, TlOptions::default())
+        .unwrap()
+        .solve(&loads)
+        .unwrap();
+    // A tolerance round-off cannot meet: it runs until the corrections stop shrinking.
+    let tight = TlOptions {
+        energy_tol: 1e-40,
+        ..TlOptions::default()
+    };
+    let exact = TlSolid::new(&p, tight).unwrap().solve(&loads).unwrap();
+    let scale = exact
+        .displacements_m()
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = exact
+        .displacements_m()
+        .iter()
+        .zip(default.displacements_m())
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (d, e) = (default.stats(), exact.stats());
+    eprintln!("{diff:e} of {scale:e}; {d:?} against {e:?}");
+    assert!(diff < 1e-6 * scale, "{diff:e} of {scale:e}");
+    assert!(d.iterations < e.iterations, "{d:?} {e:?}");
+    // The last step's last correction was over the tolerance: the estimate stopped it.
+    let h = default.last_step_history();
+    let energies: Vec<f64> = h.iter().map(|i| i.energy_j).filter(|&e| e > 0.0).collect();
+    let (first, last) = (energies[0], energies[energies.len() - 1]);
+    assert!(last > TlOptions::default().energy_tol * first, "{h:?}");
+}
+
 /// Corrections by conjugate gradients on a lagged factor (inexact Newton) land on the field full
 /// Newton finds, with fewer factorisations; from a coarser level's field one factorisation does.
 #[test]
