@@ -255,6 +255,18 @@ fn small_loads_give_the_linear_solution() {
     assert!(w2 < 1e-2 && w3 < w2 / 8.0, "{w2:e} {w3:e}");
 }
 
+/// The largest nodal displacement difference between two fields of one grid, and the largest
+/// displacement of the first (m).
+fn field_difference(a: &TlSolution, b: &TlSolution) -> (f64, f64) {
+    let (a, b) = (a.displacements_m(), b.displacements_m());
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    (diff, scale)
+}
+
 /// A refinement sequence: the finer grid started from the coarser grid's field converges to the
 /// same field as from rest, in fewer iterations and one load step; a useless guess (a wild field)
 /// falls back to load stepping and still converges.
@@ -272,15 +284,7 @@ fn a_coarser_field_starts_the_finer_newton() {
     let model = TlSolid::new(&fine, TlOptions::default()).unwrap();
     let cold = model.solve(&loads).unwrap();
     let warm = model.solve_from(&loads, |p| c.displacement_m(p)).unwrap();
-    let scale = cold
-        .displacements_m()
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = cold
-        .displacements_m()
-        .iter()
-        .zip(warm.displacements_m())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (diff, scale) = field_difference(&cold, &warm);
     // Each stops within what the energy tolerance leaves (1e-12 of the first correction's
     // energy: ~1e-6 in displacement), one of them on the estimate of its next correction
     // (measured 2e-9 apart).
@@ -291,12 +295,7 @@ fn a_coarser_field_starts_the_finer_newton() {
         "{w:?} {k:?}"
     );
     let wild = model.solve_from(&loads, |p| Some([0.0, 0.0, 1e-3 * (p[0] * 0.1).sin()]));
-    let wild = wild.unwrap();
-    let diff = cold
-        .displacements_m()
-        .iter()
-        .zip(wild.displacements_m())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (diff, _) = field_difference(&cold, &wild.unwrap());
     assert!(diff < 1e-9 * scale, "{diff:e} of {scale:e}");
 }
 
@@ -318,15 +317,7 @@ fn newton_stops_on_the_next_corrections_estimate() {
         ..TlOptions::default()
     };
     let exact = TlSolid::new(&p, tight).unwrap().solve(&loads).unwrap();
-    let scale = exact
-        .displacements_m()
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = exact
-        .displacements_m()
-        .iter()
-        .zip(default.displacements_m())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (diff, scale) = field_difference(&exact, &default);
     let (d, e) = (default.stats(), exact.stats());
     eprintln!("{diff:e} of {scale:e}; {d:?} against {e:?}");
     assert!(diff < 1e-6 * scale, "{diff:e} of {scale:e}");
