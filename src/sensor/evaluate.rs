@@ -585,7 +585,7 @@ impl StressFrom {
 }
 
 /// Fracture strength over the stress (infinite when unstressed).
-fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
+pub(super) fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
     if stress_pa > 0.0 {
         g.fracture_strength_mpa * 1e6 / stress_pa
     } else {
@@ -595,7 +595,7 @@ fn safety_factor(g: &SensorGeometry, stress_pa: f64) -> f64 {
 
 /// The load at which the stress reaches the fracture strength over the required safety factor
 /// (the model is linear in the load).
-fn permissible_load_n(g: &SensorGeometry, stress_pa: f64, force_n: f64) -> f64 {
+pub(super) fn permissible_load_n(g: &SensorGeometry, stress_pa: f64, force_n: f64) -> f64 {
     let allowed_pa = g.fracture_strength_mpa * 1e6 / g.safety_factor;
     if stress_pa > 0.0 {
         force_n.abs() * allowed_pa / stress_pa

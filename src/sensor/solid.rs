@@ -348,11 +348,12 @@ impl super::SceneReport {
             if stress.is_nan() || stress <= 0.0 {
                 return;
             }
-            // The same fracture strength and required factor as the plate rungs' own answers.
-            let sf = g.fracture_strength_mpa / stress;
+            // The plate rungs' own fracture strength and required factor.
+            let sf = super::evaluate::safety_factor(g, stress * 1e6);
             self.max_stress_mpa = stress;
             self.safety_factor = sf;
-            self.max_permissible_load_n = self.force_n.abs() * sf / g.safety_factor;
+            self.max_permissible_load_n =
+                super::evaluate::permissible_load_n(g, stress * 1e6, self.force_n);
             self.stress_from = super::StressFrom::SolidOnSupport;
             self.warnings.push(Finding::warning(
                 SceneCode::EdgeStress,
