@@ -75,9 +75,19 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
                     .iter()
                     .find(|r| r.scene == sc.name)
                     .map_or(0.0, |r| r.solve_ms);
-                let safety = sc.stress_from.judged_text(sc.safety_factor, 2, "");
+                // A safety-factor limit states the factor itself, with its error.
+                let safety = if sc
+                    .limits
+                    .iter()
+                    .any(|c| c.limit == tactfab::process::LimitKind::MinSafetyFactor)
+                {
+                    String::new()
+                } else {
+                    let sf = sc.stress_from.judged_text(sc.safety_factor, 2, "");
+                    format!(", safety factor {sf}")
+                };
                 out.push_str(&format!(
-                    "  FE `{}`: {:.3} mV/N ({}), safety factor {safety}; {} ({ms:.0} ms)\n",
+                    "  FE `{}`: {:.3} mV/N ({}){safety}; {} ({ms:.0} ms)\n",
                     sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, limits
                 ));
             }

@@ -37,10 +37,12 @@ pub struct LimitCheck {
     pub limit: LimitKind,
     /// The value judged: the reported one moved to its unsafe side by its estimated relative
     /// error (a sensitivity lowered, a stress or deflection raised, a safety factor lowered), so
-    /// a number that only passes within its error does not pass.
-    pub value: f64,
-    /// The value the scene reports.
-    pub reported: f64,
+    /// a number that only passes within its error does not pass. None where nothing was judged
+    /// (a load wholly on a support without `--verify-solid`, or a stress the solid could not
+    /// read): the limit then fails (JSON `null`).
+    pub value: Option<f64>,
+    /// The value the scene reports (None where nothing was judged).
+    pub reported: Option<f64>,
     /// The estimated relative error `value` was moved by (0 where none was estimated).
     pub error_rel: f64,
     /// The value's rung has a finer one it was not compared with, so `error_rel` holds no model
@@ -56,7 +58,7 @@ impl std::fmt::Display for LimitCheck {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let k = self.limit;
         let (label, d, unit) = k.shown();
-        if self.value.is_nan() {
+        let (Some(value), Some(r)) = (self.value, self.reported) else {
             return write!(
                 f,
                 "{label} not judged (no stress was judged for it: a load wholly on a support, \
@@ -65,20 +67,16 @@ impl std::fmt::Display for LimitCheck {
                 if k.is_minimum() { ">=" } else { "<=" },
                 self.bound
             );
-        }
+        };
         let op = match (k.is_minimum(), self.passed) {
             (true, true) => ">=",
             (true, false) => "<",
             (false, true) => "<=",
             (false, false) => ">",
         };
-        write!(
-            f,
-            "{label} {:.d$}{unit} {op} {}{unit}",
-            self.value, self.bound
-        )?;
+        write!(f, "{label} {:.d$}{unit} {op} {}{unit}", value, self.bound)?;
         if self.error_rel > 0.0 {
-            let (r, e) = (self.reported, 100.0 * self.error_rel);
+            let e = 100.0 * self.error_rel;
             let how = match k {
                 LimitKind::MinSensitivity => " less its",
                 LimitKind::MinSafetyFactor => ", its stress plus its",
@@ -94,8 +92,9 @@ impl std::fmt::Display for LimitCheck {
     }
 }
 
-/// A reported value, its estimated relative error and whether that holds a model error.
-type Estimated = (f64, f64, bool);
+/// A reported value (None if nothing was judged), its estimated relative error and whether that
+/// holds a model error.
+type Estimated = (Option<f64>, f64, bool);
 
 /// Every declared limit of `l` checked against `r`, in a fixed order (sensitivity, stress, safety
 /// factor, deflection), each value on its unsafe side by its estimated error
@@ -105,16 +104,16 @@ type Estimated = (f64, f64, bool);
 pub fn check_limits(r: &SceneReport, l: &Limits) -> Vec<LimitCheck> {
     let [(sensitivity, ms), (stress, mt), (deflection, md)] = r.limit_errors();
     // A load wholly on a support: no stress judged what carries it, so those limits fail.
-    let (stress_mpa, safety) = if r.stress_from.judged() {
-        (r.max_stress_mpa, r.safety_factor)
-    } else {
-        (f64::NAN, f64::NAN)
-    };
+    let judged = r.stress_from.judged();
+    let (stress_mpa, safety) = (
+        judged.then_some(r.max_stress_mpa),
+        judged.then_some(r.safety_factor),
+    );
     check_values(
-        (r.sensitivity_mv_per_n, sensitivity, ms),
+        (Some(r.sensitivity_mv_per_n), sensitivity, ms),
         (stress_mpa, stress, mt),
         (safety, stress, mt),
-        (r.max_deflection_um, deflection, md),
+        (Some(r.max_deflection_um), deflection, md),
         l,
     )
 }
@@ -138,12 +137,16 @@ fn check_values(
                 LimitKind::MinSafetyFactor => safety_factor,
                 LimitKind::MaxDeflection => deflection_um,
             };
-            let value = limit.judged(reported, e);
-            let passed = if limit.is_minimum() {
-                value >= bound
-            } else {
-                value.abs() <= bound
-            };
+            // A NaN (a quantity no read-out produced) is not judged either.
+            let reported = reported.filter(|v| !v.is_nan());
+            let value = reported.map(|v| limit.judged(v, e));
+            let passed = value.is_some_and(|v| {
+                if limit.is_minimum() {
+                    v >= bound
+                } else {
+                    v.abs() <= bound
+                }
+            });
             Some(LimitCheck {
                 limit,
                 value,
@@ -178,11 +181,15 @@ pub fn check_solid_limits(
     let Some(finest) = r.levels.last() else {
         return Vec::new();
     };
-    let stress = q("max_stress_averaged").map_or(f64::NAN, |q| q.extrapolated)
-        * (1.0 + disc("max_stress_averaged"));
+    let stress = q("max_stress_averaged")
+        .map(|q| q.extrapolated * (1.0 + disc("max_stress_averaged")))
+        .filter(|s| !s.is_nan());
     // The safety factor is judged on the worst of that and the sharp edges' stresses at the
     // critical distance, each on its unsafe side.
-    let governing = r.governing_stress().map_or(stress, |(_, s)| s.max(stress));
+    let governing = match (stress, r.governing_stress()) {
+        (Some(s), Some((_, e))) => Some(e.max(s)),
+        (s, e) => s.or(e.map(|(_, e)| e)),
+    };
     let volts = finest
         .readout
         .voltage_mv
@@ -190,11 +197,11 @@ pub fn check_solid_limits(
         .fold(0.0f64, |m, v| m.max(v.abs()));
     // The top rung: no finer one to compare with.
     check_values(
-        (volts / r.force_n.abs(), charge_disc, true),
+        (Some(volts / r.force_n.abs()), charge_disc, true),
         (stress, 0.0, true),
-        (fracture_mpa / governing, 0.0, true),
+        (governing.map(|s| fracture_mpa / s), 0.0, true),
         (
-            finest.readout.max_deflection_um.abs(),
+            Some(finest.readout.max_deflection_um.abs()),
             disc("deflection_at_load"),
             true,
         ),
@@ -223,7 +230,7 @@ mod tests {
             min_safety_factor: Some(1.0),
             max_deflection_um: Some(5.0),
         };
-        let exact = |v: f64| (v, 0.0, true);
+        let exact = |v: f64| (Some(v), 0.0, true);
         let ok = check_values(exact(12.0), exact(400.0), exact(3.0), exact(-4.0), &l);
         assert_eq!(ok.len(), 4);
         assert!(ok.iter().all(|c| c.passed), "{ok:?}");
@@ -260,14 +267,17 @@ mod tests {
         // a sensitivity of 10.1 is 9.898, a stress of 495 raised 2 % is 504.9, a safety factor
         // of 1.01 with its stress 2 % higher is 0.990, a deflection of -4.95 raised is -5.049.
         let near = check_values(
-            (10.1, 0.02, true),
-            (495.0, 0.02, true),
-            (1.01, 0.02, true),
-            (-4.95, 0.02, true),
+            (Some(10.1), 0.02, true),
+            (Some(495.0), 0.02, true),
+            (Some(1.01), 0.02, true),
+            (Some(-4.95), 0.02, true),
             &l,
         );
         assert!(near.iter().all(|c| !c.passed), "{near:?}");
-        assert!((near[2].value - 1.01 / 1.02).abs() < 1e-12, "{near:?}");
+        assert!(
+            (near[2].value.unwrap() - 1.01 / 1.02).abs() < 1e-12,
+            "{near:?}"
+        );
         assert_eq!(
             near[1].to_string(),
             "stress 504.9 MPa > 500 MPa (reported 495.0 plus its 2.00 % error)"
@@ -278,10 +288,10 @@ mod tests {
         );
         // Within the bounds with their errors, they pass.
         let clear = check_values(
-            (11.0, 0.02, true),
-            (480.0, 0.02, false),
-            (1.1, 0.02, false),
-            (-4.8, 0.02, true),
+            (Some(11.0), 0.02, true),
+            (Some(480.0), 0.02, false),
+            (Some(1.1), 0.02, false),
+            (Some(-4.8), 0.02, true),
             &l,
         );
         assert!(clear.iter().all(|c| c.passed), "{clear:?}");
@@ -292,7 +302,13 @@ mod tests {
              model error is not estimated: --verify-solid"
         );
         assert!(!clear[0].to_string().contains("model error"));
-        let failed = check_values((9.0, 0.0, false), exact(0.0), exact(0.0), exact(0.0), &l);
+        let failed = check_values(
+            (Some(9.0), 0.0, false),
+            exact(0.0),
+            exact(0.0),
+            exact(0.0),
+            &l,
+        );
         assert!(!failed[0].passed && !failed[0].to_string().contains("model error"));
     }
 }

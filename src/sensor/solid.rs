@@ -343,45 +343,34 @@ impl super::SceneReport {
         let Some((name, stress)) = solid.governing_stress() else {
             return;
         };
-        if self.stress_from == super::StressFrom::OnSupport {
-            // A support edge in compression opens no crack: still not judged.
-            if stress.is_nan() || stress <= 0.0 {
-                return;
-            }
-            // The plate rungs' own fracture strength and required factor.
-            let sf = super::evaluate::safety_factor(g, stress * 1e6);
+        // An edge in compression opens no crack: nothing to take.
+        if stress.is_nan() || stress <= 0.0 {
+            return;
+        }
+        // The plate rungs' own fracture strength and required factor.
+        let sf = super::evaluate::safety_factor(g, stress * 1e6);
+        let message = if self.stress_from == super::StressFrom::OnSupport {
             self.max_stress_mpa = stress;
-            self.safety_factor = sf;
-            self.max_permissible_load_n =
-                super::evaluate::permissible_load_n(g, stress * 1e6, self.force_n);
             self.stress_from = super::StressFrom::SolidOnSupport;
-            self.warnings.push(Finding::warning(
-                SceneCode::EdgeStress,
-                format!(
-                    "the load stands wholly on a support: the solid rung's {name} ({stress:.1} \
-                     MPa with its estimate) gives safety factor {sf:.2}: taken"
-                ),
-            ));
+            format!(
+                "the load stands wholly on a support: the solid rung's {name} ({stress:.1} MPa \
+                 with its estimate) gives safety factor {sf:.2}: taken"
+            )
+        } else if self.stress_from.judged() && sf < self.safety_factor {
+            // The answer keeps its own (averaged) stress; the factor is the solid edge's.
+            format!(
+                "the solid rung's {name} ({stress:.1} MPa with its estimate) gives safety \
+                 factor {sf:.2}, below the plate answer's {:.2}: taken",
+                self.safety_factor
+            )
+        } else {
             return;
-        }
-        if !(stress > 0.0 && self.safety_factor.is_finite() && self.safety_factor > 0.0) {
-            return;
-        }
-        // The fracture strength is the one this answer's own safety factor was taken against.
-        let fracture = self.safety_factor * self.max_stress_mpa;
-        let sf = fracture / stress;
-        if sf < self.safety_factor {
-            self.max_permissible_load_n *= sf / self.safety_factor;
-            self.warnings.push(Finding::warning(
-                SceneCode::EdgeStress,
-                format!(
-                    "the solid rung's {name} ({stress:.1} MPa with its estimate) gives safety \
-                     factor {sf:.2}, below the plate answer's {:.2}: taken",
-                    self.safety_factor
-                ),
-            ));
-            self.safety_factor = sf;
-        }
+        };
+        self.safety_factor = sf;
+        self.max_permissible_load_n =
+            super::evaluate::permissible_load_n(g, stress * 1e6, self.force_n);
+        self.warnings
+            .push(Finding::warning(SceneCode::EdgeStress, message));
     }
 }
 
@@ -943,7 +932,7 @@ mod tests {
             .min_safety_factor
             .expect("centre-1n declares a safety factor");
         let failed = crate::report::limits::check_limits(&r, &limits);
-        assert!(failed.iter().any(|c| !c.passed && c.value.is_nan()));
+        assert!(failed.iter().any(|c| !c.passed && c.value.is_none()));
 
         let mut squeezed = r.clone();
         let solid = solid_reading(&[("max_stress_averaged", -3.0)], "plate");
@@ -977,7 +966,7 @@ mod tests {
             .find(|c| c.limit == crate::process::LimitKind::MinSafetyFactor)
             .expect("checked");
         assert!(safety.passed && sf > bound, "{safety}");
-        assert_eq!((safety.value, safety.error_rel), (sf, 0.0));
+        assert_eq!((safety.value, safety.error_rel), (Some(sf), 0.0));
         assert!(!safety.model_not_estimated);
     }
 
@@ -1002,6 +991,16 @@ mod tests {
         assert_eq!(
             (lower.max_stress_mpa, lower.stress_from),
             (stress, r.stress_from)
+        );
+        // A plate that finds only compression (factor and load infinite) takes a solid edge in
+        // tension: its factor and the permissible load from it, finite.
+        let mut squeezed = r.clone();
+        (squeezed.safety_factor, squeezed.max_permissible_load_n) = (f64::INFINITY, f64::INFINITY);
+        squeezed.take_model_error_from(&g, &solid, 0.01);
+        assert!((squeezed.safety_factor - 0.5 * sf).abs() <= 1e-12 * sf);
+        assert!(
+            (squeezed.max_permissible_load_n - 0.5 * r.max_permissible_load_n).abs()
+                <= 1e-12 * r.max_permissible_load_n
         );
     }
 }

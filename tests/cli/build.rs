@@ -138,6 +138,11 @@ fn build_writes_everything_and_the_html_renders() {
         "no progress when stderr is not a terminal: {stderr}"
     );
     assert!(stdout.contains("build passed"), "{stdout}");
+    // Each scene's line states its safety factor once: a declared limit states it with its
+    // error, a scene without one plainly.
+    for line in stdout.lines().filter(|l| l.starts_with("  FE `")) {
+        assert_eq!(line.matches("safety factor").count(), 1, "{line}");
+    }
     // Mask drawings and FE plots alike keep their text on the canvas.
     super::harness::assert_svgs_fit(&out);
     let files = read_all(&out);
