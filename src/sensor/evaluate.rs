@@ -1364,7 +1364,7 @@ impl LevelContext<'_> {
 
 /// Per scene, the touch-down on the coarsest mesh: the large-deflection plate driven from the
 /// scene's answer there (`coarse`) to the gap by displacement control
-/// ([`VonKarman::solve_to_deflection`]). None where the scene does not load the plate or the
+/// ([`VonKarman::solve_to_deflection`]). None where the scene does not load the plate, lifts it (w < 0: it never touches) or the
 /// solve fails (the caller then searches over load factors).
 fn coarse_touch_down(
     ctx: &LevelContext<'_>,
@@ -1383,7 +1383,11 @@ fn coarse_touch_down(
         .zip(ctx.part_cases)
         .map(|(sol, case)| {
             let sol = sol.as_ref()?;
-            let w0 = sol.max_deflection().w_m.abs();
+            // A load that lifts the plate (w < 0: away from the floor) never touches it.
+            let w0 = sol.max_deflection().w_m;
+            if w0 <= 0.0 {
+                return None;
+            }
             let at = vk.solve_to_deflection(case, sol, 1.0, gap_m).ok()?;
             Some(CoarseTouch {
                 w_max_um: w0 * 1e6,
@@ -1571,7 +1575,8 @@ fn scene_report(
         },
         electrodes: r.electrodes,
         quantities,
-        touch_down: levels.touch[k].and_then(|c| c.touch_down(g, w_max.abs() * 1e6, f)),
+        // Signed: a plate lifted off the floor has no touch-down.
+        touch_down: levels.touch[k].and_then(|c| c.touch_down(g, w_max * 1e6, f)),
         warnings,
         convergence: convergence_records(
             history,

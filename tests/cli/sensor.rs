@@ -1044,6 +1044,18 @@ fn touch_down_is_found_and_readings_beyond_it_are_refused() {
         t1 > 1.5 * tl,
         "membrane stiffening delays touch-down: {t1} vs {tl}"
     );
+    // A pull lifts the plate away from the floor: it never touches (until 2026-11-30 the
+    // large-deflection ladder drove the lifted plate 175 um up and called that touch-down).
+    for model in ["auto", "plate"] {
+        let (code, pull) = run("-1", model);
+        assert_eq!(code, 0, "{pull}");
+        assert!(pull["max_deflection_um"].as_f64().unwrap() < 0.0);
+        assert!(
+            pull["touch_down"].is_null(),
+            "{model}: {}",
+            pull["touch_down"]
+        );
+    }
     let (code, beyond) = run(&format!("{}", (1.1 * t1).ceil()), "auto");
     assert_eq!(code, 1, "{beyond}");
     assert_eq!(beyond["converged"], false);
