@@ -1364,8 +1364,8 @@ impl LevelContext<'_> {
 
 /// Per scene, the touch-down on the coarsest mesh: the large-deflection plate driven from the
 /// scene's answer there (`coarse`) to the gap by displacement control
-/// ([`VonKarman::solve_to_deflection`]). None where the scene does not load the plate, lifts it (w < 0: it never touches) or the
-/// solve fails (the caller then searches over load factors).
+/// ([`VonKarman::solve_to_deflection`]). None where the scene does not load the plate, lifts it
+/// (w < 0: it never touches) or the solve fails (the caller then searches over load factors).
 fn coarse_touch_down(
     ctx: &LevelContext<'_>,
     opts: NonlinearOptions,
