@@ -140,6 +140,9 @@ codes! {
              governs the safety factor",
         TouchDown = "TOUCH_DOWN":
             "the plate reaches the channel floor: readings beyond touch-down are not modelled",
+        BelowSafetyFactor = "BELOW_SAFETY_FACTOR":
+            "the scene's safety factor is under materials.silicon.safety_factor: its load is over \
+             the permissible one",
     }
 }
 

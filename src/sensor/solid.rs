@@ -371,6 +371,7 @@ impl super::SceneReport {
             super::evaluate::permissible_load_n(g, stress * 1e6, self.force_n);
         self.warnings
             .push(Finding::warning(SceneCode::EdgeStress, message));
+        self.note_safety_shortfall(g);
     }
 }
 
@@ -968,6 +969,40 @@ mod tests {
         assert!(safety.passed && sf > bound, "{safety}");
         assert_eq!((safety.value, safety.error_rel), (Some(sf), 0.0));
         assert!(!safety.model_not_estimated);
+    }
+
+    /// A factor under the required one (`materials.silicon.safety_factor`) is one
+    /// `BELOW_SAFETY_FACTOR` warning, renewed when the solid lowers the factor and gone when the
+    /// requirement is met; a load not judged gets none.
+    #[test]
+    fn a_factor_under_the_required_one_is_a_warning() {
+        use crate::finding::{Code, SceneCode};
+        let below = |r: &super::super::SceneReport| -> Vec<String> {
+            r.warnings
+                .iter()
+                .filter(|w| w.code == Code::Scene(SceneCode::BelowSafetyFactor))
+                .map(|w| w.message.clone())
+                .collect()
+        };
+        // The bundled centre load: 2.21 against the required 3 on the plate.
+        let (g, mut r, _) = answer(7500.0);
+        assert!(r.safety_factor < g.safety_factor, "{}", r.safety_factor);
+        let first = below(&r);
+        assert_eq!(first.len(), 1, "{first:?}");
+        assert!(first[0].contains(&format!("safety factor {:.2}", r.safety_factor)));
+        assert!(r.max_permissible_load_n < r.force_n.abs());
+        let solid = solid_reading(&[("tooth_base_stress", 2.0 * r.max_stress_mpa)], "none");
+        r.take_model_error_from(&g, &solid, 0.01);
+        let lowered = below(&r);
+        assert_eq!(lowered.len(), 1, "{lowered:?}");
+        assert_ne!(lowered, first);
+        assert!(lowered[0].contains(&format!("safety factor {:.2}", r.safety_factor)));
+        let mut met = g.clone();
+        met.safety_factor = 0.5 * r.safety_factor;
+        r.note_safety_shortfall(&met);
+        assert!(below(&r).is_empty());
+        let (_, on_support, _) = answer(1000.0);
+        assert!(below(&on_support).is_empty());
     }
 
     /// A plate answer takes the solid's factor only where it is lower, keeping its own stress.

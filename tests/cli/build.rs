@@ -242,6 +242,19 @@ fn build_writes_everything_and_the_html_renders() {
     );
     assert_eq!(scenes[0]["limits"][0]["limit"], "min_safety_factor");
     assert_eq!(scenes[0]["limits"][0]["passed"], true);
+    // A factor under materials.silicon.safety_factor (3) is a warning, limit or not: the
+    // centre load's 2.21 and the 4 N grasp's 0.69, not the line load's 8.
+    let below = |k: usize| {
+        scenes[k]["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["code"] == "BELOW_SAFETY_FACTOR" && w["severity"] == "warning")
+    };
+    assert_eq!(
+        (0..4).map(below).collect::<Vec<_>>(),
+        [true, true, false, false]
+    );
     assert!(s.get("timings_ms").is_none());
     assert_eq!(s["process_file"], "mis-grasper.yaml");
     let sha = s["process_sha256"].as_str().unwrap();
@@ -269,6 +282,7 @@ fn build_writes_everything_and_the_html_renders() {
         "dose: 60-150 mJ/cm² needs 4.0-10.0 mW/cm² at 15 s",
         "dice the wafer into its 9 dies",
         "RESIST_IN_BATH",
+        "warning[BELOW_SAFETY_FACTOR]: safety factor 0.69 is under the required 3",
     ] {
         assert!(md.contains(want), "the traveler lacks {want:?}");
     }
