@@ -186,10 +186,10 @@ pub fn check_solid_limits(
         .filter(|s| !s.is_nan());
     // The safety factor is judged on the worst of that and the sharp edges' stresses at the
     // critical distance, each on its unsafe side.
-    let governing = match (stress, r.governing_stress()) {
-        (Some(s), Some((_, e))) => Some(e.max(s)),
-        (s, e) => s.or(e.map(|(_, e)| e)),
-    };
+    let governing = stress
+        .into_iter()
+        .chain(r.governing_stress().map(|(_, e)| e))
+        .reduce(f64::max);
     let volts = finest
         .readout
         .voltage_mv

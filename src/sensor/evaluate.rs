@@ -343,31 +343,6 @@ pub fn evaluate_many_with(
         .collect()
 }
 
-impl SceneReport {
-    /// A `BELOW_SAFETY_FACTOR` warning when the judged safety factor is under the required one
-    /// (`materials.silicon.safety_factor`, 3 in paper 001), replacing an earlier one: the
-    /// solid rung may lower the factor after the plate answered
-    /// ([`crate::sensor::solid`]'s `take_safety_from`). A declared `min_safety_factor` limit
-    /// is what fails a build; this says so for every scene, limit or not.
-    pub(super) fn note_safety_shortfall(&mut self, g: &SensorGeometry) {
-        let code = crate::finding::Code::Scene(SceneCode::BelowSafetyFactor);
-        self.warnings.retain(|w| w.code != code);
-        if self.stress_from.judged() && self.safety_factor < g.safety_factor {
-            self.warnings.push(Finding::warning(
-                SceneCode::BelowSafetyFactor,
-                format!(
-                    "safety factor {:.2} is under the required {} (materials.silicon.\
-                     safety_factor): this scene's {:.3} N is over its permissible load, {:.3} N",
-                    self.safety_factor,
-                    g.safety_factor,
-                    self.force_n.abs(),
-                    self.max_permissible_load_n
-                ),
-            ));
-        }
-    }
-}
-
 /// A scene answered by the strip model.
 fn beam_report(
     g: &SensorGeometry,
@@ -560,6 +535,29 @@ impl SceneReport {
             stress,
             of("deflection_at_load"),
         ]
+    }
+
+    /// A `BELOW_SAFETY_FACTOR` warning when the judged safety factor is under the required one
+    /// (`materials.silicon.safety_factor`, 3 in paper 001), replacing an earlier one: the
+    /// solid rung may lower the factor after the plate answered
+    /// ([`crate::sensor::solid`]'s `take_safety_from`). A declared `min_safety_factor` limit
+    /// is what fails a build; this says so for every scene, limit or not.
+    pub(super) fn note_safety_shortfall(&mut self, g: &SensorGeometry) {
+        let code = crate::finding::Code::Scene(SceneCode::BelowSafetyFactor);
+        self.warnings.retain(|w| w.code != code);
+        if self.stress_from.judged() && self.safety_factor < g.safety_factor {
+            self.warnings.push(Finding::warning(
+                SceneCode::BelowSafetyFactor,
+                format!(
+                    "safety factor {:.2} is under the required {} (materials.silicon.\
+                     safety_factor): this scene's {:.3} N is over its permissible load, {:.3} N",
+                    self.safety_factor,
+                    g.safety_factor,
+                    self.force_n.abs(),
+                    self.max_permissible_load_n
+                ),
+            ));
+        }
     }
 }
 

@@ -356,7 +356,7 @@ impl super::SceneReport {
                 "the load stands wholly on a support: the solid rung's {name} ({stress:.1} MPa \
                  with its estimate) gives safety factor {sf:.2}: taken"
             )
-        } else if self.stress_from.judged() && sf < self.safety_factor {
+        } else if sf < self.safety_factor {
             // The answer keeps its own (averaged) stress; the factor is the solid edge's.
             format!(
                 "the solid rung's {name} ({stress:.1} MPa with its estimate) gives safety \
