@@ -359,8 +359,9 @@ pub struct SoftnessArgs {
     /// Tissue Poisson's ratio, 0-0.4999 [paper 001 sec. 4.3.2: 0.49].
     #[arg(long, default_value_t = tactfab::softness::TISSUE_NU, value_parser = parse::tissue_nu)]
     pub tissue_nu: f64,
-    /// Distributed loads (N) [paper 001 Fig. 24: 1-5 N].
-    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5", value_parser = parse::force_n)]
+    /// Distributed loads (N), each 0.001-1000 [paper 001 Fig. 24: 1-5 N].
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,5",
+          value_parser = parse::pressing_force_n)]
     pub forces_n: Vec<f64>,
     /// Tissue modulus range LO,HI,POINTS (Pa, log spaced, 2-200 points) [paper 001: 1e4-1e8 Pa].
     #[arg(long, default_value = "1e4,1e8,17", value_name = "LO,HI,POINTS",

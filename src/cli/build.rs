@@ -86,8 +86,16 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
                     let sf = sc.stress_from.judged_text(sc.safety_factor, 2, "");
                     format!(", safety factor {sf}")
                 };
+                // The scene's warnings by code, so a factor under the required one is not
+                // read past on the terminal (the traveler and build.json give each in full).
+                let warned: Vec<String> = sc.warnings.iter().map(|w| w.code.to_string()).collect();
+                let warned = if warned.is_empty() {
+                    String::new()
+                } else {
+                    format!("; warnings: {}", warned.join(", "))
+                };
                 out.push_str(&format!(
-                    "  FE `{}`: {:.3} mV/N ({}){safety}; {} ({ms:.0} ms)\n",
+                    "  FE `{}`: {:.3} mV/N ({}){safety}; {}{warned} ({ms:.0} ms)\n",
                     sc.name, sc.sensitivity_mv_per_n, sc.most_sensitive, limits
                 ));
             }

@@ -692,7 +692,9 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
     };
     let grading = if r.graded {
         ", graded at the tooth base edges".to_string()
-    } else if r.graded_teeth > 0 {
+    } else if r.graded_teeth == 1 {
+        ", graded at the base edges of the tooth the plate finds hottest".to_string()
+    } else if r.graded_teeth > 1 {
         format!(
             ", graded at the base edges of the {} teeth the plate finds hottest",
             r.graded_teeth

@@ -68,9 +68,23 @@ pub fn tolerance(s: &str) -> Parsed<f64> {
 /// enough that nothing overflows.
 pub const MAX_FORCE_N: f64 = 1000.0;
 
-/// A force in N, either sign, |F| <= [`MAX_FORCE_N`].
+/// A force in N, either sign, 0 < |F| <= [`MAX_FORCE_N`], as the process file's scenes: a zero
+/// load has no sensitivity, safety factor or load limit to report.
 pub fn force_n(s: &str) -> Parsed<f64> {
-    within(s, -MAX_FORCE_N, MAX_FORCE_N, "a force in N")
+    let v = within(s, -MAX_FORCE_N, MAX_FORCE_N, "a force in N")?;
+    if v == 0.0 {
+        Err(format!(
+            "expected a non-zero force in N, |F| in (0, {MAX_FORCE_N}], got 0"
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+/// A distributed load pressing on the tissue (N), 1 mN to [`MAX_FORCE_N`]: the softness study
+/// reads E_t from voltage / force, which a zero force leaves undefined.
+pub fn pressing_force_n(s: &str) -> Parsed<f64> {
+    within(s, 1e-3, MAX_FORCE_N, "a pressing force in N")
 }
 
 /// Seconds since 1970 up to the end of year 9999 (the GDS header stores the year in 16 bits;

@@ -260,7 +260,8 @@ pub fn evaluate_many_with(
         if let Some(s) = scenes.iter().find(|s| !beam_fits(s)) {
             return Err(SensorError::Scene {
                 scene: s.name.clone(),
-                problem: "the strip (--model beam) answers only line loads across a plate                           without teeth"
+                problem: "the strip (--model beam) answers only line loads across a plate \
+                          without teeth"
                     .into(),
                 hint: "use --model auto, plate or large-deflection for this scene",
             });

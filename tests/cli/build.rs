@@ -142,6 +142,10 @@ fn build_writes_everything_and_the_html_renders() {
     // error, a scene without one plainly.
     for line in stdout.lines().filter(|l| l.starts_with("  FE `")) {
         assert_eq!(line.matches("safety factor").count(), 1, "{line}");
+        // A factor under the required 3 is named there too, not only in the traveler (until
+        // 2026-11-30 the line said "safety factor 0.69; no limits" and nothing more).
+        let below = line.starts_with("  FE `centre-1n`") || line.starts_with("  FE `max-grasp-4n`");
+        assert_eq!(line.contains("BELOW_SAFETY_FACTOR"), below, "{line}");
     }
     // Mask drawings and FE plots alike keep their text on the canvas.
     super::harness::assert_svgs_fit(&out);

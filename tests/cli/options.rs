@@ -166,6 +166,14 @@ fn check(o: &Outcome) -> Result<(), TestCaseError> {
         "a panic\n{}",
         d()
     );
+    // A message broken over source lines without its `\` carries the indentation along.
+    prop_assert!(
+        !o.stderr
+            .lines()
+            .any(|l| l.starts_with("error:") && l.contains("    ")),
+        "an error line with a run of spaces\n{}",
+        d()
+    );
     prop_assert!(
         &tree(&root().join("process")) == process_dir_before(),
         "process/ changed\n{}",
@@ -1015,6 +1023,24 @@ fn values_that_crashed_before_are_refused_naming_the_flag() {
             "--length-um",
         ),
         (&["orient", "@FILE", "--step-deg", "0.001"], "--step-deg"),
+        // The softness inverse divides by the force: a zero or pulling load is refused by name
+        // (until 2026-11-30 a zero was "invalid input voltage / force = NaN", no flag).
+        (&["softness", "@FILE", "--forces-n", "1,0"], "--forces-n"),
+        (&["softness", "@FILE", "--forces-n=-1"], "--forces-n"),
+        // A zero load is refused as the process file's scenes refuse it (until 2026-11-30 `fe`
+        // answered it: "most sensitive  at 0.000 mV/N", safety factor inf).
+        (&["fe", "@FILE", "--point", "15,7.5,0"], "--point"),
+        (&["fe", "@FILE", "--pressure", "0"], "--pressure"),
+        // The strip refuses a design with teeth, in one line (until 2026-11-30 the message
+        // carried 27 spaces of source indentation).
+        (
+            &["fe", "@FILE", "--max-levels", "1", "--model", "beam"],
+            "--model beam",
+        ),
+        (
+            &["readout", "@FILE", "-o", "@OUT", "--force-n", "0"],
+            "--force-n",
+        ),
         (
             &["readout", "@FILE", "-o", "@OUT", "--dt-ms", "0"],
             "--dt-ms",
