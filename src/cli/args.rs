@@ -186,11 +186,11 @@ pub struct FeArgs {
     /// Run only this scene of checks.scenes.
     #[arg(long)]
     pub scene: Option<String>,
-    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (contact radius
-    /// default 0.25 mm).
+    /// Ad-hoc point load in die coordinates: X_MM,Y_MM,FORCE_N[,RADIUS_MM] (FORCE_N non-zero,
+    /// |F| <= 1000, negative pulls; contact radius default 0.25 mm).
     #[arg(long, value_name = "X_MM,Y_MM,FORCE_N[,RADIUS_MM]", value_parser = parse::point_load)]
     pub point: Vec<parse::PointLoad>,
-    /// Ad-hoc uniform pressure over the plate, by total force.
+    /// Ad-hoc uniform pressure over the plate, by total force (N, non-zero, |F| <= 1000).
     #[arg(long, value_name = "FORCE_N", allow_hyphen_values = true, value_parser = parse::force_n)]
     pub pressure: Vec<f64>,
     #[command(flatten)]
@@ -409,7 +409,7 @@ pub struct SweepArgs {
     /// Relative tolerance on the elongation for the family, in (0, 1) (paper 001 gives none).
     #[arg(long, default_value = "0.01", value_parser = parse::tolerance)]
     pub tol: f64,
-    /// Centre load (N) [paper 001 sec. 4.1].
+    /// Centre load (N, non-zero, |F| <= 1000) [paper 001 sec. 4.1].
     #[arg(long, default_value = "4", value_parser = parse::force_n)]
     pub force_n: f64,
     /// Contact patch radius (0.01-5 mm): the stress under a point is singular [choice, as
@@ -633,7 +633,7 @@ pub struct ReadoutArgs {
     /// Load position across the die width (mm; default: the die centre).
     #[arg(long, value_parser = parse::position_mm)]
     pub y_mm: Option<f64>,
-    /// Peak grasp force or sine amplitude (N).
+    /// Peak grasp force or sine amplitude (N, non-zero, |F| <= 1000).
     #[arg(long, default_value = "1", allow_hyphen_values = true, value_parser = parse::force_n)]
     pub force_n: f64,
     /// Contact radius of the load (0.01-5 mm).

@@ -88,7 +88,13 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
                 };
                 // The scene's warnings by code, so a factor under the required one is not
                 // read past on the terminal (the traveler and build.json give each in full).
-                let warned: Vec<String> = sc.warnings.iter().map(|w| w.code.to_string()).collect();
+                let mut warned: Vec<String> = Vec::new();
+                for w in &sc.warnings {
+                    let code = w.code.to_string();
+                    if !warned.contains(&code) {
+                        warned.push(code);
+                    }
+                }
                 let warned = if warned.is_empty() {
                     String::new()
                 } else {
