@@ -40,7 +40,8 @@
 //!    plate on the same mesh (bilinear in-plane displacements beside the bending field, Newton on
 //!    one symbolic analysis per mesh); [`fe::PlateSolution::averaged_principal_stress`] is the
 //!    stress a plate can answer for near a step. [`fe::solid`] is the 3-D elasticity core
-//!    (27-node bricks on tensor-line grids with void elements and a node map, anisotropic Si;
+//!    (27-node bricks on tensor-line grids with void elements and a node map, refined locally
+//!    by merged bricks whose finer neighbours' nodes hang, [`fe::solid::hanging`]; anisotropic Si;
 //!    the sensor's with their transverse shears tied, [`fe::solid::shear_tying`], so thin plates
 //!    on bricks of several thicknesses do not lock), linear or geometrically nonlinear ([`fe::solid::TlSolid`]: Total Lagrangian,
 //!    St. Venant-Kirchhoff, Newton on the same symbolic analysis, its corrections preconditioned

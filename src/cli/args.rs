@@ -228,6 +228,14 @@ pub struct FeArgs {
     /// are about 3x smaller at the same dofs (deflection 1.25 % against 4.2 %; README).
     #[arg(long)]
     pub plain_shear: bool,
+    /// With --model solid or --verify-solid: grade the hot teeth's base edges locally. The
+    /// cells either side of such an edge are bisected toward it down to half a plate thickness,
+    /// and away from the tooth they merge back, with hanging nodes between, instead of graded
+    /// lines across the whole die. On the bundled centre load: 25 % less time and memory at
+    /// about the same estimates, but the support edge's stress reads 5 % low, beyond its
+    /// estimate (README, "Local refinement").
+    #[arg(long)]
+    pub local_refinement: bool,
     /// With --model solid or --verify-solid: the solid's mesh levels, 1-5 (1000, 707, 500, 354,
     /// 250 um in plane; three give an error estimate). By default 3 for --model solid, 2 for
     /// --verify-solid, or --max-levels if lower. A fourth brings the bundled centre load's

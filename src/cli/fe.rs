@@ -43,6 +43,12 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
              --verify-solid"
         );
     }
+    if args.local_refinement && !args.verify_solid {
+        bail!(
+            "--local-refinement applies to the solid rung: give it with --model solid or \
+             --verify-solid"
+        );
+    }
     if args.plain_shear && !args.verify_solid {
         bail!(
             "--plain-shear applies to the solid rung: give it with --model solid or --verify-solid"
@@ -149,6 +155,7 @@ fn verify_solid(
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
+            local_refinement: args.local_refinement,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(g, &solid, acc.tol_rel);
@@ -434,6 +441,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
+            local_refinement: args.local_refinement,
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
@@ -702,5 +710,10 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
     } else {
         String::new()
     };
-    format!("{shear}{grading}")
+    let local = if r.local_refinement && r.graded_teeth > 0 {
+        " (locally: hanging nodes)"
+    } else {
+        ""
+    };
+    format!("{shear}{grading}{local}")
 }

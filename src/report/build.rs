@@ -251,6 +251,7 @@ pub fn build(
                         nonlinear: false,
                         graded: check.graded,
                         tied_shear: check.tied_shear,
+                        local_refinement: false,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

@@ -81,6 +81,9 @@ pub struct SolidReport {
     pub graded: bool,
     /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
+    /// The hot teeth's edges graded locally (`--local-refinement`): bisected cells that merge
+    /// back away from the tooth, with hanging nodes between.
+    pub local_refinement: bool,
     /// How many teeth's base edges the levels are graded at: every tooth under `graded`, else
     /// the plate answer's hot teeth ([`crate::sensor::edge_section::hot_teeth`]), where the worst
     /// edge is.
@@ -513,6 +516,9 @@ pub struct SolidRun {
     /// `fe` does unless `--plain-shear`): the plate's bricks of several thicknesses do not lock
     /// (README, "Tied transverse shear").
     pub tied_shear: bool,
+    /// Grade the hot teeth's base edges locally
+    /// ([`super::solid_mesh::SolidMeshOptions::local_refinement`]).
+    pub local_refinement: bool,
 }
 
 /// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
@@ -588,6 +594,7 @@ pub fn evaluate_solid(
         } else {
             TransverseShear::Displacement
         },
+        local_refinement: run.local_refinement,
         ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
     };
     // Level 0 again with twice the bricks through the plate and the teeth: the edges' thickness
@@ -704,6 +711,7 @@ pub fn evaluate_solid(
         nonlinear: run.nonlinear,
         graded: run.graded,
         tied_shear: run.tied_shear,
+        local_refinement: run.local_refinement,
         graded_teeth: if run.graded {
             g.etched.tooth_tops_um.len()
         } else {
@@ -880,6 +888,7 @@ mod tests {
             nonlinear: false,
             graded: false,
             tied_shear: true,
+            local_refinement: false,
             graded_teeth: 0,
             plate_rung: plate_rung.into(),
             levels: Vec::new(),

@@ -303,9 +303,9 @@ pub fn export_scene(
             SolidLoad::Pressure { face, pressure_pa } => {
                 let es = crate::fe::solid::loads::face_elements(grid, face, 0, 0)
                     .map_err(SensorError::Fe)?;
-                for e in es {
+                for part in es {
                     pressures.push(ExportPressure {
-                        element: element_of[e],
+                        element: element_of[part.element],
                         face: face_name(face.axis, face.outward),
                         pressure_pa: *pressure_pa,
                     });

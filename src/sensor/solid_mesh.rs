@@ -12,8 +12,8 @@
 //! inverts. z is up from the base's top face (the film under the supports starts there).
 
 use crate::fe::solid::{
-    Axis3, Constraint, Elasticity, FaceRect, HexGrid, NodeSet, Outward, SolidLoad, SolidProblem,
-    TransverseShear,
+    merged_lines, Axis3, Constraint, Elasticity, FaceRect, HexGrid, NodeSet, Outward, SolidLoad,
+    SolidProblem, TransverseShear,
 };
 use crate::fe::{FeError, FeResult};
 
@@ -169,6 +169,48 @@ pub struct SolidMeshOptions {
     /// The bricks' transverse shear strains ([`TransverseShear::Tied`], the rung's levels: a thin
     /// plate on bricks of several thicknesses does not lock).
     pub shear: TransverseShear,
+    /// Grade the hot teeth's base edges locally: the cells either side of such an edge are
+    /// bisected toward it down to [`LOCAL_GRADING_CELL`] plate thicknesses (instead of the
+    /// [`TOOTH_EDGE_GRADING`] lines), and away from the tooth (beyond [`LOCAL_GRADING_MARGIN`]
+    /// plate thicknesses) they merge back into their coarse cell; the finer cells' nodes on its
+    /// faces hang.
+    pub local_refinement: bool,
+}
+
+/// How far along a graded edge, beyond the tooth's base, its graded cells stay fine, in plate
+/// thicknesses \[choice\]: the singular field at a vertex decays over a few plate thicknesses.
+pub const LOCAL_GRADING_MARGIN: f64 = 2.0;
+
+/// The cell next to a locally graded edge, at most, in plate thicknesses \[choice\]: the finest
+/// cell of [`TOOTH_EDGE_GRADING`].
+pub const LOCAL_GRADING_CELL: f64 = 0.5;
+
+/// The coarse cells either side of line `v` in `lines` (sorted), each with the lines bisecting
+/// it toward `v` until the cell next to `v` is at most `h_min_um`: (cell's low end, high end,
+/// new lines). A grading of ratio 2 whose lines nest, so that the cell merges back whole.
+fn bisect_toward(lines: &[f64], v: f64, h_min_um: f64) -> Vec<(f64, f64, Vec<f64>)> {
+    let tol = 1e-9 * lines.last().map_or(1.0, |l| l.abs().max(1.0));
+    let Some(c) = lines.iter().position(|&l| (l - v).abs() <= tol) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for w in [c.checked_sub(1), Some(c + 1)]
+        .into_iter()
+        .flatten()
+        .filter_map(|i| lines.get(i))
+    {
+        let mut h = (w - v).abs();
+        let dir = (w - v).signum();
+        let mut new = Vec::new();
+        while h > h_min_um && new.len() < 30 {
+            h *= 0.5;
+            new.push(v + dir * h);
+        }
+        if !new.is_empty() {
+            out.push((v.min(*w), v.max(*w), new));
+        }
+    }
+    out
 }
 
 /// Where the graded mesh adds lines round a tooth base edge, in plate thicknesses: measured on
@@ -196,6 +238,97 @@ impl SolidMeshOptions {
             base_layers: 1,
             tooth_edge_grading: false,
             shear: TransverseShear::Tied,
+            local_refinement: false,
+        }
+    }
+}
+
+/// A coarse cell beside a graded edge line, bisected toward it: from `lo_um` to `hi_um` along
+/// `axis`, and the intervals along the other axis where it stays fine.
+#[derive(Debug, Clone)]
+struct GradedBand {
+    axis: usize,
+    lo_um: f64,
+    hi_um: f64,
+    keep_um: Vec<(f64, f64)>,
+}
+
+/// Merges the bisected cells back into their coarse cells where they are not needed: over each
+/// pair of in-plane units (a band's coarse cell, or a single cell), along each axis whose band
+/// is far (no keep interval meets the other unit), in every layer. Cells the merge refuses (void
+/// or of two materials, or bent by the node map) stay as they are.
+fn merge_far_bands(grid: &mut HexGrid, bands: &[GradedBand]) {
+    if bands.is_empty() {
+        return;
+    }
+    let lines: [Vec<f64>; 3] = grid.lines_um().map(<[f64]>::to_vec);
+    let tol = 1e-6 * grid.extent_um();
+    let index = |axis: usize, v: f64| lines[axis].iter().position(|&l| (l - v).abs() <= tol);
+    // Per in-plane axis: units (first cell, end cell, the band's keep intervals if a band).
+    type Keep = Vec<(f64, f64)>;
+    let units = |axis: usize| -> Vec<(usize, usize, Option<Keep>)> {
+        let mut ranges: Vec<(usize, usize, Keep)> = Vec::new();
+        for bd in bands.iter().filter(|bd| bd.axis == axis) {
+            let (Some(a), Some(b)) = (index(axis, bd.lo_um), index(axis, bd.hi_um)) else {
+                continue;
+            };
+            // Teeth in one row or column share a coarse cell: one band keeps them all.
+            match ranges.iter_mut().find(|r| r.0 == a && r.1 == b) {
+                Some(r) => r.2.extend(bd.keep_um.iter().copied()),
+                None => ranges.push((a, b, bd.keep_um.clone())),
+            }
+        }
+        ranges.sort_by_key(|r| r.0);
+        let mut out = Vec::new();
+        let mut at = 0;
+        for (a, b, keep) in ranges {
+            if a < at {
+                continue;
+            }
+            out.extend((at..a).map(|i| (i, i + 1, None)));
+            out.push((a, b, Some(keep)));
+            at = b;
+        }
+        out.extend((at..lines[axis].len() - 1).map(|i| (i, i + 1, None)));
+        out
+    };
+    let (ux, uy) = (units(0), units(1));
+    // A band unit is far from the other axis's unit when none of its keep intervals meets it.
+    let far = |keep: &Option<Vec<(f64, f64)>>, axis: usize, (a, b): (usize, usize)| {
+        keep.as_ref().is_some_and(|k| {
+            let (c0, c1) = (lines[axis][a], lines[axis][b]);
+            !k.iter().any(|&(k0, k1)| c1 > k0 && c0 < k1)
+        })
+    };
+    let nz = lines[2].len() - 1;
+    for (x0, x1, kx) in &ux {
+        for (y0, y1, ky) in &uy {
+            if kx.is_none() && ky.is_none() {
+                continue;
+            }
+            let merge_x = far(kx, 1, (*y0, *y1));
+            let merge_y = far(ky, 0, (*x0, *x1));
+            let xs: Vec<(usize, usize)> = if merge_x {
+                vec![(*x0, *x1)]
+            } else {
+                (*x0..*x1).map(|i| (i, i + 1)).collect()
+            };
+            let ys: Vec<(usize, usize)> = if merge_y {
+                vec![(*y0, *y1)]
+            } else {
+                (*y0..*y1).map(|j| (j, j + 1)).collect()
+            };
+            for &(a, b) in &xs {
+                for &(c, d) in &ys {
+                    if b - a == 1 && d - c == 1 {
+                        continue;
+                    }
+                    for k in 0..nz {
+                        // A refused box (void, two materials, bent by the map) stays fine.
+                        let _ = grid.merge([a, c, k], [b, d, k + 1]);
+                    }
+                }
+            }
         }
     }
 }
@@ -397,7 +530,7 @@ pub fn build(
             m.filter(|_| !opts.tooth_edge_grading).map(|m| 2.0 * m - v),
         ]
     };
-    for k in TOOTH_EDGE_GRADING {
+    for k in TOOTH_EDGE_GRADING.iter().filter(|_| !opts.local_refinement) {
         for (_, e) in teeth.x.iter().enumerate().filter(|(i, _)| graded(*i)) {
             for v in [e.0 - k * t, e.0 + k * t] {
                 xs.extend(images(v, mirror_x_um).into_iter().flatten());
@@ -425,8 +558,41 @@ pub fn build(
     clip(&mut xs, x_hi);
     clip(&mut ys, y_hi);
     let min_um = 0.02 * opts.element_um.min(t);
-    let xs = subdivide(xs, opts.element_um, min_um.max(1.0));
-    let ys = subdivide(ys, opts.element_um, min_um.max(1.0));
+    let mut xs = subdivide(xs, opts.element_um, min_um.max(1.0));
+    let mut ys = subdivide(ys, opts.element_um, min_um.max(1.0));
+    // Local grading: the cells either side of a graded edge bisected toward it; away from its
+    // tooth they merge back (below, once the map is set).
+    let mut bands = Vec::new();
+    if opts.local_refinement {
+        let margin = LOCAL_GRADING_MARGIN * t;
+        for (axis, edges, others, mirror, other_mirror) in [
+            (0, &teeth.x, &teeth.y, mirror_x_um, mirror_y_um),
+            (1, &teeth.y, &teeth.x, mirror_y_um, mirror_x_um),
+        ] {
+            let lines = if axis == 0 { &mut xs } else { &mut ys };
+            let coarse = lines.clone();
+            for (i, e) in edges.iter().enumerate().filter(|(i, _)| graded(*i)) {
+                let tooth = i / 2;
+                let (o0, o1) = (others[2 * tooth].0, others[2 * tooth + 1].0);
+                let mut keep = vec![(o0.min(o1) - margin, o0.max(o1) + margin)];
+                if let Some(m) = other_mirror {
+                    keep.push((2.0 * m - o0.max(o1) - margin, 2.0 * m - o0.min(o1) + margin));
+                }
+                for v in images(e.0, mirror).into_iter().flatten() {
+                    for (lo_um, hi_um, new) in bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t) {
+                        lines.extend(new);
+                        bands.push(GradedBand {
+                            axis,
+                            lo_um,
+                            hi_um,
+                            keep_um: keep.clone(),
+                        });
+                    }
+                }
+            }
+            *lines = merged_lines(std::mem::take(lines));
+        }
+    }
     let mut zs = Vec::new();
     let layer = |zs: &mut Vec<f64>, a: f64, b: f64, n: usize| {
         for k in 0..n.max(1) {
@@ -493,6 +659,9 @@ pub fn build(
         [xo, yo, z]
     }));
 
+    let mut grid = grid;
+    merge_far_bands(&mut grid, &bands);
+
     let silicon = silicon_elasticity(g.silicon);
     let pvdf = Elasticity::isotropic(g.pvdf_e_pa, g.pvdf_nu);
     let base_el = match base {
@@ -554,7 +723,7 @@ fn top_loads(
         for i in 0..nx {
             let Some(k) = (0..nz)
                 .rev()
-                .find(|&k| grid.material(grid.element([i, j, k])).is_some())
+                .find(|&k| grid.cell_material(grid.element([i, j, k])).is_some())
             else {
                 continue;
             };

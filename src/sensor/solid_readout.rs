@@ -198,16 +198,22 @@ pub fn read(
         }
         for j in 0..ny {
             for i in 0..nx {
-                let e = grid.element([i, j, k]);
-                if grid.material(e) != Some(PVDF) {
+                let cell = grid.element([i, j, k]);
+                if grid.cell_material(cell) != Some(PVDF) {
                     continue;
                 }
+                // The cell's Gauss points in the element holding it (a merged brick's field
+                // integrated over each of its cells, so electrode edges on cell lines hold).
+                let (e, offset, scale) = grid.cell_in_owner(cell);
+                let owner = grid.element_ijk(e);
                 let nodes_um = grid.element_nodes(e).map(|n| pos[n]);
                 let nodes_m = nodes_um.map(|p| p.map(|c| c * 1e-6));
-                for &(xi, wgt) in &gauss {
+                let cell_volume: f64 = scale.iter().product();
+                for &(xi_cell, wgt) in &gauss {
+                    let xi: [f64; 3] = std::array::from_fn(|d| offset[d] + scale[d] * xi_cell[d]);
                     let p = hex27::position(&nodes_um, xi);
-                    let dv = hex27::geometry(&nodes_m, xi).det_j * wgt;
-                    let st = sol.stress_at([i, j, k], xi).expect("active element");
+                    let dv = hex27::geometry(&nodes_m, xi).det_j * wgt * cell_volume;
+                    let st = sol.stress_at(owner, xi).expect("active element");
                     let (sx, sy, sz) = (st[0], st[1], st[2]);
                     let (s1_, s2_) = match g.drawn_axis {
                         Axis::Y => (sy, sx),
@@ -222,7 +228,7 @@ pub fn read(
                     if support_film {
                         // Compressive force (N): the film's mean of the nominal -P_zz over its
                         // area (sigma_zz when linear).
-                        let pzz = sol.traction_z_at([i, j, k], xi).expect("active element")[2];
+                        let pzz = sol.traction_z_at(owner, xi).expect("active element")[2];
                         let f = -pzz * dv / t_film;
                         if p[1] < 0.5 * g.width_um {
                             s1 += f;
@@ -281,8 +287,10 @@ pub fn read(
         .displacement_m([at_um.0, at_um.1, mid])
         .map_or(f64::NAN, |u| -u[2] * 1e6);
     let tol = 1e-6 * grid.extent_um();
+    // Nodes of active elements only: a merged brick's face holds lattice nodes it does not use.
     let max_defl = (0..pos.len())
         .filter(|&n| (pos[n][2] - mid).abs() < tol)
+        .filter(|&n| grid.node_elements(n).any(|e| grid.material(e).is_some()))
         .map(|n| -sol.node_displacement_m(n)[2] * 1e6)
         .fold(f64::NEG_INFINITY, f64::max);
     let silicon = (0..grid.element_count()).filter(|&e| grid.material(e) == Some(SILICON));

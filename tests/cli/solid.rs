@@ -63,6 +63,17 @@ fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
     }
 }
 
+/// The tooth whose top's centre is nearest (x, y) um (the hot tooth of a load there).
+fn tooth_nearest(g: &tactfab::sensor::SensorGeometry, x_um: f64, y_um: f64) -> usize {
+    let d = |i: usize| {
+        let t = g.etched.tooth_tops_um[i];
+        (0.5 * (t[0] + t[2]) - x_um).hypot(0.5 * (t[1] + t[3]) - y_um)
+    };
+    (0..g.etched.tooth_tops_um.len())
+        .min_by(|&a, &b| d(a).total_cmp(&d(b)))
+        .expect("the design has teeth")
+}
+
 fn run(levels: usize, symmetry: bool) -> SolidRun {
     SolidRun {
         base: Base::Rigid,
@@ -72,6 +83,7 @@ fn run(levels: usize, symmetry: bool) -> SolidRun {
         nonlinear: false,
         graded: false,
         tied_shear: true,
+        local_refinement: false,
     }
 }
 
@@ -268,15 +280,7 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     assert!(wv > wu * (1.0 + 1e-3), "{wu} {wv}");
     // One tooth graded (the one nearest the load, as the plate's hot teeth are): its lines only,
     // between the two in dofs and in deflection (the spaces nest).
-    let near = (0..g.etched.tooth_tops_um.len())
-        .min_by(|&a, &b| {
-            let d = |i: usize| {
-                let t = g.etched.tooth_tops_um[i];
-                (0.5 * (t[0] + t[2]) - 6000.0).hypot(0.5 * (t[1] + t[3]) - 7500.0)
-            };
-            d(a).total_cmp(&d(b))
-        })
-        .unwrap();
+    let near = tooth_nearest(&g, 6000.0, 7500.0);
     let one = solve(false, &[near]);
     assert!(!one.graded && one.graded_teeth == 1);
     let o = &one.levels[0];
@@ -303,6 +307,97 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
         "{}",
         out.stdout
     );
+}
+
+#[test]
+fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
+    // `--local-refinement`: the cells beside the hot tooth's base edges are bisected toward them
+    // and merge back into the uniform cells away from the tooth (hanging nodes between). Its
+    // space holds the uniform mesh's, so the deflection under the load only rises; it costs
+    // fewer dofs than the same tooth graded by lines across the die; what is meshed is still
+    // what is etched; the supports carry the load.
+    let g = geometry(&SHORT);
+    let near = tooth_nearest(&g, 6000.0, 7500.0);
+    let solve = |local_refinement: bool, teeth: &[usize]| {
+        evaluate_solid(
+            &g,
+            &point(6000.0, 7500.0, 0.02),
+            SolidRun {
+                local_refinement,
+                ..run(1, true)
+            },
+            &[],
+            teeth,
+        )
+        .unwrap()
+    };
+    let (uniform, lines, local) = (
+        solve(false, &[]),
+        solve(false, &[near]),
+        solve(true, &[near]),
+    );
+    assert!(local.local_refinement && !lines.local_refinement);
+    let (u, l, o) = (&uniform.levels[0], &lines.levels[0], &local.levels[0]);
+    assert!(
+        u.dofs < o.dofs && o.dofs < l.dofs,
+        "{} {} {}",
+        u.dofs,
+        o.dofs,
+        l.dofs
+    );
+    let (wu, wo) = (
+        u.readout.deflection_at_load_um,
+        o.readout.deflection_at_load_um,
+    );
+    assert!(wo > wu * (1.0 + 1e-4), "{wu} {wo}");
+    let total = o.readout.support1_n + o.readout.support2_n;
+    assert!((total - 0.02).abs() < 1e-9 * 0.02, "{total}");
+    // The merged grid's materials are the etched shape's, as the tensor grid's.
+    let opts = SolidMeshOptions::level(1000.0, 0);
+    let mesh = |local_refinement: bool| {
+        build(
+            &g,
+            &[],
+            g.base,
+            SolidMeshOptions {
+                local_refinement,
+                ..opts
+            },
+            &[near],
+            None,
+            None,
+        )
+        .unwrap()
+    };
+    let (tensor, merged) = (mesh(false), mesh(true));
+    assert!(merged.problem.grid.has_merged() && !tensor.problem.grid.has_merged());
+    for (a, b) in tensor
+        .material_volumes_um3()
+        .iter()
+        .zip(merged.material_volumes_um3())
+    {
+        assert!(((a - b) / a).abs() < 1e-9, "{a} {b}");
+    }
+    // Through the binary: the summary and the JSON say so; without the solid it is a usage
+    // error naming the flag.
+    let out = tactfab(&solid_one_level(&[
+        "--point",
+        "6,7.5,0.02,0.5",
+        "--local-refinement",
+    ]));
+    out.expect_code(0);
+    assert!(
+        out.stdout.contains("(locally: hanging nodes)"),
+        "{}",
+        out.stdout
+    );
+    let out = tactfab(&on_short_die(&[
+        "fe",
+        "process/mis-grasper.yaml",
+        "--local-refinement",
+    ]));
+    out.expect_code(2);
+    assert!(out.stderr.contains("--local-refinement"), "{}", out.stderr);
 }
 
 #[test]

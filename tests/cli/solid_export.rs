@@ -36,6 +36,7 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         nonlinear: false,
         graded: false,
         tied_shear: true,
+        local_refinement: false,
     };
     let rung = evaluate_solid(&g, &scene, run, &[], &[]).unwrap();
     let r = &rung.levels[0].readout;

@@ -174,18 +174,113 @@ pub struct SolidPattern {
     pub symbolic: SymbolicSparseColMat<usize>,
     /// Nodes with at least one free dof, in order; their columns are consecutive.
     free_nodes: Vec<usize>,
+    /// Elements each master reaches through its hanging nodes.
+    through_hanging: HashMap<usize, Vec<usize>>,
 }
 
-/// Sorted lattice nodes sharing an active element with `n` (itself included).
-fn neighbours(grid: &HexGrid, n: usize, out: &mut Vec<usize>) {
+/// Sorted nodes with dofs sharing an active element with `n` (itself included); a hanging node
+/// stands for its masters, and `extra` lists the elements a master reaches through the nodes
+/// hanging on it.
+fn neighbours(
+    grid: &HexGrid,
+    dofs: &SolidDofs,
+    extra: &HashMap<usize, Vec<usize>>,
+    n: usize,
+    out: &mut Vec<usize>,
+) {
     out.clear();
-    for e in grid.node_elements(n) {
+    let through = extra.get(&n).map_or(&[][..], Vec::as_slice);
+    for e in grid.node_elements(n).chain(through.iter().copied()) {
         if grid.material(e).is_some() {
-            out.extend(grid.element_nodes(e));
+            for m in grid.element_nodes(e) {
+                match dofs.hanging.masters(m) {
+                    Some(ms) => out.extend(ms.iter().map(|&(a, _)| a)),
+                    None => out.push(m),
+                }
+            }
         }
     }
     out.sort_unstable();
     out.dedup();
+}
+
+/// Active elements holding a node that hangs on `master`, by master (empty without hanging
+/// nodes).
+fn elements_through_hanging(grid: &HexGrid, dofs: &SolidDofs) -> HashMap<usize, Vec<usize>> {
+    let mut out: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (h, masters) in &dofs.hanging.nodes {
+        for e in grid.node_elements(*h) {
+            if grid.material(e).is_none() {
+                continue;
+            }
+            for &(m, _) in masters {
+                out.entry(m).or_default().push(e);
+            }
+        }
+    }
+    for v in out.values_mut() {
+        v.sort_unstable();
+        v.dedup();
+    }
+    out
+}
+
+/// The element's local nodes that act on node `n`, with their weights: the node itself (1) and
+/// the nodes hanging on it.
+fn local_weights(dofs: &SolidDofs, nodes: &[usize; NODES], n: usize) -> Vec<(usize, f64)> {
+    let mut out = Vec::new();
+    for (l, &m) in nodes.iter().enumerate() {
+        if m == n {
+            out.push((l, 1.0));
+        } else if let Some(ms) = dofs.hanging.masters(m) {
+            out.extend(ms.iter().filter(|&&(a, _)| a == n).map(|&(_, w)| (l, w)));
+        }
+    }
+    out
+}
+
+/// An element matrix (81 x 81, row-major) reduced to the free dofs it acts on through its nodes
+/// and their masters, T^T K T: the free indices (ascending) and the reduced matrix (row-major).
+pub(crate) fn reduced_element(
+    dofs: &SolidDofs,
+    nodes: &[usize; NODES],
+    k: &[f64],
+) -> (Vec<usize>, Vec<f64>) {
+    let nf = dofs.n_free();
+    // (local dof, free index, weight) of every term of T.
+    let mut terms = Vec::with_capacity(DOFS);
+    for (l, &n) in nodes.iter().enumerate() {
+        let one = [(n, 1.0)];
+        let ms = dofs.hanging.masters(n).unwrap_or(&one);
+        for &(m, w) in ms {
+            for d in 0..3 {
+                let r = dofs.free_index[3 * m + d];
+                if r < nf {
+                    terms.push((3 * l + d, r, w));
+                }
+            }
+        }
+    }
+    let mut free: Vec<usize> = terms.iter().map(|t| t.1).collect();
+    free.sort_unstable();
+    free.dedup();
+    let nr = free.len();
+    // K T (81 x nr), then T^T (K T).
+    let mut kt = vec![0.0; DOFS * nr];
+    for &(q, c, w) in &terms {
+        let col = free.binary_search(&c).unwrap_or(0);
+        for p in 0..DOFS {
+            kt[p * nr + col] += k[p * DOFS + q] * w;
+        }
+    }
+    let mut out = vec![0.0; nr * nr];
+    for &(p, r, w) in &terms {
+        let row = free.binary_search(&r).unwrap_or(0);
+        for col in 0..nr {
+            out[row * nr + col] += w * kt[p * nr + col];
+        }
+    }
+    (free, out)
 }
 
 fn first_free(dofs: &SolidDofs, n: usize) -> Option<usize> {
@@ -201,11 +296,12 @@ impl SolidPattern {
         let free_nodes: Vec<usize> = (0..grid.node_count())
             .filter(|&n| first_free(dofs, n).is_some())
             .collect();
+        let through_hanging = elements_through_hanging(grid, dofs);
         // Rows per node's columns, in parallel; concatenated in column order.
         let per_node: Vec<(Vec<usize>, [usize; 3])> = free_nodes
             .par_iter()
             .map_init(Vec::new, |nb, &n| {
-                neighbours(grid, n, nb);
+                neighbours(grid, dofs, &through_hanging, n, nb);
                 let mut rows = Vec::new();
                 let mut len = [0; 3];
                 for (d, l) in len.iter_mut().enumerate() {
@@ -251,6 +347,7 @@ impl SolidPattern {
         Ok(SolidPattern {
             symbolic: SymbolicSparseColMat::new_checked(nf, nf, col_ptr, None, row_idx),
             free_nodes,
+            through_hanging,
         })
     }
 
@@ -279,6 +376,12 @@ impl SolidPattern {
             chunks.push((n, c0, head));
             rest = tail;
             done = end;
+        }
+        if !dofs.hanging.is_empty() {
+            chunks.par_iter_mut().for_each(|(n, c0, block)| {
+                self.gather_hanging(grid, dofs, k, *n, col_ptr[*c0], block);
+            });
+            return vals;
         }
         chunks.par_iter_mut().for_each(|(n, c0, block)| {
             let base = col_ptr[*c0];
@@ -311,5 +414,61 @@ impl SolidPattern {
             }
         });
         vals
+    }
+
+    /// One free node's columns with hanging nodes about: every element acting on the node,
+    /// directly or through a node hanging on it, adds w_a w_b K_e(a, b) for each pair of its
+    /// local nodes acting on a row node and on this one.
+    fn gather_hanging(
+        &self,
+        grid: &HexGrid,
+        dofs: &SolidDofs,
+        k: &ElementMatrices,
+        n: usize,
+        base: usize,
+        block: &mut [f64],
+    ) {
+        let nf = dofs.n_free();
+        let col_ptr = self.symbolic.col_ptr();
+        let row_idx = self.symbolic.row_idx();
+        let through = self.through_hanging.get(&n).map_or(&[][..], Vec::as_slice);
+        let mut elements: Vec<usize> = grid
+            .node_elements(n)
+            .chain(through.iter().copied())
+            .collect();
+        elements.sort_unstable();
+        elements.dedup();
+        for e in elements {
+            if k.kind[e] == VOID {
+                continue;
+            }
+            let ke = &k.matrices[k.kind[e] as usize];
+            let nodes = grid.element_nodes(e);
+            for (lb, wb) in local_weights(dofs, &nodes, n) {
+                for j in 0..3 {
+                    let c = dofs.free_index[3 * n + j];
+                    if c >= nf {
+                        continue;
+                    }
+                    let (s, t) = (col_ptr[c], col_ptr[c + 1]);
+                    let rows = &row_idx[s..t];
+                    for (la, &m) in nodes.iter().enumerate() {
+                        let one = [(m, 1.0)];
+                        for &(a, wa) in dofs.hanging.masters(m).unwrap_or(&one) {
+                            for i in 0..3 {
+                                let r = dofs.free_index[3 * a + i];
+                                if r >= nf || r < c {
+                                    continue;
+                                }
+                                if let Ok(p) = rows.binary_search(&r) {
+                                    block[s - base + p] +=
+                                        wa * wb * ke[(3 * la + i) * DOFS + 3 * lb + j];
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 }

@@ -4,18 +4,21 @@
 use crate::fe::dofs::rank;
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::solid::grid::{HexGrid, MAX_DOFS};
+use crate::fe::solid::hanging::Hanging;
 use crate::fe::solid::problem::{Constraint, Prescribed};
 
 /// Marker of a constrained dof in [`SolidDofs::free_index`].
 pub const CONSTRAINED: usize = usize::MAX;
 /// Marker of a dof of a node no active element touches.
 pub const INACTIVE: usize = usize::MAX - 1;
+/// Marker of a dof of a hanging node (it follows its masters: [`Hanging`]).
+pub const HANGING: usize = usize::MAX - 2;
 
 /// Dof numbering: global dof `3 node + d` for every lattice node; free dofs numbered in global
 /// order (so a node's free dofs are consecutive).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolidDofs {
-    /// Free index of every global dof, [`CONSTRAINED`] or [`INACTIVE`].
+    /// Free index of every global dof, [`CONSTRAINED`], [`INACTIVE`] or [`HANGING`].
     pub free_index: Vec<usize>,
     /// Global dof of every free index.
     pub free_dofs: Vec<usize>,
@@ -25,6 +28,9 @@ pub struct SolidDofs {
     pub groups: Vec<String>,
     /// Whether an active element touches each node.
     pub active: Vec<bool>,
+    /// Nodes on a merged brick's faces that follow its trace; they have no dofs of their own
+    /// and no constraint selects them (their masters carry it).
+    pub hanging: Hanging,
 }
 
 /// Whether an active element touches each lattice node; errors if none does or if the model would
@@ -65,6 +71,11 @@ impl SolidDofs {
     /// built), if there is no active element, or if a constraint selects no active node.
     pub fn new(grid: &HexGrid, pos_um: &[[f64; 3]], constraints: &[Constraint]) -> FeResult<Self> {
         let active = active_nodes(grid)?;
+        let hanging = Hanging::find(grid, pos_um, &active)?;
+        let mut hangs = vec![false; active.len()];
+        for (h, _) in &hanging.nodes {
+            hangs[*h] = true;
+        }
         let n_active = active.iter().filter(|&&a| a).count();
         let tol = position_tol_um(grid);
         let mut owner: Vec<Option<(f64, usize)>> = vec![None; 3 * grid.node_count()];
@@ -79,7 +90,7 @@ impl SolidDofs {
                 });
             let mut any = false;
             for (n, p) in pos_um.iter().enumerate() {
-                if !active[n] || !c.nodes.contains(*p, tol) {
+                if !active[n] || hangs[n] || !c.nodes.contains(*p, tol) {
                     continue;
                 }
                 any = true;
@@ -109,6 +120,10 @@ impl SolidDofs {
             if !active[d / 3] {
                 continue;
             }
+            if hangs[d / 3] {
+                free_index[d] = HANGING;
+                continue;
+            }
             match o {
                 None => {
                     free_index[d] = free_dofs.len();
@@ -132,6 +147,7 @@ impl SolidDofs {
             constrained,
             groups,
             active,
+            hanging,
         })
     }
 
@@ -167,9 +183,17 @@ impl SolidDofs {
                 }
             }
         }
+        for (h, masters) in &self.hanging.nodes {
+            for &(m, _) in masters {
+                let (a, b) = (find(&mut parent, *h), find(&mut parent, m));
+                if a != b {
+                    parent[a] = b;
+                }
+            }
+        }
         let scale = grid.extent_um().max(f64::MIN_POSITIVE);
         let mut rows: std::collections::BTreeMap<usize, Vec<[f64; 6]>> = Default::default();
-        for n in (0..n).filter(|&n| self.active[n]) {
+        for n in (0..n).filter(|&n| self.active[n] && self.hanging.masters(n).is_none()) {
             rows.entry(find(&mut parent, n)).or_default();
         }
         for &(d, _, _) in &self.constrained {

@@ -6,7 +6,13 @@
 //! node lattice has (2 nx + 1)(2 ny + 1)(2 nz + 1) positions: even lattice indices are element
 //! boundary lines, odd ones the element mid-lines. Lattice node (I, J, K) has index
 //! `I + nxl (J + nyl K)`.
+//!
+//! Local refinement: [`HexGrid::merge`] joins a box of cells into one brick (the cells stay
+//! fine around it), so a line need not cross the whole die. The merged brick's nodes are lattice
+//! nodes; the finer neighbours' nodes on its faces hang and take its quadratic trace
+//! ([`crate::fe::solid::hanging`]).
 
+use std::collections::HashMap;
 use std::fmt;
 use std::sync::Arc;
 
@@ -36,6 +42,11 @@ pub struct HexGrid {
     zs_um: Vec<f64>,
     material: Vec<Option<u16>>,
     map: Option<NodeMap>,
+    /// Merged bricks: element (its lowest cell) -> per axis the lattice indices of its first,
+    /// middle and last node layer.
+    merged: HashMap<usize, [[usize; 3]; 3]>,
+    /// Cells inside a merged brick other than its first -> that brick's element.
+    covered: HashMap<usize, usize>,
 }
 
 impl fmt::Debug for HexGrid {
@@ -49,6 +60,7 @@ impl fmt::Debug for HexGrid {
                 &self.material.iter().filter(|m| m.is_some()).count(),
             )
             .field("mapped", &self.map.is_some())
+            .field("merged", &self.merged.len())
             .finish()
     }
 }
@@ -138,6 +150,8 @@ impl HexGrid {
             zs_um: zs_um.to_vec(),
             material: vec![Some(0); n],
             map: None,
+            merged: HashMap::new(),
+            covered: HashMap::new(),
         })
     }
 
@@ -225,35 +239,193 @@ impl HexGrid {
     #[track_caller]
     pub fn set_material(&mut self, ijk: [usize; 3], material: Option<u16>) {
         let e = self.element(ijk);
+        assert!(
+            !self.covered.contains_key(&e),
+            "element {ijk:?} lies inside a merged brick"
+        );
         self.material[e] = material;
     }
 
-    /// Sets every element's material from its centre (um, before the map).
+    /// Sets every element's material from its centre (um, before the map). Panics once cells
+    /// are merged (misuse: assign materials first).
+    #[track_caller]
     pub fn assign(&mut self, f: impl Fn([f64; 3]) -> Option<u16>) {
+        assert!(self.merged.is_empty(), "assign materials before merging");
         for e in 0..self.material.len() {
             let c = self.element_centre_um(e);
             self.material[e] = f(c);
         }
     }
 
+    /// First and last line of element `e` per axis (a merged brick spans several cells).
+    pub fn element_lines(&self, e: usize) -> [[usize; 2]; 3] {
+        match self.merged.get(&e) {
+            Some(b) => b.map(|[lo, _, hi]| [lo / 2, hi / 2]),
+            None => self.element_ijk(e).map(|i| [i, i + 1]),
+        }
+    }
+
     /// Centre of element `e` before the map, um.
     pub fn element_centre_um(&self, e: usize) -> [f64; 3] {
-        let [i, j, k] = self.element_ijk(e);
-        [
-            0.5 * (self.xs_um[i] + self.xs_um[i + 1]),
-            0.5 * (self.ys_um[j] + self.ys_um[j + 1]),
-            0.5 * (self.zs_um[k] + self.zs_um[k + 1]),
-        ]
+        let l = self.element_lines(e);
+        let lines = self.lines_um();
+        std::array::from_fn(|d| 0.5 * (lines[d][l[d][0]] + lines[d][l[d][1]]))
     }
 
     /// Size of element `e` before the map, um.
     pub fn element_size_um(&self, e: usize) -> [f64; 3] {
-        let [i, j, k] = self.element_ijk(e);
-        [
-            self.xs_um[i + 1] - self.xs_um[i],
-            self.ys_um[j + 1] - self.ys_um[j],
-            self.zs_um[k + 1] - self.zs_um[k],
-        ]
+        let l = self.element_lines(e);
+        let lines = self.lines_um();
+        std::array::from_fn(|d| lines[d][l[d][1]] - lines[d][l[d][0]])
+    }
+
+    /// Joins the cells `lo .. hi` (element indices, `hi` exclusive) into one brick, the
+    /// element of cell `lo`; the others become void and [`Self::owner`] names the brick. Along
+    /// an axis of more than one cell a line must halve the span (within 1e-9 of the extent): it
+    /// carries the brick's middle nodes, so the brick is a box and the finer neighbours' nodes
+    /// on its faces lie on its quadratic trace. Errors if the box leaves the grid, spans one
+    /// cell, has no halving line, or holds a void, merged or differently made cell.
+    pub fn merge(&mut self, lo: [usize; 3], hi: [usize; 3]) -> FeResult<usize> {
+        let ne = self.n_elements();
+        let bad = |detail: String| FeError::SolidInput {
+            detail,
+            hint: "merge boxes of cells of one material, inside the grid, not merged before, \
+                   each axis one cell or halved by a line",
+        };
+        if (0..3).any(|d| lo[d] >= hi[d] || hi[d] > ne[d]) {
+            return Err(bad(format!(
+                "cells {lo:?} .. {hi:?} are empty or leave the grid of {ne:?} cells"
+            )));
+        }
+        if (0..3).all(|d| hi[d] - lo[d] == 1) {
+            return Err(bad(format!("cells {lo:?} .. {hi:?} are one cell")));
+        }
+        let tol = 1e-9 * self.extent_um();
+        let mut layers = [[0usize; 3]; 3];
+        for d in 0..3 {
+            let lines = self.lines_um()[d];
+            let (a, b) = (lo[d], hi[d]);
+            let mid = if b - a == 1 {
+                2 * a + 1
+            } else {
+                let want = 0.5 * (lines[a] + lines[b]);
+                let m = (a + 1..b)
+                    .find(|&m| (lines[m] - want).abs() <= tol)
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "no line halves cells {} .. {} along axis {d} (wanted {want} um)",
+                            a, b
+                        ))
+                    })?;
+                2 * m
+            };
+            layers[d] = [2 * a, mid, 2 * b];
+        }
+        // Under a node map the brick's quadratic trace must put every lattice node of the box
+        // where the map does (an affine or bilinear map does): else the nodes hanging on its
+        // faces would open gaps.
+        if let Some(map) = &self.map {
+            let node_at = |l: [usize; 3]| self.lattice_position_um(self.node(l));
+            let corners: [[f64; 3]; hex27::NODES] = std::array::from_fn(|n| {
+                map(node_at([
+                    layers[0][n % 3],
+                    layers[1][(n / 3) % 3],
+                    layers[2][n / 9],
+                ]))
+            });
+            let a = node_at([layers[0][0], layers[1][0], layers[2][0]]);
+            let b = node_at([layers[0][2], layers[1][2], layers[2][2]]);
+            for k in 2 * lo[2]..=2 * hi[2] {
+                for j in 2 * lo[1]..=2 * hi[1] {
+                    for i in 2 * lo[0]..=2 * hi[0] {
+                        let p = node_at([i, j, k]);
+                        let xi: [f64; 3] =
+                            std::array::from_fn(|d| (2.0 * p[d] - a[d] - b[d]) / (b[d] - a[d]));
+                        let want = map(p);
+                        let got = hex27::position(&corners, xi);
+                        if (0..3).any(|d| (got[d] - want[d]).abs() > tol) {
+                            return Err(bad(format!(
+                                "the node map bends cells {lo:?} .. {hi:?} (the node at {p:?} \
+                                 um goes to {want:?}, the brick's trace to {got:?})"
+                            )));
+                        }
+                    }
+                }
+            }
+        }
+        let first = self.element(lo);
+        let material = self.material[first];
+        let mut cells = Vec::new();
+        for k in lo[2]..hi[2] {
+            for j in lo[1]..hi[1] {
+                for i in lo[0]..hi[0] {
+                    let e = self.element([i, j, k]);
+                    if material.is_none()
+                        || self.material[e] != material
+                        || self.merged.contains_key(&e)
+                        || self.covered.contains_key(&e)
+                    {
+                        return Err(bad(format!(
+                            "cell {:?} is void, of another material or merged already",
+                            [i, j, k]
+                        )));
+                    }
+                    cells.push(e);
+                }
+            }
+        }
+        for e in cells.into_iter().filter(|&e| e != first) {
+            self.material[e] = None;
+            self.covered.insert(e, first);
+        }
+        self.merged.insert(first, layers);
+        Ok(first)
+    }
+
+    /// The element holding cell `e` and the affine map of the cell's local coordinates into the
+    /// element's: xi_element = offset + scale xi_cell (offset 0, scale 1 for an unmerged cell).
+    pub fn cell_in_owner(&self, e: usize) -> (usize, [f64; 3], [f64; 3]) {
+        let owner = self.owner(e);
+        if owner == e && !self.merged.contains_key(&e) {
+            return (e, [0.0; 3], [1.0; 3]);
+        }
+        let lines = self.lines_um();
+        let ijk = self.element_ijk(e);
+        let (c, h) = (self.element_centre_um(owner), self.element_size_um(owner));
+        let mut offset = [0.0; 3];
+        let mut scale = [0.0; 3];
+        for d in 0..3 {
+            let (a, b) = (lines[d][ijk[d]], lines[d][ijk[d] + 1]);
+            offset[d] = (a + b - 2.0 * c[d]) / h[d];
+            scale[d] = (b - a) / h[d];
+        }
+        (owner, offset, scale)
+    }
+
+    /// Material of the element holding cell `e` (a cell inside a merged brick has the brick's).
+    pub fn cell_material(&self, e: usize) -> Option<u16> {
+        self.material[self.owner(e)]
+    }
+
+    /// True if some cells are merged.
+    pub fn has_merged(&self) -> bool {
+        !self.merged.is_empty()
+    }
+
+    /// The element holding cell `e`: the merged brick it lies in, else itself.
+    pub fn owner(&self, e: usize) -> usize {
+        if self.covered.is_empty() {
+            return e;
+        }
+        self.covered.get(&e).copied().unwrap_or(e)
+    }
+
+    /// Merged bricks: (element, per axis the lattice indices of its first, middle and last node
+    /// layer), by element.
+    pub fn merged_bricks(&self) -> Vec<(usize, [[usize; 3]; 3])> {
+        let mut v: Vec<_> = self.merged.iter().map(|(&e, &b)| (e, b)).collect();
+        v.sort_unstable_by_key(|&(e, _)| e);
+        v
     }
 
     /// Lattice coordinate before the map: even index = a line, odd = the midpoint of two, um.
@@ -284,12 +456,42 @@ impl HexGrid {
 
     /// Lattice nodes of element `e` in [`hex27`] local order.
     pub fn element_nodes(&self, e: usize) -> [usize; hex27::NODES] {
+        // (An empty map is checked first: this runs for every element of every assembly.)
+        if let Some(b) = (!self.merged.is_empty())
+            .then(|| self.merged.get(&e))
+            .flatten()
+        {
+            return std::array::from_fn(|n| {
+                self.node([b[0][n % 3], b[1][(n / 3) % 3], b[2][n / 9]])
+            });
+        }
         let [i, j, k] = self.element_ijk(e);
         std::array::from_fn(|n| self.node([2 * i + n % 3, 2 * j + (n / 3) % 3, 2 * k + n / 9]))
     }
 
-    /// Elements containing lattice node `n` (void ones included): at most 8.
+    /// Elements having lattice node `n` among their nodes (void ones included): at most 8.
     pub fn node_elements(&self, n: usize) -> impl Iterator<Item = usize> + '_ {
+        let merged = !self.merged.is_empty();
+        let mut seen = [usize::MAX; 8];
+        let mut count = 0;
+        self.lattice_cells(n)
+            .filter(move |&c| {
+                if !merged {
+                    return true;
+                }
+                let e = self.owner(c);
+                if seen[..count].contains(&e) || !self.element_nodes(e).contains(&n) {
+                    return false;
+                }
+                seen[count] = e;
+                count += 1;
+                true
+            })
+            .map(move |c| self.owner(c))
+    }
+
+    /// Cells whose closure holds lattice node `n`: at most 8.
+    fn lattice_cells(&self, n: usize) -> impl Iterator<Item = usize> + '_ {
         let ijk = self.node_ijk(n);
         let ne = self.n_elements();
         let range = |d: usize| {

@@ -32,14 +32,24 @@ pub(crate) fn load_node(
     }
 }
 
-/// Elements and local face coordinate of a face rectangle; errors if its values are not grid
+/// The part of an element's face a load covers: the element, and in its local coordinates the
+/// plane's xi along the axis and the ranges along the two others (the whole face, [-1, 1]^2,
+/// unless the cell lies inside a merged brick).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FacePart {
+    pub element: usize,
+    pub xi_axis: f64,
+    pub range: [[f64; 2]; 2],
+}
+
+/// Elements and local face coordinates of a face rectangle; errors if its values are not grid
 /// lines or it covers no active element.
 pub(crate) fn face_elements(
     grid: &HexGrid,
     face: &FaceRect,
     case: usize,
     index: usize,
-) -> FeResult<Vec<usize>> {
+) -> FeResult<Vec<FacePart>> {
     let lines = grid.lines_um();
     let tol = position_tol_um(grid);
     let ax = face.axis.index();
@@ -72,9 +82,19 @@ pub(crate) fn face_elements(
             ijk[ax] = layer;
             ijk[p] = ip;
             ijk[q] = iq;
-            let e = grid.element(ijk);
-            if grid.material(e).is_some() {
-                out.push(e);
+            let cell = grid.element(ijk);
+            if grid.cell_material(cell).is_some() {
+                let (element, offset, scale) = grid.cell_in_owner(cell);
+                let side = match face.outward {
+                    Outward::Plus => 1.0,
+                    Outward::Minus => -1.0,
+                };
+                let span = |d: usize| [offset[d] - scale[d], offset[d] + scale[d]];
+                out.push(FacePart {
+                    element,
+                    xi_axis: offset[ax] + scale[ax] * side,
+                    range: [span(p), span(q)],
+                });
             }
         }
     }
@@ -84,30 +104,37 @@ pub(crate) fn face_elements(
     Ok(out)
 }
 
-/// Consistent nodal forces (N, 3 per element node) of pressure `p_pa` on one element face:
-/// f_a = -p sum_g w_g N_a (x_,p x x_,q) s with s orienting the normal outward.
-pub(crate) fn face_forces(
+/// Consistent nodal forces (N, 3 per element node) of pressure `p_pa` on the part `range`
+/// (local coordinates along the two other axes) of the element's section at xi = `xi_axis` (a
+/// face at +-1; a part of a merged brick's face over one cell): f_a = -p sum_g w_g N_a (x_,p x
+/// x_,q) s with s orienting the normal outward.
+pub(crate) fn face_part_forces(
     nodes_m: &[[f64; 3]; NODES],
     axis: Axis3,
     outward: Outward,
     p_pa: f64,
+    xi_axis: f64,
+    range: [[f64; 2]; 2],
 ) -> [[f64; 3]; NODES] {
     let ax = axis.index();
     let [p, q] = axis.others();
     // e_p x e_q is +e_ax for x and z, -e_y for y (the others are in increasing order).
     let orient = if axis == Axis3::Y { -1.0 } else { 1.0 };
-    let (side, s) = match outward {
-        Outward::Plus => (1.0, orient),
-        Outward::Minus => (-1.0, -orient),
+    let s = match outward {
+        Outward::Plus => orient,
+        Outward::Minus => -orient,
     };
     let g = hex27::gauss3();
+    let mid = range.map(|[a, b]| 0.5 * (a + b));
+    let half = range.map(|[a, b]| 0.5 * (b - a));
     let mut f = [[0.0; 3]; NODES];
     for (a, wa) in g {
         for (b, wb) in g {
+            let (wa, wb) = (wa * half[0], wb * half[1]);
             let mut xi = [0.0; 3];
-            xi[ax] = side;
-            xi[p] = a;
-            xi[q] = b;
+            xi[ax] = xi_axis;
+            xi[p] = mid[0] + half[0] * a;
+            xi[q] = mid[1] + half[1] * b;
             let n = hex27::shape(xi);
             let dn = hex27::shape_derivatives(xi);
             let tp: [f64; 3] =
@@ -172,10 +199,17 @@ pub(crate) fn load_vector(
                         hint: "pressures (Pa) must be finite",
                     });
                 }
-                for e in face_elements(grid, face, case, index)? {
-                    let nodes = grid.element_nodes(e);
+                for part in face_elements(grid, face, case, index)? {
+                    let nodes = grid.element_nodes(part.element);
                     let x = nodes.map(|n| pos_um[n].map(|v| v * 1e-6));
-                    let fe = face_forces(&x, face.axis, face.outward, *pressure_pa);
+                    let fe = face_part_forces(
+                        &x,
+                        face.axis,
+                        face.outward,
+                        *pressure_pa,
+                        part.xi_axis,
+                        part.range,
+                    );
                     for (k, &n) in nodes.iter().enumerate() {
                         for d in 0..3 {
                             f[3 * n + d] += fe[k][d];
@@ -185,5 +219,7 @@ pub(crate) fn load_vector(
             }
         }
     }
+    // A force on a hanging node acts on its masters.
+    dofs.hanging.reduce(&mut f);
     Ok(f)
 }

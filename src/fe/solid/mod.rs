@@ -4,7 +4,9 @@
 //! symmetry planes, point forces and face pressures, several load cases on one factorisation.
 //! Its geometrically nonlinear form ([`tl`]: Total Lagrangian, St. Venant-Kirchhoff; [`TlSolid`]:
 //! Newton with load steps on the same pattern and symbolic analysis) answers large deflections
-//! and rotations under dead loads.
+//! and rotations under dead loads. A grid refines locally by merging boxes of cells into bricks
+//! ([`HexGrid::merge`]); the finer neighbours' nodes on a merged brick's faces hang on its trace
+//! ([`hanging`]) and are eliminated at assembly.
 //!
 //! Units: positions in um, forces in N, pressures and stresses in Pa, displacements in m; SI
 //! inside. Stresses in Voigt order xx, yy, zz, yz, xz, xy.
@@ -32,6 +34,7 @@ pub mod dofs;
 pub mod elasticity;
 pub mod field;
 pub mod grid;
+pub mod hanging;
 pub mod hex27;
 pub mod loads;
 pub mod nonlinear;
@@ -48,6 +51,8 @@ pub mod vertex;
 mod tests;
 #[cfg(test)]
 mod tests_corner;
+#[cfg(test)]
+mod tests_hanging;
 #[cfg(test)]
 mod tests_shear_tying;
 #[cfg(test)]

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use crate::fe::cholesky::{CholeskyFactor, SymbolicFactor};
 use crate::fe::error::{FeError, FeResult};
 use crate::fe::solid::assemble::{
-    check_materials, element_nodes_m, ElementMatrices, SolidPattern, VOID,
+    check_materials, element_nodes_m, reduced_element, ElementMatrices, SolidPattern, VOID,
 };
 use crate::fe::solid::dofs::{active_nodes, SolidDofs};
 use crate::fe::solid::grid::{check_elements, node_positions_um, HexGrid};
@@ -311,10 +311,8 @@ impl TlSolid {
         let dofs = SolidDofs::new(grid, &pos_um, &problem.constraints)?;
         dofs.check_rigid_modes(grid, &pos_um)?;
         let pattern = SolidPattern::new(grid, &dofs)?;
-        let symbolic = SymbolicFactor::new(
-            pattern.symbolic.as_ref(),
-            &free_dof_order(&dofs, grid.lattice()),
-        )?;
+        let symbolic =
+            SymbolicFactor::new(pattern.symbolic.as_ref(), &free_dof_order(&dofs, grid))?;
         let active = (0..grid.element_count())
             .filter(|&e| grid.material(e).is_some())
             .collect();
@@ -362,6 +360,20 @@ impl TlSolid {
         let with_tangent = with_tangent || apply.is_some();
         let c = &self.ctx;
         let grid = &c.grid;
+        let hanging = &c.dofs.hanging;
+        // Hanging nodes follow their masters: the element fields see the constrained motion.
+        let filled = |v: &[f64]| {
+            let mut w = v.to_vec();
+            hanging.fill(&mut w);
+            w
+        };
+        let (u_own, apply_own) = if hanging.is_empty() {
+            (None, None)
+        } else {
+            (Some(filled(u)), apply.map(filled))
+        };
+        let u = u_own.as_deref().unwrap_or(u);
+        let apply = apply_own.as_deref().or(apply);
         let mut r = vec![0.0; u.len()];
         let mut magnitude = vec![0.0; u.len()];
         let mut vals = with_tangent.then(|| vec![0.0; self.pattern.nnz()]);
@@ -418,6 +430,11 @@ impl TlSolid {
         if let Some(done) = pending {
             add(done);
         }
+        hanging.reduce(&mut r);
+        hanging.reduce_magnitude(&mut magnitude);
+        if let Some(y) = product.as_mut() {
+            hanging.reduce(y);
+        }
         Ok(Internal {
             force: r,
             tangent: vals,
@@ -435,6 +452,25 @@ impl TlSolid {
         let nf = dofs.n_free();
         let col_ptr = self.pattern.symbolic.col_ptr();
         let row_idx = self.pattern.symbolic.row_idx();
+        if nodes.iter().any(|&n| dofs.hanging.masters(n).is_some()) {
+            // Reduced to the free dofs the element acts on through the hanging nodes' masters.
+            let (free, kr) = reduced_element(dofs, nodes, k);
+            let nr = free.len();
+            for (i, &c) in free.iter().enumerate() {
+                let (s, t) = (col_ptr[c], col_ptr[c + 1]);
+                let rows = &row_idx[s..t];
+                let mut at = 0;
+                for (j, &r) in free.iter().enumerate().skip(i) {
+                    while at < rows.len() && rows[at] < r {
+                        at += 1;
+                    }
+                    if rows.get(at) == Some(&r) {
+                        vals[s + at] += kr[j * nr + i];
+                    }
+                }
+            }
+            return;
+        }
         // (free index, local dof) of the element's free dofs, by free index.
         let mut free = [(0usize, 0usize); DOFS];
         let mut n = 0;
@@ -481,11 +517,20 @@ impl TlSolid {
         }
         let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
         let mut u = vec![0.0; f.len()];
+        // One guess per node (its free dofs are consecutive).
+        let mut last: Option<(usize, Option<[f64; 3]>)> = None;
         for &d in &c.dofs.free_dofs {
-            if let Some(g) = guess(c.pos_um[d / 3]) {
-                if g.iter().all(|v| v.is_finite()) {
-                    u[d] = g[d % 3];
+            let node = d / 3;
+            let g = match last {
+                Some((n, g)) if n == node => g,
+                _ => {
+                    let g = guess(c.pos_um[node]).filter(|g| g.iter().all(|v| v.is_finite()));
+                    last = Some((node, g));
+                    g
                 }
+            };
+            if let Some(g) = g {
+                u[d] = g[d % 3];
             }
         }
         let mut work = self.work();
@@ -917,6 +962,8 @@ impl TlSolid {
             history,
             force: r_int,
         } = done;
+        let mut u = u;
+        self.ctx.dofs.hanging.fill(&mut u);
         let reactions = self
             .ctx
             .dofs
@@ -1104,12 +1151,26 @@ mod tests {
     /// internal force along it (the element check of `tl` says nothing about the scatter).
     #[test]
     fn assembled_tangent_is_the_force_derivative() {
-        let grid = HexGrid::new(
+        tangent_check(false);
+    }
+
+    /// The same with a merged brick whose faces carry hanging nodes: the reduced tangent is the
+    /// derivative of the reduced force.
+    #[test]
+    fn assembled_tangent_with_hanging_nodes_is_the_force_derivative() {
+        tangent_check(true);
+    }
+
+    fn tangent_check(merge: bool) {
+        let mut grid = HexGrid::new(
             &uniform_lines(0.0, 1000.0, 5),
             &[0.0, 100.0],
             &[0.0, 50.0, 100.0],
         )
         .unwrap();
+        if merge {
+            grid.merge([2, 0, 0], [4, 1, 2]).unwrap();
+        }
         let mut p = SolidProblem::new(grid, vec![Elasticity::isotropic(169e9, 0.3)]);
         p.constraints.push(Constraint::clamp(
             "root",
@@ -1120,6 +1181,8 @@ mod tests {
         ));
         let m = TlSolid::new(&p, TlOptions::default()).unwrap();
         let dofs = &m.ctx.dofs;
+        // The merged brick's x faces carry the fine cells' mid-height nodes.
+        assert_eq!(dofs.hanging.nodes.len(), if merge { 2 * 3 * 2 } else { 0 });
         // A bent, twisted state (free dofs only).
         let mut u = vec![0.0; 3 * m.ctx.pos_um.len()];
         for (n, x) in m.ctx.pos_um.iter().enumerate() {

@@ -9,6 +9,7 @@
 //! plane, so its factor behaves like the 2-D one with node blocks as deep as the thickness.
 
 use crate::fe::solid::dofs::SolidDofs;
+use crate::fe::solid::grid::HexGrid;
 
 /// Blocks of at most this many lattice nodes are numbered directly \[choice\].
 const LEAF_NODES: usize = 64;
@@ -16,24 +17,64 @@ const LEAF_NODES: usize = 64;
 /// Lattice node indices (`I + nxl (J + nyl K)`) of an `nxl x nyl x nzl` lattice in nested-dissection
 /// order; every node once.
 pub fn nested_dissection(lattice: [usize; 3]) -> Vec<usize> {
+    nested_dissection_between(lattice, &Default::default())
+}
+
+/// [`nested_dissection`] cutting only at planes no element crosses: `crossed[d][m]` marks the
+/// lattice planes along axis `d` that a merged brick spans ([`HexGrid::merge`]); an empty list
+/// crosses none.
+pub fn nested_dissection_between(lattice: [usize; 3], crossed: &[Vec<bool>; 3]) -> Vec<usize> {
     let mut out = Vec::with_capacity(lattice.iter().product());
     dissect(
         lattice,
         [(0, lattice[0]), (0, lattice[1]), (0, lattice[2])],
+        crossed,
         &mut out,
     );
     out
 }
 
-/// The even index nearest the middle of [lo, hi) with nodes on both sides, if any.
-fn cut(lo: usize, hi: usize) -> Option<usize> {
+/// The even index nearest the middle of [lo, hi) with nodes on both sides and no element
+/// across, if any.
+fn cut(lo: usize, hi: usize, crossed: &[bool]) -> Option<usize> {
     let mid = (lo + hi - 1) / 2;
-    [mid, mid + 1, mid.wrapping_sub(1)]
-        .into_iter()
-        .find(|&m| m % 2 == 0 && m > lo && m + 1 < hi)
+    let ok = |m: usize| {
+        m.is_multiple_of(2) && m > lo && m + 1 < hi && !crossed.get(m).copied().unwrap_or(false)
+    };
+    if crossed.is_empty() {
+        return [mid, mid + 1, mid.wrapping_sub(1)]
+            .into_iter()
+            .find(|&m| ok(m));
+    }
+    // The nearest clean plane to the middle.
+    (0..hi - lo)
+        .flat_map(|k| [mid.wrapping_sub(k), mid + k])
+        .find(|&m| m < hi && ok(m))
 }
 
-fn dissect(lat: [usize; 3], b: [(usize, usize); 3], out: &mut Vec<usize>) {
+/// Lattice planes each merged brick of `grid` spans, by axis.
+pub fn crossed_planes(grid: &HexGrid) -> [Vec<bool>; 3] {
+    let bricks = grid.merged_bricks();
+    if bricks.is_empty() {
+        return Default::default();
+    }
+    let mut out = grid.lattice().map(|n| vec![false; n]);
+    for (_, layers) in bricks {
+        for d in 0..3 {
+            for c in &mut out[d][layers[d][0] + 1..layers[d][2]] {
+                *c = true;
+            }
+        }
+    }
+    out
+}
+
+fn dissect(
+    lat: [usize; 3],
+    b: [(usize, usize); 3],
+    crossed: &[Vec<bool>; 3],
+    out: &mut Vec<usize>,
+) {
     let size = b.map(|(lo, hi)| hi.saturating_sub(lo));
     if size.contains(&0) {
         return;
@@ -44,7 +85,7 @@ fn dissect(lat: [usize; 3], b: [(usize, usize); 3], out: &mut Vec<usize>) {
         None
     } else {
         dims.iter()
-            .find_map(|&d| cut(b[d].0, b[d].1).map(|m| (d, m)))
+            .find_map(|&d| cut(b[d].0, b[d].1, &crossed[d]).map(|m| (d, m)))
     };
     let Some((d, m)) = split else {
         for k in b[2].0..b[2].1 {
@@ -60,8 +101,8 @@ fn dissect(lat: [usize; 3], b: [(usize, usize); 3], out: &mut Vec<usize>) {
     hi[d].0 = m + 1;
     let mut sep = b;
     sep[d] = (m, m + 1);
-    dissect(lat, lo, out);
-    dissect(lat, hi, out);
+    dissect(lat, lo, crossed, out);
+    dissect(lat, hi, crossed, out);
     // The separator plane: number it row by row (it is eliminated last, as a dense block).
     for k in sep[2].0..sep[2].1 {
         for j in sep[1].0..sep[1].1 {
@@ -72,9 +113,9 @@ fn dissect(lat: [usize; 3], b: [(usize, usize); 3], out: &mut Vec<usize>) {
 
 /// The node order expanded to free dofs: `fwd[new] = old` free index; nodes without free dofs
 /// are skipped.
-pub fn free_dof_order(dofs: &SolidDofs, lattice: [usize; 3]) -> Vec<usize> {
+pub fn free_dof_order(dofs: &SolidDofs, grid: &HexGrid) -> Vec<usize> {
     let mut fwd = Vec::with_capacity(dofs.n_free());
-    for node in nested_dissection(lattice) {
+    for node in nested_dissection_between(grid.lattice(), &crossed_planes(grid)) {
         fwd.extend(
             (0..3)
                 .map(|d| dofs.free_index[3 * node + d])

@@ -78,10 +78,9 @@ impl SolidModel {
         let vals = pattern.values(grid, &dofs, &kel);
         let t2 = Instant::now();
         let symbolic = match ordering {
-            Ordering::NestedDissection => SymbolicFactor::new(
-                pattern.symbolic.as_ref(),
-                &free_dof_order(&dofs, grid.lattice()),
-            )?,
+            Ordering::NestedDissection => {
+                SymbolicFactor::new(pattern.symbolic.as_ref(), &free_dof_order(&dofs, grid))?
+            }
             Ordering::Amd => SymbolicFactor::amd(pattern.symbolic.as_ref())?,
         };
         let t3 = Instant::now();
@@ -195,15 +194,21 @@ impl SolidModel {
         Ok(out.pop().expect("one case"))
     }
 
-    fn solve_with(&self, forces: Vec<Vec<f64>>, u_fixed: Vec<f64>) -> FeResult<Vec<SolidSolution>> {
+    fn solve_with(
+        &self,
+        forces: Vec<Vec<f64>>,
+        mut u_fixed: Vec<f64>,
+    ) -> FeResult<Vec<SolidSolution>> {
         let c = &self.ctx;
         let dofs = &c.dofs;
-        let k_fixed = c.kel.apply_on(
+        dofs.hanging.fill(&mut u_fixed);
+        let mut k_fixed = c.kel.apply_on(
             &c.grid,
             &c.pos_um,
             &u_fixed,
             self.support_elements.iter().copied(),
         );
+        dofs.hanging.reduce(&mut k_fixed);
         let n_free = dofs.n_free();
         let mut rhs = Mat::<f64>::zeros(n_free, forces.len());
         for (k, f) in forces.iter().enumerate() {
@@ -221,17 +226,19 @@ impl SolidModel {
                 for (i, &d) in dofs.free_dofs.iter().enumerate() {
                     u[d] = rhs[(i, k)];
                 }
+                dofs.hanging.fill(&mut u);
                 if u.iter().any(|v| !v.is_finite()) {
                     return Err(FeError::NonFinite {
                         hint: "check material constants and load values for NaN/inf",
                     });
                 }
-                let ku = c.kel.apply_on(
+                let mut ku = c.kel.apply_on(
                     &c.grid,
                     &c.pos_um,
                     &u,
                     self.support_elements.iter().copied(),
                 );
+                dofs.hanging.reduce(&mut ku);
                 let reactions = dofs
                     .constrained
                     .iter()
@@ -265,9 +272,11 @@ impl SolidModel {
                 for (i, &d) in dofs.free_dofs.iter().enumerate() {
                     u[d] = x[(i, k)];
                 }
-                let ku = c
+                dofs.hanging.fill(&mut u);
+                let mut ku = c
                     .kel
                     .apply_on(&c.grid, &c.pos_um, &u, active.iter().copied());
+                dofs.hanging.reduce(&mut ku);
                 dofs.free_dofs
                     .iter()
                     .enumerate()
@@ -297,7 +306,14 @@ fn factor(
     symbolic.factor(SparseColMat::<usize, f64>::new(pattern.symbolic.clone(), vals).as_ref())
 }
 
+/// Elements K u_fixed needs: those round a constrained node (every active one when nodes hang,
+/// since a hanging node's element acts on its masters).
 fn support_elements(grid: &crate::fe::solid::grid::HexGrid, dofs: &SolidDofs) -> Vec<usize> {
+    if !dofs.hanging.is_empty() {
+        return (0..grid.element_count())
+            .filter(|&e| grid.material(e).is_some())
+            .collect();
+    }
     let mut out: Vec<usize> = dofs
         .constrained
         .iter()

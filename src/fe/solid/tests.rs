@@ -25,6 +25,18 @@ pub(super) fn voigt_strain(g: &[[f64; 3]; 3]) -> [f64; 6] {
     ]
 }
 
+/// The linear field u = u0 + G x (m, x in um) of a patch test.
+pub(super) fn linear_field_m(
+    u0_m: [f64; 3],
+    gradient: [[f64; 3]; 3],
+) -> impl Fn([f64; 3]) -> [f64; 3] {
+    move |x_um| {
+        std::array::from_fn(|i| {
+            u0_m[i] + (0..3).map(|j| gradient[i][j] * x_um[j] * 1e-6).sum::<f64>()
+        })
+    }
+}
+
 pub(super) fn plane(axis: Axis3, at_um: f64) -> NodeSet {
     NodeSet::Plane { axis, at_um }
 }
@@ -87,11 +99,7 @@ fn patch_check(shear: TransverseShear) {
     prescribe_linear_on_faces(&mut p, (0.0, 2000.0), u0_m, gradient);
     p.load_cases.push(vec![]);
     let s = &p.solve().unwrap()[0];
-    let exact = |x_um: [f64; 3]| -> [f64; 3] {
-        std::array::from_fn(|i| {
-            u0_m[i] + (0..3).map(|j| gradient[i][j] * x_um[j] * 1e-6).sum::<f64>()
-        })
-    };
+    let exact = linear_field_m(u0_m, gradient);
     // Interior nodes (the only free ones) and every node.
     let scale = 2000e-6 * 2e-4;
     let mut worst_u: f64 = 0.0;
