@@ -285,6 +285,12 @@ impl HexGrid {
     /// carries the brick's middle nodes, so the brick is a box and the finer neighbours' nodes
     /// on its faces lie on its quadratic trace. Errors if the box leaves the grid, spans one
     /// cell, has no halving line, or holds a void, merged or differently made cell.
+    ///
+    /// Neighbouring bricks must nest: each shared face of one lies within a face of the other,
+    /// as when cells merge back into the coarse cell they were bisected from. Bricks whose faces
+    /// overlap only in part (offset by a cell) would share nodes without either hanging, and
+    /// their traces would differ there: the dof numbering refuses them
+    /// ([`crate::fe::solid::hanging::Hanging::find`]).
     pub fn merge(&mut self, lo: [usize; 3], hi: [usize; 3]) -> FeResult<usize> {
         let ne = self.n_elements();
         let bad = |detail: String| FeError::SolidInput {

@@ -29,6 +29,53 @@ pub struct Hanging {
     pub nodes: Vec<(usize, Vec<(usize, f64)>)>,
 }
 
+/// Errors if an active element across a face of merged brick `e` overlaps that face only in
+/// part: their shared nodes would not hang and their traces would differ between them.
+fn check_nested(grid: &HexGrid, e: usize) -> FeResult<()> {
+    let ne = grid.n_elements();
+    let b = grid.element_lines(e);
+    for d in 0..3 {
+        let [p, q] = [(d + 1) % 3, (d + 2) % 3];
+        // The cell layer just outside each face along d.
+        for outside in [b[d][0].checked_sub(1), Some(b[d][1]).filter(|&i| i < ne[d])]
+            .into_iter()
+            .flatten()
+        {
+            for i in b[p][0]..b[p][1] {
+                for j in b[q][0]..b[q][1] {
+                    let mut ijk = [0; 3];
+                    ijk[d] = outside;
+                    ijk[p] = i;
+                    ijk[q] = j;
+                    let n = grid.owner(grid.element(ijk));
+                    if grid.material(n).is_none() {
+                        continue;
+                    }
+                    let o = grid.element_lines(n);
+                    let nests = |a: usize| {
+                        (o[a][0] >= b[a][0] && o[a][1] <= b[a][1])
+                            || (o[a][0] <= b[a][0] && o[a][1] >= b[a][1])
+                    };
+                    if !(nests(p) && nests(q)) {
+                        return Err(FeError::SolidInput {
+                            detail: format!(
+                                "the merged bricks of cells from {:?} and from {:?} share part of \
+                                 a face",
+                                grid.element_ijk(e),
+                                grid.element_ijk(n)
+                            ),
+                            hint: "merge so that neighbouring bricks nest (each shared face \
+                                   within a face of the other), as merging bisected cells back \
+                                   into their coarse cell does",
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 impl Hanging {
     /// Finds the hanging nodes among the `active` lattice nodes (those of active elements).
     /// Errors if a hanging node does not lie on its brick's trace after the node map (a map that
@@ -40,6 +87,7 @@ impl Hanging {
             if grid.material(e).is_none() {
                 continue;
             }
+            check_nested(grid, e)?;
             let nodes = grid.element_nodes(e);
             let size = grid.element_size_um(e);
             let volume = size.iter().product::<f64>();

@@ -349,6 +349,27 @@ fn merges_follow_the_node_map_or_are_refused() {
     }
 }
 
+/// Bricks offset by a cell share nodes without hanging and their traces differ: refused when
+/// the dofs are numbered, naming both.
+#[test]
+fn offset_bricks_are_refused() {
+    let l = uniform_lines(0.0, 400.0, 4);
+    let mut g = HexGrid::new(&l, &l, &[0.0, 100.0]).unwrap();
+    g.merge([0, 0, 0], [2, 2, 1]).unwrap();
+    g.merge([2, 1, 0], [4, 3, 1]).unwrap();
+    let mut p = SolidProblem::new(g, vec![Elasticity::isotropic(169e9, 0.3)]);
+    p.constraints.push(Constraint::clamp(
+        "root",
+        NodeSet::Plane {
+            axis: Axis3::X,
+            at_um: 0.0,
+        },
+    ));
+    p.load_cases.push(vec![]);
+    let err = p.solve().unwrap_err();
+    assert!(err.to_string().contains("share part of a face"), "{err}");
+}
+
 /// The elimination order never cuts through a merged brick: every plane it separates on is one
 /// no brick spans, and it still numbers every node once.
 #[test]
