@@ -49,8 +49,19 @@ pub(super) fn prescribe_linear_on_faces(
     u0_m: [f64; 3],
     gradient: [[f64; 3]; 3],
 ) {
-    for axis in [Axis3::X, Axis3::Y, Axis3::Z] {
-        for at in [lo, hi] {
+    prescribe_linear_on_box(p, [lo; 3], [hi; 3], u0_m, gradient);
+}
+
+/// Holds every node of the six faces of the box [lo, hi] um to the linear field u = u0 + G x.
+pub(super) fn prescribe_linear_on_box(
+    p: &mut SolidProblem,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    u0_m: [f64; 3],
+    gradient: [[f64; 3]; 3],
+) {
+    for (d, axis) in [Axis3::X, Axis3::Y, Axis3::Z].into_iter().enumerate() {
+        for at in [lo[d], hi[d]] {
             p.constraints.push(Constraint {
                 group: "boundary".into(),
                 nodes: plane(axis, at),

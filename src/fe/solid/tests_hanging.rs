@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::dofs::active_nodes;
 use super::hanging::Hanging;
-use super::tests::{linear_field_m, voigt_strain};
+use super::tests::{linear_field_m, prescribe_linear_on_box, voigt_strain};
 use crate::fe::error::FeError;
 use crate::fe::solid::*;
 
@@ -88,16 +88,7 @@ fn patch_test_holds_across_hanging_nodes() {
         ];
         let u0_m = [1e-7, -2e-7, 3e-7];
         // Every face of the 2000 x 2000 x 1000 block held to the field.
-        for (axis, hi) in [(Axis3::X, 2000.0), (Axis3::Y, 2000.0), (Axis3::Z, 1000.0)] {
-            for at_um in [0.0, hi] {
-                p.constraints.push(Constraint {
-                    group: "boundary".into(),
-                    nodes: NodeSet::Plane { axis, at_um },
-                    fixed: [true; 3],
-                    value: Prescribed::Linear { u0_m, gradient },
-                });
-            }
-        }
+        prescribe_linear_on_box(&mut p, [0.0; 3], [2000.0, 2000.0, 1000.0], u0_m, gradient);
         p.load_cases.push(vec![]);
         let s = &p.solve().unwrap()[0];
         let exact = linear_field_m(u0_m, gradient);
