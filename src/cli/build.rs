@@ -27,6 +27,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             ),
             graded: args.graded,
             tied_shear: !args.plain_shear,
+            local_refinement: !args.line_grading,
         }),
     };
     let built = {
@@ -111,8 +112,10 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     if let Some(first) = built.solid_check.first() {
         let grading = if first.graded {
             ", graded at the tooth base edges".to_string()
+        } else if first.graded_teeth > 0 && first.local_refinement {
+            ", graded locally at the plate's hottest teeth".to_string()
         } else if first.graded_teeth > 0 {
-            ", graded at the plate's hottest teeth".to_string()
+            ", graded at the plate's hottest teeth (--line-grading)".to_string()
         } else if first.reads_tooth_bases() {
             " (uniform: can miss the worst tooth base; --graded)".to_string()
         } else {

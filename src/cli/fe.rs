@@ -43,9 +43,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
              --verify-solid"
         );
     }
-    if args.local_refinement && !args.verify_solid {
+    if args.line_grading && !args.verify_solid {
         bail!(
-            "--local-refinement applies to the solid rung: give it with --model solid or \
+            "--line-grading applies to the solid rung: give it with --model solid or \
              --verify-solid"
         );
     }
@@ -155,7 +155,7 @@ fn verify_solid(
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
-            local_refinement: args.local_refinement,
+            local_refinement: !args.line_grading,
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(g, &solid, acc.tol_rel);
@@ -441,7 +441,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
-            local_refinement: args.local_refinement,
+            local_refinement: !args.line_grading,
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }

@@ -69,6 +69,9 @@ pub struct SolidCheck {
     pub graded: bool,
     /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
+    /// The hot teeth and the channel walls graded locally, with hanging nodes (the default;
+    /// `--line-grading` grades the teeth by lines across the die).
+    pub local_refinement: bool,
 }
 
 /// Stages, for progress reporting.
@@ -251,7 +254,7 @@ pub fn build(
                         nonlinear: false,
                         graded: check.graded,
                         tied_shear: check.tied_shear,
-                        local_refinement: false,
+                        local_refinement: check.local_refinement,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

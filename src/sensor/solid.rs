@@ -81,8 +81,9 @@ pub struct SolidReport {
     pub graded: bool,
     /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
-    /// The hot teeth's edges graded locally (`--local-refinement`): bisected cells that merge
-    /// back away from the tooth, with hanging nodes between.
+    /// The hot teeth's edges and the channel walls graded locally (the default;
+    /// `--line-grading` grades by lines across the die): bisected cells that merge back away
+    /// from the tooth, with hanging nodes between.
     pub local_refinement: bool,
     /// How many teeth's base edges the levels are graded at: every tooth under `graded`, else
     /// the plate answer's hot teeth ([`crate::sensor::edge_section::hot_teeth`]), where the worst
@@ -516,8 +517,8 @@ pub struct SolidRun {
     /// `fe` does unless `--plain-shear`): the plate's bricks of several thicknesses do not lock
     /// (README, "Tied transverse shear").
     pub tied_shear: bool,
-    /// Grade the hot teeth's base edges locally
-    /// ([`super::solid_mesh::SolidMeshOptions::local_refinement`]).
+    /// Grade the hot teeth's base edges and the channel walls locally, what `fe` does unless
+    /// `--line-grading` ([`super::solid_mesh::SolidMeshOptions::local_refinement`]).
     pub local_refinement: bool,
 }
 

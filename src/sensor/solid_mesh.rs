@@ -173,7 +173,8 @@ pub struct SolidMeshOptions {
     /// bisected toward it down to [`LOCAL_GRADING_CELL`] plate thicknesses (instead of the
     /// [`TOOTH_EDGE_GRADING`] lines), and away from the tooth (beyond [`LOCAL_GRADING_MARGIN`]
     /// plate thicknesses) they merge back into their coarse cell; the finer cells' nodes on its
-    /// faces hang.
+    /// faces hang. The channel walls' cells are bisected toward the walls the same way and stay
+    /// fine along the die.
     pub local_refinement: bool,
 }
 
@@ -564,6 +565,16 @@ pub fn build(
     // tooth they merge back (below, once the map is set).
     let mut bands = Vec::new();
     if opts.local_refinement {
+        // The channel walls meet the plate's underside in a re-entrant edge along the whole
+        // die, whose peak may sit anywhere along it: their cells are bisected toward the wall
+        // line and stay fine along the die (they are the teeth bands' coarse cells).
+        let coarse = ys.clone();
+        for v in [y0, y1].into_iter().filter(|&v| v < y_hi - 1e-6) {
+            for (_, _, new) in bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t) {
+                ys.extend(new);
+            }
+        }
+        ys = merged_lines(ys);
         let margin = LOCAL_GRADING_MARGIN * t;
         for (axis, edges, others, mirror, other_mirror) in [
             (0, &teeth.x, &teeth.y, mirror_x_um, mirror_y_um),

@@ -3,7 +3,9 @@
 
 use tactfab::process::{Limits, Scene, SceneLoad};
 use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidRun};
-use tactfab::sensor::solid_mesh::{build, Base, SolidMeshOptions, BASE, PVDF, SILICON};
+use tactfab::sensor::solid_mesh::{
+    build, Base, SensorSolid, SolidMeshOptions, BASE, PVDF, SILICON,
+};
 
 use super::harness::{run_env, tactfab};
 use super::sensor::geometry;
@@ -311,11 +313,11 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
 
 #[test]
 fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
-    // `--local-refinement`: the cells beside the hot tooth's base edges are bisected toward them
-    // and merge back into the uniform cells away from the tooth (hanging nodes between). Its
-    // space holds the uniform mesh's, so the deflection under the load only rises; it costs
-    // fewer dofs than the same tooth graded by lines across the die; what is meshed is still
-    // what is etched; the supports carry the load.
+    // The default grading: the cells beside the hot tooth's base edges (and the channel walls)
+    // are bisected toward them and merge back into the uniform cells away from the tooth
+    // (hanging nodes between). Its space holds the uniform mesh's, so the deflection under the
+    // load only rises; it costs fewer dofs than the same tooth graded by lines across the die
+    // (`--line-grading`); what is meshed is still what is etched; the supports carry the load.
     let g = geometry(&SHORT);
     let near = tooth_nearest(&g, 6000.0, 7500.0);
     let solve = |local_refinement: bool, teeth: &[usize]| {
@@ -371,6 +373,21 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     };
     let (tensor, merged) = (mesh(false), mesh(true));
     assert!(merged.problem.grid.has_merged() && !tensor.problem.grid.has_merged());
+    // The channel walls (re-entrant along the whole die) are graded too: a cell of at most half
+    // a plate thickness either side of each wall line (the uniform mesh may have one by chance:
+    // row 0's tooth edges run a few um from the wall).
+    let t = g.plate_thickness_um;
+    let beside = |s: &SensorSolid, wall: f64, side: f64| {
+        s.problem.grid.lines_um()[1].iter().any(|&y| {
+            let d = side * (y - wall);
+            d > 1e-6 && d <= 0.5 * t + 1e-6
+        })
+    };
+    for wall in [g.plate_y0_um, g.plate_y1_um] {
+        for side in [-1.0, 1.0] {
+            assert!(beside(&merged, wall, side), "{wall} {side}");
+        }
+    }
     for (a, b) in tensor
         .material_volumes_um3()
         .iter()
@@ -378,13 +395,9 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     {
         assert!(((a - b) / a).abs() < 1e-9, "{a} {b}");
     }
-    // Through the binary: the summary and the JSON say so; without the solid it is a usage
+    // Through the binary: the summary says so; without the solid `--line-grading` is a usage
     // error naming the flag.
-    let out = tactfab(&solid_one_level(&[
-        "--point",
-        "6,7.5,0.02,0.5",
-        "--local-refinement",
-    ]));
+    let out = tactfab(&solid_one_level(&["--point", "6,7.5,0.02,0.5"]));
     out.expect_code(0);
     assert!(
         out.stdout.contains("(locally: hanging nodes)"),
@@ -394,10 +407,10 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     let out = tactfab(&on_short_die(&[
         "fe",
         "process/mis-grasper.yaml",
-        "--local-refinement",
+        "--line-grading",
     ]));
     out.expect_code(2);
-    assert!(out.stderr.contains("--local-refinement"), "{}", out.stderr);
+    assert!(out.stderr.contains("--line-grading"), "{}", out.stderr);
 }
 
 #[test]
@@ -819,8 +832,9 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         run.stdout
     );
     assert!(
-        run.stdout
-            .contains("solid rung: 2 scenes on 1 level, graded at the plate's hottest teeth"),
+        run.stdout.contains(
+            "solid rung: 2 scenes on 1 level, graded locally at the plate's hottest teeth"
+        ),
         "{}",
         run.stdout
     );
@@ -828,6 +842,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["scenes"].as_array().unwrap().len(), 2);
     assert_eq!(v["scenes"][0]["graded"], false);
+    assert_eq!(v["scenes"][0]["local_refinement"], true);
     assert!(v["scenes"][0]["graded_teeth"].as_u64().unwrap() > 0);
     let sf = &v["limits"][0][0];
     assert_eq!(sf["limit"], "min_safety_factor");
