@@ -215,10 +215,10 @@ pub struct FeArgs {
     pub no_symmetry: bool,
     /// Grade the coarsest mesh geometrically towards the load patches and tooth edges (by default
     /// only feature lines: on the bundled design grading cost 2.7x at 1 % and paid only for a
-    /// centre load at 0.5 %). With `--model solid` or `--verify-solid` every solid level also
-    /// gets lines at 0.5 and 2 plate thicknesses either side of every tooth's base edges: about
-    /// 4x the solid's dofs and memory (without it, only the teeth the plate finds hottest get
-    /// them, about 2x the uniform dofs: the worst edge where the plate ranks it, README).
+    /// centre load at 0.5 %). With `--model solid` or `--verify-solid` every solid level is also
+    /// graded at every tooth's base edges, not only at the teeth the plate finds hottest (the
+    /// worst edge where the plate ranks it, README), as `--solid-grading` says (by lines at 0.5
+    /// and 2 plate thicknesses either side: about 4x the solid's dofs and memory).
     #[arg(long)]
     pub graded: bool,
     /// With --model solid or --verify-solid: the plain 27-node bricks (transverse shears from
@@ -228,14 +228,15 @@ pub struct FeArgs {
     /// are about 3x smaller at the same dofs (deflection 1.25 % against 4.2 %; README).
     #[arg(long)]
     pub plain_shear: bool,
-    /// With --model solid or --verify-solid: grade the hot teeth's base edges by lines at 0.5
-    /// and 2 plate thicknesses either side, across the whole die, as the solid rung did before
-    /// 2026-11-30. By default the cells beside those edges (and beside the channel walls) are
-    /// bisected toward them down to half a plate thickness and merge back away from the tooth,
-    /// with hanging nodes between. On the bundled centre load the lines take 19 % more time and
-    /// 17 % more memory for the same estimates (README, "Local refinement").
-    #[arg(long)]
-    pub line_grading: bool,
+    /// With --model solid or --verify-solid: how the solid's levels are graded at the hot teeth.
+    /// `local`: the cells beside their base edges (and beside the channel walls) bisected toward
+    /// them down to half a plate thickness, merged back away from the teeth, hanging nodes
+    /// between; `lines`: lines at 0.5 and 2 plate thicknesses either side of each edge, across
+    /// the whole die (the only grading before 2026-11-30); `auto` (the default): whichever gives
+    /// the finest level the smaller factor, which on the bundled design is local for the centre
+    /// load and lines for the line load (README, "Local refinement").
+    #[arg(long, value_enum, value_name = "GRADING")]
+    pub solid_grading: Option<GradingArg>,
     /// With --model solid or --verify-solid: the solid's mesh levels, 1-5 (1000, 707, 500, 354,
     /// 250 um in plane; three give an error estimate). By default 3 for --model solid, 2 for
     /// --verify-solid, or --max-levels if lower. A fourth brings the bundled centre load's
@@ -310,20 +311,19 @@ pub struct BuildArgs {
     /// `<device>-solid-check.json`.
     #[arg(long)]
     pub verify_solid: bool,
-    /// With --verify-solid: grade every solid level at the tooth base edges (lines at 0.5 and 2
-    /// plate thicknesses either side of each), as `fe --verify-solid --graded` does: about 4x
-    /// the solid's dofs and memory, and its edge stresses and deflection where the uniform
-    /// levels leave them low (README).
+    /// With --verify-solid: grade every solid level at every tooth's base edges, not only the
+    /// hot teeth's, as `fe --verify-solid --graded` does (by lines at 0.5 and 2 plate
+    /// thicknesses either side of each: about 4x the solid's dofs and memory).
     #[arg(long, requires = "verify_solid")]
     pub graded: bool,
     /// With --verify-solid: the plain bricks for the solid, as `fe --plain-shear` (by default
     /// their transverse shears are tied, so the plate's bricks do not lock).
     #[arg(long, requires = "verify_solid")]
     pub plain_shear: bool,
-    /// With --verify-solid: grade the solid's hot teeth by lines across the die, as `fe
-    /// --line-grading` (by default locally, with hanging nodes).
-    #[arg(long, requires = "verify_solid")]
-    pub line_grading: bool,
+    /// With --verify-solid: how the solid's levels are graded at the hot teeth, as `fe
+    /// --solid-grading` (by default `auto`: the grading with the smaller factor).
+    #[arg(long, value_enum, value_name = "GRADING", requires = "verify_solid")]
+    pub solid_grading: Option<GradingArg>,
     /// With --verify-solid: the solid's mesh levels, 1-5 (by default 2, or --max-levels if
     /// lower). Three or more give the solid its own estimate, and the check then fails where the
     /// difference plus that estimate exceeds --tol.
@@ -493,6 +493,26 @@ impl From<ModelArg> for tactfab::sensor::ModelChoice {
             ModelArg::Plate => C::Plate,
             ModelArg::LargeDeflection => C::LargeDeflection,
             ModelArg::Solid => C::Solid,
+        }
+    }
+}
+
+/// `--solid-grading`: how the solid's levels are graded at the hot teeth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum GradingArg {
+    Auto,
+    Local,
+    Lines,
+}
+
+impl GradingArg {
+    /// The library's grading; none given is auto.
+    pub fn or_auto(g: Option<GradingArg>) -> tactfab::sensor::solid::SolidGrading {
+        use tactfab::sensor::solid::SolidGrading as G;
+        match g {
+            None | Some(GradingArg::Auto) => G::Auto,
+            Some(GradingArg::Local) => G::Local,
+            Some(GradingArg::Lines) => G::Lines,
         }
     }
 }

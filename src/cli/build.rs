@@ -2,7 +2,7 @@
 
 use tactfab::report::{build, summary, Options, SolidCheck};
 
-use super::args::BuildArgs;
+use super::args::{BuildArgs, GradingArg};
 use super::output::count;
 use super::{
     check_out, design, origin, solid_levels, write_dir, Outcome, Progress, VERIFY_SOLID_LEVELS,
@@ -27,7 +27,7 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
             ),
             graded: args.graded,
             tied_shear: !args.plain_shear,
-            local_refinement: !args.line_grading,
+            grading: GradingArg::or_auto(args.solid_grading),
         }),
     };
     let built = {
@@ -112,10 +112,15 @@ pub fn run(args: &BuildArgs) -> anyhow::Result<Outcome> {
     if let Some(first) = built.solid_check.first() {
         let grading = if first.graded {
             ", graded at the tooth base edges".to_string()
-        } else if first.graded_teeth > 0 && first.local_refinement {
-            ", graded locally at the plate's hottest teeth".to_string()
         } else if first.graded_teeth > 0 {
-            ", graded at the plate's hottest teeth (--line-grading)".to_string()
+            format!(
+                ", graded at the plate's hottest teeth ({})",
+                if first.local_refinement {
+                    "locally"
+                } else {
+                    "by lines"
+                }
+            )
         } else if first.reads_tooth_bases() {
             " (uniform: can miss the worst tooth base; --graded)".to_string()
         } else {

@@ -11,7 +11,7 @@ use tactfab::sensor::{
     SensorGeometry, MODAL_LEVELS, MODES_REPORTED,
 };
 
-use super::args::FeArgs;
+use super::args::{FeArgs, GradingArg};
 use super::output::{count, f};
 use super::{design, Outcome};
 
@@ -43,9 +43,9 @@ pub fn run(args: &FeArgs) -> anyhow::Result<Outcome> {
              --verify-solid"
         );
     }
-    if args.line_grading && !args.verify_solid {
+    if args.solid_grading.is_some() && !args.verify_solid {
         bail!(
-            "--line-grading applies to the solid rung: give it with --model solid or \
+            "--solid-grading applies to the solid rung: give it with --model solid or \
              --verify-solid"
         );
     }
@@ -155,7 +155,7 @@ fn verify_solid(
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
-            local_refinement: !args.line_grading,
+            grading: GradingArg::or_auto(args.solid_grading),
         };
         let solid = solid_against_plate(g, s, run, acc, Some(r)).context("solid solve failed")?;
         r.take_model_error_from(g, &solid, acc.tol_rel);
@@ -441,7 +441,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             nonlinear: false,
             graded: args.graded,
             tied_shear: !args.plain_shear,
-            local_refinement: !args.line_grading,
+            grading: GradingArg::or_auto(args.solid_grading),
         };
         reports.push(solid_against_plate(g, s, run, acc, None).context("solid solve failed")?);
     }
@@ -710,10 +710,27 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
     } else {
         String::new()
     };
-    let local = if r.local_refinement && r.graded_teeth > 0 {
-        " (locally: hanging nodes)"
+    let how = if r.local_refinement {
+        "locally: hanging nodes"
     } else {
-        ""
+        "by lines across the die"
+    };
+    // Auto's choice with the factor sizes that made it.
+    let local = match r.grading_choice {
+        Some(c) if !grading.is_empty() => {
+            let (mine, other, other_how) = if r.local_refinement {
+                (c.local_factor_entries, c.lines_factor_entries, "by lines")
+            } else {
+                (c.lines_factor_entries, c.local_factor_entries, "locally")
+            };
+            format!(
+                " ({how}; the smaller factor, {:.0} M entries against {:.0} M {other_how})",
+                mine as f64 * 1e-6,
+                other as f64 * 1e-6
+            )
+        }
+        _ if r.local_refinement && !grading.is_empty() => format!(" ({how})"),
+        _ => String::new(),
     };
     format!("{shear}{grading}{local}")
 }

@@ -69,9 +69,8 @@ pub struct SolidCheck {
     pub graded: bool,
     /// The bricks' transverse shears tied (the default; `--plain-shear` unties them).
     pub tied_shear: bool,
-    /// The hot teeth and the channel walls graded locally, with hanging nodes (the default;
-    /// `--line-grading` grades the teeth by lines across the die).
-    pub local_refinement: bool,
+    /// How the solid's levels are graded at the hot teeth (`--solid-grading`).
+    pub grading: crate::sensor::solid::SolidGrading,
 }
 
 /// Stages, for progress reporting.
@@ -254,7 +253,7 @@ pub fn build(
                         nonlinear: false,
                         graded: check.graded,
                         tied_shear: check.tied_shear,
-                        local_refinement: check.local_refinement,
+                        grading: check.grading,
                     };
                     let solid = crate::sensor::solid::solid_against_plate(&g, s, run, o, Some(r))?;
                     // The plate answer's model error is the solid's measurement of it.

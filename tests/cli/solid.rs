@@ -2,7 +2,7 @@
 //! mirror symmetry, linearity, and `fe --model solid` through the binary.
 
 use tactfab::process::{Limits, Scene, SceneLoad};
-use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidRun};
+use tactfab::sensor::solid::{evaluate_solid, top_loads, SolidGrading, SolidRun};
 use tactfab::sensor::solid_mesh::{
     build, Base, SensorSolid, SolidMeshOptions, BASE, PVDF, SILICON,
 };
@@ -85,7 +85,7 @@ fn run(levels: usize, symmetry: bool) -> SolidRun {
         nonlinear: false,
         graded: false,
         tied_shear: true,
-        local_refinement: false,
+        grading: SolidGrading::Lines,
     }
 }
 
@@ -313,19 +313,20 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
 
 #[test]
 fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
-    // The default grading: the cells beside the hot tooth's base edges (and the channel walls)
-    // are bisected toward them and merge back into the uniform cells away from the tooth
-    // (hanging nodes between). Its space holds the uniform mesh's, so the deflection under the
-    // load only rises; it costs fewer dofs than the same tooth graded by lines across the die
-    // (`--line-grading`); what is meshed is still what is etched; the supports carry the load.
+    // Local grading: the cells beside the hot tooth's base edges (and the channel walls) are
+    // bisected toward them and merge back into the uniform cells away from the tooth (hanging
+    // nodes between). Its space holds the uniform mesh's, so the deflection under the load only
+    // rises; it costs fewer dofs than the same tooth graded by lines across the die; what is
+    // meshed is still what is etched; the supports carry the load. Auto (the default) solves
+    // the one whose factor is smaller, exactly as that grading asked for by name.
     let g = geometry(&SHORT);
     let near = tooth_nearest(&g, 6000.0, 7500.0);
-    let solve = |local_refinement: bool, teeth: &[usize]| {
+    let solve = |grading: SolidGrading, teeth: &[usize]| {
         evaluate_solid(
             &g,
             &point(6000.0, 7500.0, 0.02),
             SolidRun {
-                local_refinement,
+                grading,
                 ..run(1, true)
             },
             &[],
@@ -333,12 +334,24 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
         )
         .unwrap()
     };
-    let (uniform, lines, local) = (
-        solve(false, &[]),
-        solve(false, &[near]),
-        solve(true, &[near]),
+    let (uniform, lines, local, auto) = (
+        solve(SolidGrading::Lines, &[]),
+        solve(SolidGrading::Lines, &[near]),
+        solve(SolidGrading::Local, &[near]),
+        solve(SolidGrading::Auto, &[near]),
     );
     assert!(local.local_refinement && !lines.local_refinement);
+    assert!(local.grading_choice.is_none() && lines.grading_choice.is_none());
+    let choice = auto.grading_choice.expect("auto reports its choice");
+    assert_eq!(choice.local_factor_entries, local.levels[0].factor_entries);
+    assert_eq!(choice.lines_factor_entries, lines.levels[0].factor_entries);
+    let chosen = if choice.local_factor_entries < choice.lines_factor_entries {
+        &local
+    } else {
+        &lines
+    };
+    assert_eq!(auto.local_refinement, chosen.local_refinement);
+    assert_eq!(auto.levels[0].readout, chosen.levels[0].readout);
     let (u, l, o) = (&uniform.levels[0], &lines.levels[0], &local.levels[0]);
     assert!(
         u.dofs < o.dofs && o.dofs < l.dofs,
@@ -395,9 +408,14 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     {
         assert!(((a - b) / a).abs() < 1e-9, "{a} {b}");
     }
-    // Through the binary: the summary says so; without the solid `--line-grading` is a usage
+    // Through the binary: the summary says so; without the solid `--solid-grading` is a usage
     // error naming the flag.
-    let out = tactfab(&solid_one_level(&["--point", "6,7.5,0.02,0.5"]));
+    let out = tactfab(&solid_one_level(&[
+        "--point",
+        "6,7.5,0.02,0.5",
+        "--solid-grading",
+        "local",
+    ]));
     out.expect_code(0);
     assert!(
         out.stdout.contains("(locally: hanging nodes)"),
@@ -407,10 +425,11 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     let out = tactfab(&on_short_die(&[
         "fe",
         "process/mis-grasper.yaml",
-        "--line-grading",
+        "--solid-grading",
+        "lines",
     ]));
     out.expect_code(2);
-    assert!(out.stderr.contains("--line-grading"), "{}", out.stderr);
+    assert!(out.stderr.contains("--solid-grading"), "{}", out.stderr);
 }
 
 #[test]
@@ -832,9 +851,8 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
         run.stdout
     );
     assert!(
-        run.stdout.contains(
-            "solid rung: 2 scenes on 1 level, graded locally at the plate's hottest teeth"
-        ),
+        run.stdout
+            .contains("solid rung: 2 scenes on 1 level, graded at the plate's hottest teeth ("),
         "{}",
         run.stdout
     );
@@ -842,7 +860,7 @@ fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["scenes"].as_array().unwrap().len(), 2);
     assert_eq!(v["scenes"][0]["graded"], false);
-    assert_eq!(v["scenes"][0]["local_refinement"], true);
+    assert!(v["scenes"][0]["grading_choice"]["local_factor_entries"].is_u64());
     assert!(v["scenes"][0]["graded_teeth"].as_u64().unwrap() > 0);
     let sf = &v["limits"][0][0];
     assert_eq!(sf["limit"], "min_safety_factor");

@@ -36,7 +36,7 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         nonlinear: false,
         graded: false,
         tied_shear: true,
-        local_refinement: false,
+        grading: tactfab::sensor::solid::SolidGrading::Lines,
     };
     let rung = evaluate_solid(&g, &scene, run, &[], &[]).unwrap();
     let r = &rung.levels[0].readout;
