@@ -7,7 +7,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::fe::solid::{SolidModel, TlOptions, TlSolid, TransverseShear};
-use crate::fe::ThreeMesh;
+use crate::fe::{FeError, ThreeMesh};
 use crate::process::{Scene, SceneLoad};
 
 use super::check::{check_scene, SensorError};
@@ -630,10 +630,17 @@ pub fn evaluate_solid(
             .map_err(SensorError::Fe)?
             .factor_len())
     };
+    // Too large to solve here: auto then takes the other grading. Any other error is the run's.
+    let too_large = |e: &SensorError| {
+        matches!(
+            e,
+            SensorError::Fe(FeError::TooLarge { .. } | FeError::OutOfMemory { .. })
+        )
+    };
     let (local_refinement, grading_choice) = match run.grading {
         SolidGrading::Local => (true, None),
         SolidGrading::Lines => (false, None),
-        // The smaller factor; one that cannot be analysed (too large) leaves the other.
+        // The smaller factor.
         SolidGrading::Auto => match (factor_size(true), factor_size(false)) {
             (Ok(local), Ok(lines)) => (
                 local < lines,
@@ -642,9 +649,9 @@ pub fn evaluate_solid(
                     lines_factor_entries: lines,
                 }),
             ),
-            (Ok(_), Err(_)) => (true, None),
-            (Err(_), Ok(_)) => (false, None),
-            (Err(e), Err(_)) => return Err(e),
+            (Ok(_), Err(e)) if too_large(&e) => (true, None),
+            (Err(e), Ok(_)) if too_large(&e) => (false, None),
+            (Err(e), _) | (_, Err(e)) => return Err(e),
         },
     };
     // Every mesh of the run, the thickness check's too, graded alike.
