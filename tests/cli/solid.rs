@@ -755,7 +755,7 @@ fn fe_model_solid_through_the_binary() {
     // The levels are graded where the plate finds the worst tooth base, and say so; the
     // caveat of uniform levels is left out.
     assert!(
-        text.stdout.contains("teeth the plate finds hottest)")
+        text.stdout.contains("teeth the plate finds hottest (")
             && !text.stdout.contains("can miss the worst tooth base"),
         "{}",
         text.stdout
@@ -1126,13 +1126,14 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
 
 /// A factor larger than the memory allowed is refused after the symbolic analysis, before it is
 /// allocated (exit 2, what it needs against what there is), not left to the OOM killer; with
-/// several levels the largest mesh is asked first; a malformed limit is bad input whatever the
-/// subcommand.
+/// several levels the largest mesh is asked first; where only one grading's factor fits, auto
+/// solves that one; a malformed limit is bad input whatever the subcommand.
 #[test]
 fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     // The factor (MB) a run of `levels` solid levels under a 300 MB limit refuses.
-    let refused = |levels: &str| -> u64 {
-        let args = solid_levels(levels, &["--scene", "centre-1n"]);
+    let refused = |levels: &str, rest: &[&str]| -> u64 {
+        let mut args = solid_levels(levels, &["--scene", "centre-1n"]);
+        args.extend_from_slice(rest);
         let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
         assert_eq!(code, 2, "{stdout}\n{stderr}");
         assert!(stdout.is_empty(), "{stdout}");
@@ -1151,8 +1152,23 @@ fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     };
     // One level: level 0's own factor. Three: a larger one (the finest level's or the thickness
     // check's), so it was asked before level 0, whose factor would have been refused first.
-    let (level0, three) = (refused("1"), refused("3"));
+    let (level0, three) = (refused("1", &[]), refused("3", &[]));
     assert!(level0 > 300 && three > level0, "{level0} {three}");
+    // Auto's fallback: under a limit between the two gradings' needs, the one that fits is
+    // solved (with no choice to report), not the run refused.
+    let (local, lines) = (
+        refused("1", &["--solid-grading", "local"]),
+        refused("1", &["--solid-grading", "lines"]),
+    );
+    assert!(local.abs_diff(lines) >= 4, "{local} {lines}");
+    let between = ((local + lines) / 2).to_string();
+    let args = solid_levels("1", &["--scene", "centre-1n", "--json"]);
+    let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", &between)]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let solid = &v["scenes"][0];
+    assert_eq!(solid["local_refinement"], local < lines, "{solid}");
+    assert!(solid.get("grading_choice").is_none(), "{solid}");
     for bad in ["abc", "0", "-5", "inf"] {
         let (code, _, stderr) = run_env(
             &["etch", "process/mis-grasper.yaml"],
