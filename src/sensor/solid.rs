@@ -622,14 +622,16 @@ pub fn evaluate_solid(
         local_refinement,
         ..SolidMeshOptions::level(COARSE_ELEMENT_UM, level)
     };
-    // The finest level's factor size under either grading (a symbolic analysis, which also
-    // refuses a mesh that cannot fit in memory).
-    let factor_size = |local: bool| -> Result<usize, SensorError> {
-        let solid = scene_model.build(g, base, graded_mesh(levels - 1, local), graded_teeth)?;
+    // A mesh built and analysed, not solved: its factor's size, or the refusal of a mesh that
+    // cannot fit in memory (`fe::memory`).
+    let analyse = |opts: SolidMeshOptions| -> Result<usize, SensorError> {
+        let solid = scene_model.build(g, base, opts, graded_teeth)?;
         Ok(TlSolid::new(&solid.problem, TlOptions::default())
             .map_err(SensorError::Fe)?
             .factor_len())
     };
+    // The finest level's factor size under either grading.
+    let factor_size = |local: bool| analyse(graded_mesh(levels - 1, local));
     // Too large to solve here: auto then takes the other grading. Any other error is the run's.
     let too_large = |e: &SensorError| {
         matches!(
@@ -671,8 +673,7 @@ pub fn evaluate_solid(
         let finest = (grading_choice.is_none()).then(|| mesh(levels - 1));
         let largest = finest.into_iter().chain((levels >= 3).then(doubled));
         for opts in largest {
-            let solid = scene_model.build(g, base, opts, graded_teeth)?;
-            TlSolid::new(&solid.problem, TlOptions::default()).map_err(SensorError::Fe)?;
+            analyse(opts)?;
         }
     }
     // The nonlinear solve of each level starts from the coarser level's field.
