@@ -467,9 +467,19 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             if r.nonlinear {
                 let its: usize = r.levels.iter().filter_map(|l| l.newton_iterations).sum();
                 let fac: usize = r.levels.iter().filter_map(|l| l.factorisations).sum();
+                let single: usize = r
+                    .levels
+                    .iter()
+                    .filter_map(|l| l.single_precision_factorisations)
+                    .sum();
+                let precision = match single {
+                    0 => String::new(),
+                    s if s == fac => " in single precision, preconditioning CG".to_string(),
+                    s => format!(", {s} in single precision"),
+                };
                 format!(
                     "geometrically nonlinear: Total Lagrangian, St. Venant-Kirchhoff, dead load; \
-                     {}, {}",
+                     {}, {}{precision}",
                     count(its, "Newton iteration"),
                     count(fac, "factorisation")
                 )
@@ -480,7 +490,15 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             r.base,
             count(r.levels.len(), "level"),
             last.dofs,
-            last.factor_entries as f64 * 8e-6,
+            // Single precision takes 4 bytes an entry.
+            last.factor_entries as f64
+                * if last.single_precision_factorisations.unwrap_or(0) > 0
+                    && last.single_precision_factorisations == last.factorisations
+                {
+                    4e-6
+                } else {
+                    8e-6
+                },
             f(last.element_um, 0),
             grading_text(r),
             secs

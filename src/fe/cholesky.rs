@@ -27,11 +27,18 @@ pub struct SymbolicFactor(Arc<SymbolicCholesky<usize>>);
 /// on the solid's dense separators. \[choice\]
 pub const THREADED_FACTOR_ENTRIES: usize = 20_000_000;
 
+/// The factor's entries: double precision, or single where the factor only preconditions.
+#[derive(Debug, Clone)]
+enum Values {
+    F64(Vec<f64>),
+    F32(Vec<f32>),
+}
+
 /// Numeric factor L L^T of a matrix with the analysed pattern.
 #[derive(Debug, Clone)]
 pub struct CholeskyFactor {
     symbolic: SymbolicFactor,
-    values: Vec<f64>,
+    values: Values,
     /// The factor's entry in [`crate::fe::memory::LEDGER`] while it lives (large factors).
     _held: Option<Held<'static>>,
 }
@@ -98,6 +105,12 @@ impl SymbolicFactor {
             .factorize_numeric_llt_scratch::<f64>(self.parallelism(), Default::default())
     }
 
+    /// faer's scratch for one single-precision factorisation.
+    fn scratch_f32(&self) -> StackReq {
+        self.0
+            .factorize_numeric_llt_scratch::<f32>(self.parallelism(), Default::default())
+    }
+
     /// Bytes a numeric factorisation allocates: the factor's values and faer's scratch.
     pub fn numeric_bytes(&self) -> u64 {
         self.bytes_with(self.scratch())
@@ -133,14 +146,53 @@ impl SymbolicFactor {
     /// Numeric factorisation of `mat` (same pattern, lower triangle). A matrix that is not positive
     /// definite is a returned error naming the likely cause, never NaN.
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
-        let par = self.parallelism();
         let scratch = self.scratch();
         let reservation = crate::fe::memory::reserve(
             &self.describe(),
             self.bytes_with(scratch),
             self.values_bytes(),
         )?;
-        let mut values = vec![0.0; self.0.len_val()];
+        let values = self.numeric(mat, scratch, "")?;
+        Ok(CholeskyFactor {
+            symbolic: self.clone(),
+            values: Values::F64(values),
+            _held: reservation.map(|r| r.finished()),
+        })
+    }
+
+    /// Numeric factorisation of `mat` in single precision: half the memory and about half the
+    /// time of [`Self::factor`], for a factor that only preconditions (its solves are then
+    /// accurate to ~1e-7 times the condition number's square root, not to round-off).
+    pub fn factor_single(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
+        let scratch = self.scratch_f32();
+        let kept = (self.0.len_val() as u64).saturating_mul(4);
+        let reservation = crate::fe::memory::reserve(
+            &self.describe(),
+            kept.saturating_add(scratch.size_bytes() as u64)
+                .saturating_add((mat.compute_nnz() as u64).saturating_mul(4)),
+            kept,
+        )?;
+        let single: Vec<f32> = mat.val().iter().map(|&v| v as f32).collect();
+        let values = self.numeric(
+            SparseColMatRef::new(mat.symbolic(), &single),
+            scratch,
+            " (single precision)",
+        )?;
+        Ok(CholeskyFactor {
+            symbolic: self.clone(),
+            values: Values::F32(values),
+            _held: reservation.map(|r| r.finished()),
+        })
+    }
+
+    /// faer's numeric factorisation in `T`'s precision; `what` ends the error's detail.
+    fn numeric<T: faer::traits::ComplexField>(
+        &self,
+        mat: SparseColMatRef<'_, usize, T>,
+        scratch: StackReq,
+        what: &str,
+    ) -> FeResult<Vec<T>> {
+        let mut values = vec![T::zero_impl(); self.0.len_val()];
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| FeError::Sparse {
             detail: "scratch allocation failed".into(),
             hint: "out of memory: use a coarser mesh",
@@ -151,35 +203,143 @@ impl SymbolicFactor {
                 mat,
                 Side::Lower,
                 LltRegularization::default(),
-                par,
+                self.parallelism(),
                 MemStack::new(&mut mem),
                 Default::default(),
             )
             .map_err(|e| FeError::NotPositiveDefinite {
-                detail: format!("{e:?}"),
+                detail: format!("{e:?}{what}"),
                 hint: "the plate is not fully constrained or has zero stiffness somewhere: check \
                        that supports exist and thicknesses are positive",
             })?;
-        drop(mem);
-        Ok(CholeskyFactor {
-            symbolic: self.clone(),
-            values,
-            _held: reservation.map(|r| r.finished()),
-        })
+        Ok(values)
     }
 }
 
 impl CholeskyFactor {
     /// Solves A X = B in place for every column of `rhs`.
-    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+    pub fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
         let par = self.symbolic.parallelism();
         let s = &self.symbolic.0;
-        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(rhs.ncols(), par));
-        LltRef::new(s, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            par,
-            MemStack::new(&mut mem),
+        match &self.values {
+            Values::F64(values) => {
+                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(rhs.ncols(), par));
+                LltRef::new(s, values).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    par,
+                    MemStack::new(&mut mem),
+                );
+            }
+            Values::F32(values) => {
+                let mut single =
+                    faer::Mat::<f32>::from_fn(rhs.nrows(), rhs.ncols(), |i, j| rhs[(i, j)] as f32);
+                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f32>(rhs.ncols(), par));
+                LltRef::new(s, values).solve_in_place_with_conj(
+                    Conj::No,
+                    single.as_mut(),
+                    par,
+                    MemStack::new(&mut mem),
+                );
+                for j in 0..rhs.ncols() {
+                    for i in 0..rhs.nrows() {
+                        rhs[(i, j)] = f64::from(single[(i, j)]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether solves with this factor are exact to double-precision round-off (not a
+    /// single-precision preconditioner).
+    pub fn is_exact(&self) -> bool {
+        matches!(self.values, Values::F64(_))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use faer::sparse::{SparseColMat, Triplet};
+    use faer::Mat;
+
+    use super::*;
+    use crate::fe::error::FeError;
+
+    /// The lower triangle of a shifted 5-point Laplacian on an n x n grid (SPD).
+    fn laplacian(n: usize) -> SparseColMat<usize, f64> {
+        let mut t = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let k = j * n + i;
+                t.push(Triplet::new(k, k, 4.01));
+                if i + 1 < n {
+                    t.push(Triplet::new(k + 1, k, -1.0));
+                }
+                if j + 1 < n {
+                    t.push(Triplet::new(k + n, k, -1.0));
+                }
+            }
+        }
+        SparseColMat::try_new_from_triplets(n * n, n * n, &t).unwrap()
+    }
+
+    /// max |A x - b| / max |b| for the symmetric A stored as its lower triangle.
+    fn residual(a: &SparseColMat<usize, f64>, x: &Mat<f64>, b: &[f64]) -> f64 {
+        let mut ax = vec![0.0; b.len()];
+        let (cp, ri, v) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+        for j in 0..b.len() {
+            for k in cp[j]..cp[j + 1] {
+                let i = ri[k];
+                ax[i] += v[k] * x[(j, 0)];
+                if i != j {
+                    ax[j] += v[k] * x[(i, 0)];
+                }
+            }
+        }
+        let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        ax.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+            / scale
+    }
+
+    #[test]
+    fn a_single_precision_factor_solves_to_single_precision() {
+        let a = laplacian(30);
+        let n = a.nrows();
+        let order: Vec<usize> = (0..n).rev().collect();
+        let s = SymbolicFactor::new(a.symbolic(), &order).unwrap();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let solve = |f: &CholeskyFactor| {
+            let mut x = Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
+            f.solve_in_place(x.as_mut());
+            residual(&a, &x, &b)
+        };
+        let double = s.factor(a.as_ref()).unwrap();
+        let single = s.factor_single(a.as_ref()).unwrap();
+        assert!(double.is_exact() && !single.is_exact());
+        let (rd, rs) = (solve(&double), solve(&single));
+        assert!(rd < 1e-13, "{rd:e}");
+        // Single precision (2^-24 = 6e-8) times the condition number's growth, not round-off.
+        assert!(rs > 1e-9 && rs < 1e-5, "{rs:e}");
+    }
+
+    #[test]
+    fn a_matrix_definite_only_in_double_precision_is_refused_in_single() {
+        // 1 - a^2 = 2e-9 in double; a rounds to 1 in single, so the second pivot is 0.
+        let a = 1.0 - 1e-9;
+        let t = [
+            Triplet::new(0, 0, 1.0),
+            Triplet::new(1, 0, a),
+            Triplet::new(1, 1, 1.0),
+        ];
+        let m = SparseColMat::<usize, f64>::try_new_from_triplets(2, 2, &t).unwrap();
+        let s = SymbolicFactor::new(m.symbolic(), &[0, 1]).unwrap();
+        assert!(s.factor(m.as_ref()).is_ok());
+        let e = s.factor_single(m.as_ref()).unwrap_err();
+        assert!(
+            matches!(&e, FeError::NotPositiveDefinite { detail, .. } if detail.contains("single")),
+            "{e}"
         );
     }
 }

@@ -110,6 +110,9 @@ pub struct NewtonStats {
     /// Numeric factorisations on the shared analysis (one per iteration except where modified
     /// Newton reused one).
     pub factorisations: usize,
+    /// Of those, the ones in single precision, which only precondition conjugate gradients
+    /// (the solid's large meshes; the plate's are all double).
+    pub single_precision: usize,
 }
 
 /// Per element size and thickness: the shape-function derivatives at the 4x4 Gauss points and

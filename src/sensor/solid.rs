@@ -41,6 +41,9 @@ pub struct SolidLevel {
     /// where the corrections are conjugate gradients on the last factor
     /// ([`crate::fe::solid::TlOptions::krylov_iterations`]); None for the linear one.
     pub factorisations: Option<usize>,
+    /// Of those, the ones in single precision (preconditioners of conjugate gradients, half
+    /// the memory); None for the linear solve.
+    pub single_precision_factorisations: Option<usize>,
     /// Entries of the Cholesky factor (f64), a measure of the memory it takes.
     pub factor_entries: usize,
     #[serde(skip)]
@@ -606,6 +609,7 @@ pub fn evaluate_solid(
                 dofs,
                 newton_iterations: newton.map(|n| n.iterations),
                 factorisations: newton.map(|n| n.factorisations),
+                single_precision_factorisations: newton.map(|n| n.single_precision),
                 factor_entries,
                 seconds: start.elapsed().as_secs_f64(),
                 readout,

@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use faer::sparse::SparseColMat;
+use faer::sparse::{SparseColMat, SparseColMatRef};
 use faer::Mat;
 use rayon::prelude::*;
 
@@ -44,6 +44,13 @@ const ROUND_OFF_DISPLACEMENT: f64 = 1e-12;
 /// Newton iteration then reduces the residual at least this much, so from a coarser level's
 /// field the 1e-10 tolerance takes about as many iterations as exact corrections do.
 const KRYLOV_TOL: f64 = 1e-5;
+
+/// A correction under this fraction of the step's first (in energy, so ~1e-3 in displacement)
+/// leaves the tangent practically as it was \[choice\]: the next correction is solved on the
+/// same tangent (no new assembly; on the sensor's 280k-dof level a tangent takes 3-4 s, a
+/// residual 0.8 s). Its error is then of the order of the two corrections' product, far under
+/// the tolerances.
+const POLISH_RATIO: f64 = 1e-6;
 
 /// Conjugate-gradient iterations a correction may take, at most.
 const KRYLOV_MAX: usize = 40;
@@ -169,6 +176,9 @@ struct Work {
     /// An error that ends the solve rather than the step: a factor refused for memory (a
     /// smaller step needs the same factor).
     fatal: Option<FeError>,
+    /// A single-precision preconditioner failed (not positive definite in single precision,
+    /// or CG did not converge on it): factorise in double for the rest of the solve.
+    double_only: bool,
 }
 
 impl Work {
@@ -509,7 +519,7 @@ impl TlSolid {
     pub fn solve_from(
         &self,
         loads: &[SolidLoad],
-        guess: impl Fn([f64; 3]) -> Option<[f64; 3]>,
+        guess: impl Fn([f64; 3]) -> Option<[f64; 3]> + Sync,
     ) -> FeResult<TlSolution> {
         let c = &self.ctx;
         if c.dofs.constrained.iter().any(|&(_, v, _)| v != 0.0) {
@@ -517,20 +527,20 @@ impl TlSolid {
         }
         let f = load_vector(&c.grid, &c.pos_um, &c.dofs, loads, 0)?;
         let mut u = vec![0.0; f.len()];
-        // One guess per node (its free dofs are consecutive).
-        let mut last: Option<(usize, Option<[f64; 3]>)> = None;
-        for &d in &c.dofs.free_dofs {
-            let node = d / 3;
-            let g = match last {
-                Some((n, g)) if n == node => g,
-                _ => {
-                    let g = guess(c.pos_um[node]).filter(|g| g.iter().all(|v| v.is_finite()));
-                    last = Some((node, g));
-                    g
-                }
-            };
+        // One guess per node (its free dofs are consecutive), the nodes in parallel.
+        let mut nodes: Vec<usize> = c.dofs.free_dofs.iter().map(|&d| d / 3).collect();
+        nodes.dedup();
+        let guesses: Vec<Option<[f64; 3]>> = nodes
+            .par_iter()
+            .map(|&n| guess(c.pos_um[n]).filter(|g| g.iter().all(|v| v.is_finite())))
+            .collect();
+        for (&n, g) in nodes.iter().zip(&guesses) {
             if let Some(g) = g {
-                u[d] = g[d % 3];
+                for d in 0..3 {
+                    if c.dofs.free_index[3 * n + d] < c.dofs.n_free() {
+                        u[3 * n + d] = g[d];
+                    }
+                }
             }
         }
         let mut work = self.work();
@@ -545,6 +555,7 @@ impl TlSolid {
                 let mut fresh = self.stepped(loads, work)?;
                 fresh.stats.iterations += tried.iterations;
                 fresh.stats.factorisations += tried.factorisations;
+                fresh.stats.single_precision += tried.single_precision;
                 Ok(fresh)
             }
         }
@@ -575,6 +586,7 @@ impl TlSolid {
             limit: self.opts.max_factorisations.max(floor),
             cg_step: (ENTRIES_PER_DOF_PER_STEP * n.max(1)) as f64 / len.max(1) as f64,
             fatal: None,
+            double_only: false,
         }
     }
 
@@ -751,6 +763,10 @@ impl TlSolid {
         let mut scale = inf(&load).max(inf(&r)).max(magnitude);
         let mut first_energy: Option<f64> = None;
         let mut last_energy = f64::INFINITY;
+        // The tangent the last correction was solved with, and the relative tolerance of a
+        // correction solved on it again (the field has moved too little to change it).
+        let mut last_tangent: Option<Vec<f64>> = None;
+        let mut polish: Option<f64> = None;
         for it in 1..=self.opts.max_iterations {
             if work.spent() {
                 return Err("the work budget is spent".into());
@@ -759,11 +775,14 @@ impl TlSolid {
             if !r_inf.is_finite() {
                 return Err("non-finite residual".into());
             }
-            let values = match vals.take() {
-                Some(v) => v,
-                None => self.internal(u, true, None)?.tangent.unwrap_or_default(),
+            let kept = last_tangent.take().filter(|_| polish.is_some());
+            let values = match (kept, vals.take()) {
+                (Some(v), _) | (None, Some(v)) => v,
+                (None, None) => self.internal(u, true, None)?.tangent.unwrap_or_default(),
             };
-            let correction = self.correction(values, &r, lagged, it, work)?;
+            let tol = polish.take().unwrap_or(KRYLOV_TOL);
+            let correction = self.correction(&values, &r, lagged, it, work, tol)?;
+            last_tangent = Some(values);
             work.stats.iterations += 1;
             let mut energy = 0.0;
             for (i, &d) in dofs.free_dofs.iter().enumerate() {
@@ -797,13 +816,15 @@ impl TlSolid {
             r = residual(&now.force);
             scale = scale.max(now.magnitude);
             let r_inf = inf(&r);
-            let small = r_inf <= self.opts.residual_tol * scale;
-            if du_inf <= ROUND_OFF_DISPLACEMENT * u_inf
-                || (small
-                    && (ratio <= self.opts.energy_tol
-                        || stalled
-                        || next_correction_small(lagged.as_ref(), &r, e0, self.opts.energy_tol)))
-            {
+            let target = self.opts.residual_tol * scale;
+            let small = r_inf <= target;
+            // Looked at only once the residual is small or the corrections are (one pair of
+            // triangular solves).
+            let energy_done = (small || ratio <= POLISH_RATIO)
+                && (ratio <= self.opts.energy_tol
+                    || stalled
+                    || next_correction_small(lagged.as_ref(), &r, e0, self.opts.energy_tol));
+            if du_inf <= ROUND_OFF_DISPLACEMENT * u_inf || (small && energy_done) {
                 history.push(NewtonIterate {
                     residual_n: r_inf,
                     energy_j: 0.0,
@@ -811,6 +832,18 @@ impl TlSolid {
                 return Ok(Converged {
                     history,
                     force: now.force,
+                });
+            }
+            // A correction this small leaves the tangent as it was: the next one is solved on
+            // it again, by conjugate gradients, to KRYLOV_TOL, or, where only the residual is
+            // left, to the reduction that brings it under its tolerance (a tenth of it; an
+            // inexact Newton step whose forcing term follows the residual, Eisenstat & Walker,
+            // SIAM J. Sci. Comput. 17 (1996) 16).
+            if ratio <= POLISH_RATIO && self.krylov_budget(r.len()) > 0 && lagged.is_some() {
+                polish = Some(if energy_done {
+                    (0.1 * target / r_inf).clamp(KRYLOV_TOL, 0.1)
+                } else {
+                    KRYLOV_TOL
                 });
             }
         }
@@ -825,29 +858,27 @@ impl TlSolid {
     /// tangent at hand (`lagged`: this step's or an earlier one's), conjugate gradients on the
     /// current tangent preconditioned by it: an inexact Newton step (Dembo, Eisenstat &
     /// Steihaug, SIAM J. Numer. Anal. 19 (1982) 400), whose outer iteration converges to the
-    /// same residual tolerance. A fresh factorisation (replacing `lagged`) when there is none,
-    /// when full Newton is cheaper or asked for ([`TlOptions::krylov_iterations`]), or when CG
-    /// does not reach [`KRYLOV_TOL`] within its budget (the old tangent is too far from the new
-    /// one).
+    /// same residual tolerance; CG stops at `tol` of the residual (2-norm). A fresh
+    /// factorisation (replacing `lagged`) when there is none, when full Newton is cheaper or
+    /// asked for ([`TlOptions::krylov_iterations`]), or when CG does not reach `tol` within its
+    /// budget (the old tangent is too far from the new one). Where CG is the rule, that factor
+    /// is in single precision and CG on it solves this correction too (mixed-precision
+    /// preconditioning: the outer CG in double precision reaches any tolerance, the factor only
+    /// sets its rate); in double, solved directly, where CG is not the rule or single failed.
     fn correction(
         &self,
-        values: Vec<f64>,
+        values: &[f64],
         r: &[f64],
         lagged: &mut Option<CholeskyFactor>,
         it: usize,
         work: &mut Work,
+        tol: f64,
     ) -> Result<Vec<f64>, StepFailure> {
-        let budget = self.opts.krylov_iterations.unwrap_or_else(|| {
-            let steps = self.symbolic.factor_len() / (ENTRIES_PER_DOF_PER_STEP * r.len().max(1));
-            if steps >= KRYLOV_MIN {
-                steps
-            } else {
-                0
-            }
-        });
+        let budget = self.krylov_budget(r.len());
         if budget > 0 {
             if let Some(pre) = lagged.as_ref() {
-                let (du, steps) = self.preconditioned_cg(&values, pre, r, budget.min(KRYLOV_MAX));
+                let (du, steps) =
+                    self.preconditioned_cg(values, pre, r, budget.min(KRYLOV_MAX), tol);
                 work.used += steps as f64 * work.cg_step;
                 if let Some(du) = du {
                     return Ok(du);
@@ -856,32 +887,69 @@ impl TlSolid {
         }
         // Free the old factor before the new one is built (each can take gigabytes).
         *lagged = None;
-        let llt = self
-            .symbolic
-            .factor(SparseColMat::<usize, f64>::new(self.pattern.symbolic.clone(), values).as_ref())
-            .map_err(|e| {
-                work.factor_failed(
-                    e,
-                    format!("tangent not positive definite at iteration {it}"),
-                )
-            })?;
+        let mat = SparseColMatRef::new(self.pattern.symbolic.as_ref(), values);
+        // Where corrections are solved by CG anyway, the factor only preconditions: single
+        // precision, which takes half the memory and less time (README, "Single-precision
+        // preconditioner"); double from the first time that fails.
+        if budget > 0 && !work.double_only {
+            match self.symbolic.factor_single(mat) {
+                Ok(pre) => {
+                    work.factorised();
+                    work.stats.single_precision += 1;
+                    let (du, steps) = self.preconditioned_cg(values, &pre, r, KRYLOV_MAX, tol);
+                    work.used += steps as f64 * work.cg_step;
+                    if let Some(du) = du {
+                        *lagged = Some(pre);
+                        return Ok(du);
+                    }
+                    work.double_only = true;
+                }
+                Err(e @ FeError::OutOfMemory { .. }) => {
+                    return Err(
+                        work.factor_failed(e, format!("tangent not factorised at iteration {it}"))
+                    )
+                }
+                Err(_) => work.double_only = true,
+            }
+        }
+        let llt = self.symbolic.factor(mat).map_err(|e| {
+            work.factor_failed(
+                e,
+                format!("tangent not positive definite at iteration {it}"),
+            )
+        })?;
         work.factorised();
         let du = solve_with(&llt, r);
         *lagged = Some(llt);
         Ok(du)
     }
 
+    /// Conjugate-gradient iterations a correction may take before refactorising: the
+    /// [`TlOptions::krylov_iterations`] asked for, or as many as one factorisation costs (0, full
+    /// Newton, where that is under [`KRYLOV_MIN`]).
+    fn krylov_budget(&self, n: usize) -> usize {
+        self.opts.krylov_iterations.unwrap_or_else(|| {
+            let steps = self.symbolic.factor_len() / (ENTRIES_PER_DOF_PER_STEP * n.max(1));
+            if steps >= KRYLOV_MIN {
+                steps
+            } else {
+                0
+            }
+        })
+    }
+
     /// Preconditioned conjugate gradients (Saad, Iterative Methods for Sparse Linear Systems,
     /// 2nd ed., Alg. 9.1) on the tangent `values` (lower triangle of the pattern) with the
-    /// factor `pre` of an earlier tangent; None when it does not converge in `max_it`
-    /// iterations or the tangent is not positive definite along a search direction; with the
-    /// steps taken (the solve's work).
+    /// factor `pre` of an earlier tangent, to the residual's 2-norm reduced by `tol`; None when
+    /// it does not converge in `max_it` iterations or the tangent is not positive definite
+    /// along a search direction; with the steps taken (the solve's work).
     fn preconditioned_cg(
         &self,
         values: &[f64],
         pre: &CholeskyFactor,
         r: &[f64],
         max_it: usize,
+        tol: f64,
     ) -> (Option<Vec<f64>>, usize) {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let r0 = dot(r, r).sqrt();
@@ -896,7 +964,7 @@ impl TlSolid {
         for k in 0..max_it {
             // A quarter of the budget gone without a quarter of the reduction (in orders of
             // magnitude): the old factor is too stale, refactorising is cheaper.
-            if k == max_it / 4 && k > 0 && dot(&res, &res).sqrt() > KRYLOV_TOL.powf(0.25) * r0 {
+            if k == max_it / 4 && k > 0 && dot(&res, &res).sqrt() > tol.powf(0.25) * r0 {
                 return (None, k);
             }
             let q = self.tangent_times(values, &p);
@@ -909,7 +977,7 @@ impl TlSolid {
                 x[i] += alpha * p[i];
                 res[i] -= alpha * q[i];
             }
-            if dot(&res, &res).sqrt() <= KRYLOV_TOL * r0 {
+            if dot(&res, &res).sqrt() <= tol * r0 {
                 return (x.iter().all(|v| v.is_finite()).then_some(x), k + 1);
             }
             z = solve_with(pre, &res);

@@ -222,7 +222,22 @@ impl SolidSolution {
                         }
                     }
                 }
-                ring.sort_by_key(|&e| (e != home, e));
+                // Home first, then by the distance from the point to the element's node centroid
+                // (mapped): near a sidewall the point lies in a neighbour, and the nearest is
+                // the likeliest (on the sensor 5.4 Newton inversions a point, 15 in index order).
+                let distance = |e: usize| {
+                    let x = grid.element_nodes(e).map(|n| self.ctx.pos_um[n]);
+                    (0..3)
+                        .map(|d| {
+                            let c = x.iter().map(|q| q[d]).sum::<f64>() / x.len() as f64;
+                            (c - p_um[d]).powi(2)
+                        })
+                        .sum::<f64>()
+                };
+                let mut keyed: Vec<(bool, f64, usize)> =
+                    ring.iter().map(|&e| (e != home, distance(e), e)).collect();
+                keyed.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+                let ring: Vec<usize> = keyed.into_iter().map(|k| k.2).collect();
                 for &e in &ring {
                     if let Some(xi) = try_element(e) {
                         return Some((grid.element_ijk(e), xi));
