@@ -160,9 +160,10 @@ impl SymbolicFactor {
         })
     }
 
-    /// Numeric factorisation of `mat` in single precision: half the memory and about half the
-    /// time of [`Self::factor`], for a factor that only preconditions (its solves are then
-    /// accurate to ~1e-7 times the condition number's square root, not to round-off).
+    /// Numeric factorisation of `mat` in single precision, for a factor that only
+    /// preconditions: half the memory of [`Self::factor`] (on the sensor's 291 M-entry level
+    /// 8.2 s against 11-14 s), its solves accurate to single precision (6e-8) times the
+    /// matrix's condition, not to round-off.
     pub fn factor_single(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
         let scratch = self.scratch_f32();
         let kept = (self.0.len_val() as u64).saturating_mul(4);
