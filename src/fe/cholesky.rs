@@ -99,21 +99,15 @@ impl SymbolicFactor {
         }
     }
 
-    /// faer's scratch for one numeric factorisation.
-    fn scratch(&self) -> StackReq {
+    /// faer's scratch for one numeric factorisation in `T`'s precision.
+    fn scratch<T: faer::traits::ComplexField>(&self) -> StackReq {
         self.0
-            .factorize_numeric_llt_scratch::<f64>(self.parallelism(), Default::default())
-    }
-
-    /// faer's scratch for one single-precision factorisation.
-    fn scratch_f32(&self) -> StackReq {
-        self.0
-            .factorize_numeric_llt_scratch::<f32>(self.parallelism(), Default::default())
+            .factorize_numeric_llt_scratch::<T>(self.parallelism(), Default::default())
     }
 
     /// Bytes a numeric factorisation allocates: the factor's values and faer's scratch.
     pub fn numeric_bytes(&self) -> u64 {
-        self.bytes_with(self.scratch())
+        self.bytes_with(self.scratch::<f64>())
     }
 
     fn bytes_with(&self, scratch: StackReq) -> u64 {
@@ -146,7 +140,7 @@ impl SymbolicFactor {
     /// Numeric factorisation of `mat` (same pattern, lower triangle). A matrix that is not positive
     /// definite is a returned error naming the likely cause, never NaN.
     pub fn factor(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
-        let scratch = self.scratch();
+        let scratch = self.scratch::<f64>();
         let reservation = crate::fe::memory::reserve(
             &self.describe(),
             self.bytes_with(scratch),
@@ -165,7 +159,7 @@ impl SymbolicFactor {
     /// 8.2 s against 11-14 s), its solves accurate to single precision (6e-8) times the
     /// matrix's condition, not to round-off.
     pub fn factor_single(&self, mat: SparseColMatRef<'_, usize, f64>) -> FeResult<CholeskyFactor> {
-        let scratch = self.scratch_f32();
+        let scratch = self.scratch::<f32>();
         let kept = (self.0.len_val() as u64).saturating_mul(4);
         let reservation = crate::fe::memory::reserve(
             &self.describe(),
