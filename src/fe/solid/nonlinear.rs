@@ -52,6 +52,24 @@ const KRYLOV_TOL: f64 = 1e-5;
 /// the tolerances.
 const POLISH_RATIO: f64 = 1e-6;
 
+/// Largest relative residual a correction is solved to \[choice\]: Eisenstat & Walker's
+/// safeguard (their eta_max is 0.9; a tenth keeps a lagged-tangent correction a Newton step).
+const FORCING_MAX: f64 = 0.1;
+
+/// The relative residual to which a correction is solved, from the residual's reduction by the
+/// last one (2-norms): Eisenstat & Walker's choice 2, eta = 0.9 (|r_k| / |r_k-1|)^2 (SIAM J.
+/// Sci. Comput. 17 (1996) 16, sec. 2, gamma 0.9 and alpha 2), between [`KRYLOV_TOL`] and
+/// [`FORCING_MAX`]. Far from the solution, where the last step reduced the residual little, the
+/// linear solve need not be accurate (its error stays under the nonlinearity's); near it the
+/// forcing term shrinks with the residual and Newton's fast convergence is kept.
+fn forcing(reduction: f64) -> f64 {
+    if reduction.is_finite() {
+        (0.9 * reduction * reduction).clamp(KRYLOV_TOL, FORCING_MAX)
+    } else {
+        KRYLOV_TOL
+    }
+}
+
 /// Conjugate-gradient iterations a correction may take, at most.
 const KRYLOV_MAX: usize = 40;
 
@@ -763,10 +781,14 @@ impl TlSolid {
         let mut scale = inf(&load).max(inf(&r)).max(magnitude);
         let mut first_energy: Option<f64> = None;
         let mut last_energy = f64::INFINITY;
-        // The tangent the last correction was solved with, and the relative tolerance of a
-        // correction solved on it again (the field has moved too little to change it).
+        // The tangent the last correction was solved with, whether the next correction is
+        // solved on it again (the field has moved too little to change it), and the relative
+        // residual a last correction needs (only the residual test left).
         let mut last_tangent: Option<Vec<f64>> = None;
-        let mut polish: Option<f64> = None;
+        let mut keep_tangent = false;
+        let mut last_forcing: Option<f64> = None;
+        // The residual (2-norm) the last correction was solved for.
+        let mut last_r2: Option<f64> = None;
         for it in 1..=self.opts.max_iterations {
             if work.spent() {
                 return Err("the work budget is spent".into());
@@ -775,12 +797,18 @@ impl TlSolid {
             if !r_inf.is_finite() {
                 return Err("non-finite residual".into());
             }
-            let kept = last_tangent.take().filter(|_| polish.is_some());
+            let kept = last_tangent
+                .take()
+                .filter(|_| std::mem::take(&mut keep_tangent));
             let values = match (kept, vals.take()) {
                 (Some(v), _) | (None, Some(v)) => v,
                 (None, None) => self.internal(u, true, None)?.tangent.unwrap_or_default(),
             };
-            let tol = polish.take().unwrap_or(KRYLOV_TOL);
+            let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let tol = last_forcing
+                .take()
+                .unwrap_or_else(|| last_r2.map_or(KRYLOV_TOL, |prev| forcing(r2 / prev)));
+            last_r2 = Some(r2);
             let correction = self.correction(&values, &r, lagged, it, work, tol)?;
             last_tangent = Some(values);
             work.stats.iterations += 1;
@@ -835,16 +863,13 @@ impl TlSolid {
                 });
             }
             // A correction this small leaves the tangent as it was: the next one is solved on
-            // it again, by conjugate gradients, to KRYLOV_TOL, or, where only the residual is
-            // left, to the reduction that brings it under its tolerance (a tenth of it; an
-            // inexact Newton step whose forcing term follows the residual, Eisenstat & Walker,
-            // SIAM J. Sci. Comput. 17 (1996) 16).
+            // it again, by conjugate gradients, to the forcing term ([`forcing`]), or, where
+            // only the residual is left, to the reduction that brings it under its tolerance (a
+            // tenth of it: Eisenstat & Walker's safeguard against oversolving).
             if ratio <= POLISH_RATIO && self.krylov_budget(r.len()) > 0 && lagged.is_some() {
-                polish = Some(if energy_done {
-                    (0.1 * target / r_inf).clamp(KRYLOV_TOL, 0.1)
-                } else {
-                    KRYLOV_TOL
-                });
+                keep_tangent = true;
+                last_forcing =
+                    energy_done.then(|| (0.1 * target / r_inf).clamp(KRYLOV_TOL, FORCING_MAX));
             }
         }
         Err(format!(

@@ -205,8 +205,13 @@ impl SolidSolution {
         let mut tried = Vec::new();
         if let Some((ijk, _)) = grid.locate_unmapped(p_um) {
             let ne = grid.n_elements();
-            // The unmapped element first (a merged brick stands for its cells).
+            // The unmapped element first (a merged brick stands for its cells), before the
+            // ring's distances are computed: away from the sidewalls it holds the point.
             let home = grid.owner(grid.element(ijk));
+            if let Some(xi) = try_element(home) {
+                return Some((grid.element_ijk(home), xi));
+            }
+            tried.push(home);
             for reach in [1i64, LOCATE_REACH] {
                 let mut ring = Vec::new();
                 for dk in -1i64..=1 {
@@ -222,9 +227,9 @@ impl SolidSolution {
                         }
                     }
                 }
-                // Home first, then by the distance from the point to the element's node centroid
-                // (mapped): near a sidewall the point lies in a neighbour, and the nearest is
-                // the likeliest (on the sensor 5.4 Newton inversions a point, 15 in index order).
+                // By the distance from the point to the element's node centroid (mapped): near
+                // a sidewall the point lies in a neighbour, and the nearest is the likeliest (on
+                // the sensor 5.4 Newton inversions a point, 15 in index order).
                 let distance = |e: usize| {
                     let x = grid.element_nodes(e).map(|n| self.ctx.pos_um[n]);
                     (0..3)
@@ -234,10 +239,9 @@ impl SolidSolution {
                         })
                         .sum::<f64>()
                 };
-                let mut keyed: Vec<(bool, f64, usize)> =
-                    ring.iter().map(|&e| (e != home, distance(e), e)).collect();
-                keyed.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-                let ring: Vec<usize> = keyed.into_iter().map(|k| k.2).collect();
+                let mut keyed: Vec<(f64, usize)> = ring.iter().map(|&e| (distance(e), e)).collect();
+                keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let ring: Vec<usize> = keyed.into_iter().map(|k| k.1).collect();
                 for &e in &ring {
                     if let Some(xi) = try_element(e) {
                         return Some((grid.element_ijk(e), xi));
