@@ -214,28 +214,12 @@ impl SymbolicFactor {
 impl CholeskyFactor {
     /// Solves A X = B in place for every column of `rhs`.
     pub fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
-        let par = self.symbolic.parallelism();
-        let s = &self.symbolic.0;
         match &self.values {
-            Values::F64(values) => {
-                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f64>(rhs.ncols(), par));
-                LltRef::new(s, values).solve_in_place_with_conj(
-                    Conj::No,
-                    rhs,
-                    par,
-                    MemStack::new(&mut mem),
-                );
-            }
+            Values::F64(values) => self.solve_as(values, rhs),
             Values::F32(values) => {
                 let mut single =
                     faer::Mat::<f32>::from_fn(rhs.nrows(), rhs.ncols(), |i, j| rhs[(i, j)] as f32);
-                let mut mem = MemBuffer::new(s.solve_in_place_scratch::<f32>(rhs.ncols(), par));
-                LltRef::new(s, values).solve_in_place_with_conj(
-                    Conj::No,
-                    single.as_mut(),
-                    par,
-                    MemStack::new(&mut mem),
-                );
+                self.solve_as(values, single.as_mut());
                 for j in 0..rhs.ncols() {
                     for i in 0..rhs.nrows() {
                         rhs[(i, j)] = f64::from(single[(i, j)]);
@@ -243,6 +227,19 @@ impl CholeskyFactor {
                 }
             }
         }
+    }
+
+    /// faer's supernodal solve in `T`'s precision.
+    fn solve_as<T: faer::traits::ComplexField>(&self, values: &[T], rhs: MatMut<'_, T>) {
+        let par = self.symbolic.parallelism();
+        let s = &self.symbolic.0;
+        let mut mem = MemBuffer::new(s.solve_in_place_scratch::<T>(rhs.ncols(), par));
+        LltRef::new(s, values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            par,
+            MemStack::new(&mut mem),
+        );
     }
 
     /// Whether solves with this factor are exact to double-precision round-off (not a

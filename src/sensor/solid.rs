@@ -585,16 +585,16 @@ pub fn evaluate_solid(
     let mut out = Vec::new();
     let mut contact = 1.0f64;
     // One mesh solved and read; the nonlinear solve starts from a coarser field where there is
-    // one.
+    // one and stops at `tolerances`.
     let solve =
         |opts: SolidMeshOptions,
          coarser: Option<&crate::fe::solid::TlSolution>,
-         newton: TlOptions|
+         tolerances: TlOptions|
          -> Result<(SolidLevel, f64, Option<crate::fe::solid::TlSolution>), SensorError> {
             let start = Instant::now();
             let solid = scene_model.build(g, base, opts, graded_teeth)?;
             let (readout, dofs, factor_entries, newton, field) = if run.nonlinear {
-                let model = TlSolid::new(&solid.problem, newton).map_err(SensorError::Fe)?;
+                let model = TlSolid::new(&solid.problem, tolerances).map_err(SensorError::Fe)?;
                 let loads = &solid.problem.load_cases[0];
                 let sol = match coarser {
                     Some(c) => model.solve_from(loads, |p| c.displacement_m(p)),

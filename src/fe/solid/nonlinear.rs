@@ -900,14 +900,18 @@ impl TlSolid {
         tol: f64,
     ) -> Result<Vec<f64>, StepFailure> {
         let budget = self.krylov_budget(r.len());
+        // CG on `pre`, its steps counted as work.
+        let cg = |pre: &CholeskyFactor, max_it: usize, work: &mut Work| {
+            let (du, steps) = self.preconditioned_cg(values, pre, r, max_it, tol);
+            work.used += steps as f64 * work.cg_step;
+            du
+        };
         if budget > 0 {
-            if let Some(pre) = lagged.as_ref() {
-                let (du, steps) =
-                    self.preconditioned_cg(values, pre, r, budget.min(KRYLOV_MAX), tol);
-                work.used += steps as f64 * work.cg_step;
-                if let Some(du) = du {
-                    return Ok(du);
-                }
+            if let Some(du) = lagged
+                .as_ref()
+                .and_then(|pre| cg(pre, budget.min(KRYLOV_MAX), work))
+            {
+                return Ok(du);
             }
         }
         // Free the old factor before the new one is built (each can take gigabytes).
@@ -921,9 +925,7 @@ impl TlSolid {
                 Ok(pre) => {
                     work.factorised();
                     work.stats.single_precision += 1;
-                    let (du, steps) = self.preconditioned_cg(values, &pre, r, KRYLOV_MAX, tol);
-                    work.used += steps as f64 * work.cg_step;
-                    if let Some(du) = du {
+                    if let Some(du) = cg(&pre, KRYLOV_MAX, work) {
                         *lagged = Some(pre);
                         return Ok(du);
                     }
