@@ -28,7 +28,7 @@ use serde::Serialize;
 
 use crate::fe::convergence::ThreeMesh;
 use crate::fe::solid::corner::{
-    solve_corner, CornerFrame, CornerMesh, CornerSector, DriverKinematics,
+    solve_corner, CornerFrame, CornerMesh, CornerSector, DriverKinematics, SectionPatterns,
 };
 use crate::fe::solid::{
     merged_lines, principal_stresses_pa, Axis3, Constraint, FaceRect, HexGrid, NodeSet, Outward,
@@ -206,6 +206,7 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
         radius,
     };
     let frame = geo.frame();
+    let patterns = SectionPatterns::default();
     let corner = |sol: &SolidSolution, rings: usize| -> FeResult<Vec<[f64; 6]>> {
         let field = |p: [f64; 3]| sol.displacement_m(p);
         let mesh = CornerMesh {
@@ -214,7 +215,14 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
             rings_per_octave: rings,
             octaves_inside: 3,
         };
-        let c = solve_corner(frame, &sectors, mesh, DriverKinematics::Linear, &field)?;
+        let c = solve_corner(
+            frame,
+            &sectors,
+            mesh,
+            DriverKinematics::Linear,
+            &field,
+            &patterns,
+        )?;
         let ring = c
             .ring_at(read)
             .expect("the mesh places a ring at the read-out");

@@ -33,6 +33,7 @@ use serde::Serialize;
 
 use crate::fe::solid::corner::{
     solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
+    SectionPatterns,
 };
 use crate::fe::solid::vertex::{
     VertexChain, VertexFrame, VertexGrading, VertexModel, VertexPlace, VertexReading, LAST_SECTION,
@@ -293,6 +294,7 @@ fn section(
     read_um: f64,
     rings: usize,
     sol: &impl SolidField,
+    patterns: &SectionPatterns,
 ) -> FeResult<(f64, CornerSolution)> {
     let field = |p: [f64; 3]| sol.displacement_m(p);
     let mesh = CornerMesh {
@@ -307,6 +309,7 @@ fn section(
         mesh,
         sol.kinematics(),
         &field,
+        patterns,
     )?;
     let ring = c
         .ring_at(read_um)
@@ -324,6 +327,8 @@ pub fn edge_stresses(
     read_um: f64,
 ) -> FeResult<Vec<EdgeStress>> {
     let all = edges(g, s);
+    // Every section of this read-out shares the patterns of its topology.
+    let patterns = SectionPatterns::default();
     let per_kind = |kind: EdgeKind| -> FeResult<Vec<EdgeStress>> {
         let mut out = Vec::new();
         // (indicator, edge, station), the highest first.
@@ -344,7 +349,7 @@ pub fn edge_stresses(
         let fine: Vec<(f64, CornerSolution)> = ranked
             .par_iter()
             .take(SECTIONS_PER_KIND)
-            .map(|&(_, edge, at)| section(edge, at, read_um, RINGS_FINE, sol))
+            .map(|&(_, edge, at)| section(edge, at, read_um, RINGS_FINE, sol, &patterns))
             .collect::<Vec<_>>()
             .into_iter()
             .collect::<FeResult<_>>()?;
@@ -358,7 +363,7 @@ pub fn edge_stresses(
         if let Some(i) = top {
             let (_, edge, at) = ranked[i];
             let (value, c) = &fine[i];
-            let (coarse, _) = section(edge, at, read_um, RINGS_COARSE, sol)?;
+            let (coarse, _) = section(edge, at, read_um, RINGS_COARSE, sol, &patterns)?;
             out.push(EdgeStress {
                 kind,
                 stress_mpa: value * 1e-6,
@@ -381,7 +386,7 @@ pub fn edge_stresses(
                 .into_iter()
                 .collect::<FeResult<Vec<_>>>()
         },
-        || vertex_stress(g, s, sol, read_um),
+        || vertex_stress(g, s, sol, read_um, &patterns),
     );
     let mut out: Vec<EdgeStress> = edges?.into_iter().flatten().collect();
     out.extend(vertex?);
@@ -500,6 +505,7 @@ fn vertex_stress(
     s: &SensorSolid,
     sol: &impl SolidField,
     read_um: f64,
+    patterns: &SectionPatterns,
 ) -> FeResult<Option<EdgeStress>> {
     let Some((sectors, _)) = tooth_base_corner(g) else {
         return Ok(None);
@@ -533,7 +539,7 @@ fn vertex_stress(
             sol.kinematics(),
             &field,
         )?
-        .critical_stress(read_um, rings, &die, only)
+        .critical_stress(read_um, rings, &die, only, patterns)
     };
     // The best-ranked vertices in parallel; the first largest reading kept, as in rank order.
     let fine: Vec<(VertexReading, VertexFrame)> = ranked

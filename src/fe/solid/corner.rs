@@ -23,9 +23,11 @@
 //! second Piola-Kirchhoff stress of St. Venant-Kirchhoff and the linear stress differ by that
 //! order).
 
+use std::sync::{Arc, Mutex};
+
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Mat, Side};
 
 use super::elasticity::{Elasticity, VOIGT};
@@ -78,6 +80,55 @@ const CONSTANT_DT_FRACTION: f64 = 1.0 / 64.0;
 
 /// Most elements a corner submodel may have (bounds the work before allocating).
 pub const MAX_CORNER_ELEMENTS: usize = 200_000;
+
+/// A section's sparsity pattern, the order its assembled values fill it in, and its symbolic
+/// factorisation.
+#[derive(Debug)]
+struct SectionPattern {
+    symbolic: SymbolicSparseColMat<usize>,
+    argsort: Argsort<usize>,
+    llt: SymbolicLlt<usize>,
+}
+
+/// What fixes a section's pattern: its rings, its elements round the edge, and whether it wraps
+/// (the free dofs and the element order follow from these).
+type SectionTopology = (usize, usize, bool);
+
+/// Patterns and symbolic factorisations of corner sections by their topology, shared by every
+/// section solved with the same cache (the pattern once, the values many times, as faer's
+/// sparse solvers are built to be used): one read-out's sections repeat a few topologies (the
+/// stations of one edge kind share one; a vertex's two edges, and two vertices, share each
+/// station's). Values, and so every answer, are as without it. Drop it with the read-out: its
+/// entries are a few MB each.
+#[derive(Debug, Default)]
+pub struct SectionPatterns(Mutex<Vec<(SectionTopology, Arc<SectionPattern>)>>);
+
+impl SectionPatterns {
+    fn get(&self, key: SectionTopology) -> Option<Arc<SectionPattern>> {
+        let cache = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, p)| p.clone())
+    }
+
+    /// Topologies held.
+    pub fn len(&self) -> usize {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    /// True if none is held yet.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn insert(&self, key: SectionTopology, pattern: Arc<SectionPattern>) {
+        let mut cache = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if !cache.iter().any(|(k, _)| *k == key) {
+            cache.push((key, pattern));
+        }
+    }
+}
 
 /// A solved corner submodel.
 #[derive(Debug, Clone)]
@@ -392,6 +443,9 @@ impl ElementGeometry {
 /// (a full turn is a closed disc, else the first and last faces are free); `field` the solid's
 /// displacement (m) at an undeformed point (um), None outside it.
 ///
+/// Sections of the same topology share their pattern and symbolic factorisation through
+/// `patterns` ([`SectionPatterns`]).
+///
 /// Panics if the sectors or the mesh are malformed (misuse); a driver that cannot be read or a
 /// singular system is an error.
 #[track_caller]
@@ -401,6 +455,7 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
     mesh: CornerMesh,
     kinematics: DriverKinematics,
     field: &D,
+    patterns: &SectionPatterns,
 ) -> FeResult<CornerSolution> {
     assert!(!sectors.is_empty(), "a corner needs at least one sector");
     for w in sectors.windows(2) {
@@ -512,6 +567,9 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
         }
     }
     let n = 3 * n_free;
+    let topology: SectionTopology = (n_rings, n_el_ang, wraps);
+    let cached = patterns.get(topology);
+    // The pattern's entries, in the order the values come, where it is not known yet.
     let mut pairs = Vec::new();
     let mut vals = Vec::new();
     let mut rhs = vec![0.0; n];
@@ -561,7 +619,9 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
                 for j in 0..27 {
                     match dof(j) {
                         Some(gj) if gj <= gi => {
-                            pairs.push(Pair { row: gi, col: gj });
+                            if cached.is_none() {
+                                pairs.push(Pair { row: gi, col: gj });
+                            }
                             vals.push(upper(i, j));
                         }
                         Some(_) => {}
@@ -575,18 +635,34 @@ pub fn solve_corner<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
         detail: e,
         hint: "the corner submodel is too large: use fewer rings per octave",
     };
-    let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-        .map_err(|e| sparse(format!("{e:?}")))?;
-    let mat = SparseColMat::<usize, f64>::new_from_argsort(symbolic.clone(), &argsort, &vals)
-        .map_err(|e| sparse(format!("{e:?}")))?;
-    let llt_sym = SymbolicLlt::try_new(symbolic.as_ref(), Side::Lower)
-        .map_err(|e| sparse(format!("{e:?}")))?;
-    let llt = Llt::try_new_with_symbolic(llt_sym, mat.as_ref(), Side::Lower).map_err(|e| {
-        FeError::NotPositiveDefinite {
+    let pattern = match cached {
+        Some(p) => p,
+        None => {
+            let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+                .map_err(|e| sparse(format!("{e:?}")))?;
+            let llt = SymbolicLlt::try_new(symbolic.as_ref(), Side::Lower)
+                .map_err(|e| sparse(format!("{e:?}")))?;
+            let p = Arc::new(SectionPattern {
+                symbolic,
+                argsort,
+                llt,
+            });
+            patterns.insert(topology, p.clone());
+            p
+        }
+    };
+    let mat = SparseColMat::<usize, f64>::new_from_argsort(
+        pattern.symbolic.clone(),
+        &pattern.argsort,
+        &vals,
+    )
+    .map_err(|e| sparse(format!("{e:?}")))?;
+    let llt = Llt::try_new_with_symbolic(pattern.llt.clone(), mat.as_ref(), Side::Lower).map_err(
+        |e| FeError::NotPositiveDefinite {
             detail: format!("corner submodel: {e:?}"),
             hint: "a sector's material is not positive definite",
-        }
-    })?;
+        },
+    )?;
     let mut x = Mat::<f64>::zeros(n, 1);
     for (i, v) in rhs.iter().enumerate() {
         x[(i, 0)] = *v;

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use crate::fe::error::FeError;
+use crate::fe::error::{FeError, FeResult};
 use crate::fe::material::DieEdge;
 use crate::fe::solid::*;
 
@@ -657,4 +657,54 @@ fn graded_lines_too_fine_for_any_grid_stop_before_allocating_them() {
     let l = graded_lines(0.0, 100.0, 1.0, 2.0, 10.0);
     assert_eq!(&l[..5], &[0.0, 1.0, 3.0, 7.0, 15.0]);
     assert_eq!(*l.last().unwrap(), 100.0);
+}
+
+/// The model without the refinement step (the vertex submodels', `SolidModel::without_refinement`)
+/// still passes the patch test through `solve_prescribed`, and on a drive its elements cannot
+/// reproduce (quadratic) gives the refined model's field to the direct solve's residual.
+#[test]
+fn the_unrefined_driven_solve_keeps_the_patch_test_and_the_refined_field() {
+    let c = Elasticity::cubic(165.7e9, 63.9e9, 79.6e9).rotated_about_z(30.0);
+    let mut p = SolidProblem::new(distorted_block(), vec![c]);
+    for axis in [Axis3::X, Axis3::Y, Axis3::Z] {
+        for at_um in [0.0, 2000.0] {
+            p.constraints
+                .push(Constraint::clamp("driven", plane(axis, at_um)));
+        }
+    }
+    let refined = SolidModel::new(&p).unwrap();
+    let plain = SolidModel::new(&p).unwrap().without_refinement();
+    let gradient = [
+        [1.0e-4, 2.0e-5, -3.0e-5],
+        [5.0e-5, -2.0e-4, 1.0e-5],
+        [-4.0e-5, 6.0e-5, 1.5e-4],
+    ];
+    let exact = linear_field_m([1e-7, -2e-7, 3e-7], gradient);
+    let s = plain.solve_prescribed(|x| Ok(exact(x))).unwrap();
+    let scale = 2000e-6 * 2e-4;
+    for (n, x) in s.node_positions_um().iter().enumerate() {
+        let (u, e) = (s.node_displacement_m(n), exact(*x));
+        for d in 0..3 {
+            assert!(
+                (u[d] - e[d]).abs() < 1e-10 * scale,
+                "node {n}: {u:?} against {e:?}"
+            );
+        }
+    }
+    let bend = |x: [f64; 3]| -> FeResult<[f64; 3]> {
+        let (a, b) = (x[0] * 1e-3, x[1] * 1e-3);
+        Ok([1e-7 * a * b, -2e-7 * a * a, 3e-7 * (a * a - b * b)])
+    };
+    let (u1, u2) = (
+        refined.solve_prescribed(bend).unwrap(),
+        plain.solve_prescribed(bend).unwrap(),
+    );
+    let (u1, u2) = (u1.displacements_m(), u2.displacements_m());
+    let umax = u1.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let worst = u1
+        .iter()
+        .zip(u2)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(umax > 1e-7 && worst < 1e-10 * umax, "{worst:e} of {umax:e}");
 }

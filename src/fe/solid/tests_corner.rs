@@ -40,6 +40,7 @@ fn solve<D: Fn([f64; 3]) -> Option<[f64; 3]>>(
         mesh(rings_per_octave),
         kinematics,
         field,
+        &SectionPatterns::default(),
     )
     .unwrap()
 }
@@ -316,4 +317,51 @@ fn submodel_resolves_the_williams_singular_field() {
         (got[2] - got[1]).abs() / got[2] >= errors[2],
         "{got:?} against {want}"
     );
+}
+
+/// Sections sharing one `SectionPatterns` (as one read-out's do) solve exactly as each on its own:
+/// a second section of the same topology (another place, another field) takes the first one's
+/// pattern and symbolic factorisation, one of another topology (finer rings) adds its own, and
+/// every stress is bit-identical to a fresh cache's.
+#[test]
+fn sections_sharing_patterns_solve_as_each_alone() {
+    let c = silicon();
+    let wall = 1f64.atan2(1.0 / 2f64.sqrt());
+    let sectors = [CornerSector {
+        from_rad: -std::f64::consts::PI,
+        to_rad: wall,
+        material: c,
+    }];
+    let bending = |k: f64| {
+        move |p: [f64; 3]| {
+            let (x, y, z) = (p[0] * 1e-3, p[1] * 1e-3, p[2] * 1e-3);
+            Some([1e-7 * k * x * z, -2e-7 * y * z, 1e-7 * (x * x + k * y * y)])
+        }
+    };
+    let shared = SectionPatterns::default();
+    let cases = [
+        ([100.0, 200.0, 50.0], 2, 1.0),
+        ([130.0, 180.0, 40.0], 2, -0.5),
+        ([100.0, 200.0, 50.0], 4, 2.0),
+    ];
+    for (i, &(origin, rings, k)) in cases.iter().enumerate() {
+        let field = bending(k);
+        let run = |patterns: &SectionPatterns| {
+            let sol = solve_corner(
+                frame(origin),
+                &sectors,
+                mesh(rings),
+                DriverKinematics::Linear,
+                &field,
+                patterns,
+            )
+            .unwrap();
+            let ring = sol.ring_at(0.01).unwrap();
+            sol.stresses_on_ring(ring, |_| true, &field).unwrap()
+        };
+        let (alone, with_shared) = (run(&SectionPatterns::default()), run(&shared));
+        assert!(!alone.is_empty());
+        assert_eq!(alone, with_shared, "case {i}");
+        assert_eq!(shared.len(), [1, 1, 2][i], "case {i}");
+    }
 }

@@ -2,7 +2,7 @@
 //! (every nested level, every reading: the direct ones and the edges' sections), a rigid rotation
 //! taken out by the corotated frame, and linearity.
 
-use super::corner::DriverKinematics;
+use super::corner::{CornerMesh, DriverKinematics, SectionPatterns};
 use super::elasticity::Elasticity;
 use super::principal::principal_stresses_pa;
 use super::vertex::*;
@@ -86,7 +86,13 @@ fn a_uniform_strain_is_exact_at_every_level_and_direct_reading() {
         },
     ] {
         let r = chain
-            .critical_stress(read, 2, &silicon(), Some(place))
+            .critical_stress(
+                read,
+                2,
+                &silicon(),
+                Some(place),
+                &SectionPatterns::default(),
+            )
             .unwrap();
         assert_eq!(r.place, place);
         assert!(
@@ -134,7 +140,9 @@ fn a_rigid_rotation_is_taken_out_and_the_readings_are_linear() {
         &field,
     )
     .unwrap();
-    let r = chain.critical_stress(read, 2, &silicon(), None).unwrap();
+    let r = chain
+        .critical_stress(read, 2, &silicon(), None, &SectionPatterns::default())
+        .unwrap();
     // Read linearly, a 0.3 rad rotation is a strain of ~4e-2: stresses of GPa.
     assert!(r.stress_pa.abs() < 1e-2, "{r:?}");
     // Linearity: twice a uniform strain, twice the reading.
@@ -148,7 +156,7 @@ fn a_rigid_rotation_is_taken_out_and_the_readings_are_linear() {
             &linear(a, x0),
         )
         .unwrap()
-        .critical_stress(read, 2, &silicon(), None)
+        .critical_stress(read, 2, &silicon(), None, &SectionPatterns::default())
         .unwrap()
     };
     let one = reading(A);
@@ -193,7 +201,20 @@ fn the_direct_reading_and_the_edge_section_agree() {
     for edge in 0..2 {
         let s = 9.0 * read;
         let direct = chain.direct(edge, s, read).unwrap();
-        let section = chain.section(edge, s, 0.5 * s, read, 4, &die).unwrap();
+        let section = chain
+            .section(
+                edge,
+                s,
+                CornerMesh {
+                    radius_um: 0.5 * s,
+                    read_at_um: read,
+                    rings_per_octave: 4,
+                    octaves_inside: SECTION_OCTAVES_INSIDE,
+                },
+                &die,
+                &SectionPatterns::default(),
+            )
+            .unwrap();
         // Measured: 0.2 and 0.5 %.
         assert!(
             (section / direct - 1.0).abs() < 0.02,
@@ -202,7 +223,9 @@ fn the_direct_reading_and_the_edge_section_agree() {
     }
     // The coarser grading (every other octave, two rings per octave) reads the governing place
     // within a few percent: the estimate the solid rung adds.
-    let fine = chain.critical_stress(read, 4, &die, None).unwrap();
+    let fine = chain
+        .critical_stress(read, 4, &die, None, &SectionPatterns::default())
+        .unwrap();
     let coarse_model = VertexModel::new(1.0 / 2f64.sqrt(), &local, VertexGrading::Coarse).unwrap();
     let coarse = VertexChain::solve(
         &coarse_model,
@@ -213,7 +236,7 @@ fn the_direct_reading_and_the_edge_section_agree() {
         &field,
     )
     .unwrap()
-    .critical_stress(read, 2, &die, Some(fine.place))
+    .critical_stress(read, 2, &die, Some(fine.place), &SectionPatterns::default())
     .unwrap();
     assert!(
         (coarse.stress_pa / fine.stress_pa - 1.0).abs() < 0.05,

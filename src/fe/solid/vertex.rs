@@ -21,7 +21,7 @@
 //! every level (stiffness scales with size, the displacements do not) and every vertex of the
 //! same material and slope.
 
-use crate::fe::solid::corner::{polar_rotation, DriverKinematics};
+use crate::fe::solid::corner::{polar_rotation, CornerMesh, DriverKinematics, SectionPatterns};
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::{HexGrid, NodeMap};
 use crate::fe::solid::problem::{Axis3, Constraint, NodeSet, SolidProblem};
@@ -147,7 +147,8 @@ impl VertexModel {
                     .push(Constraint::clamp("driven", NodeSet::Plane { axis, at_um }));
             }
         }
-        let model = SolidModel::new(&p)?;
+        // Read for stresses only: no refinement step (its residual is ~1e-9 of the drive).
+        let model = SolidModel::new(&p)?.without_refinement();
         Ok(VertexModel {
             dofs: model.n_free_dofs(),
             model,
@@ -392,6 +393,8 @@ pub const SMALLEST_IN_READS: f64 = 30.0;
 /// distance): a disc of radius s / 4 round the edge at s, with the critical distance inside it.
 const FIRST_SECTION: f64 = 18.0;
 const SECTION_RADIUS: f64 = 0.25;
+/// Octaves of the sections' rings inside the critical distance \[choice\], as the edges' own.
+pub const SECTION_OCTAVES_INSIDE: usize = 3;
 /// Sections reach this fraction of the largest model's size (where a caller's own reading of
 /// the edges takes over: `sensor::edge_stress` starts the tooth bases' sections there).
 pub const LAST_SECTION: f64 = 0.6;
@@ -434,19 +437,18 @@ impl VertexChain<'_> {
         Some(principal_stresses_pa(&s)[0])
     }
 
-    /// The largest principal stress at `read_um` from edge `edge` at `s_um` from the vertex, by
-    /// the edge's section ([`crate::fe::solid::corner`]) of radius `radius_um` with `rings`
-    /// rings per octave, driven by the smallest model that holds it.
+    /// The largest principal stress at `mesh.read_at_um` from edge `edge` at `s_um` from the
+    /// vertex, by the edge's section ([`crate::fe::solid::corner`]) on `mesh`, driven by the
+    /// smallest model that holds it.
     pub fn section(
         &self,
         edge: usize,
         s_um: f64,
-        radius_um: f64,
-        read_um: f64,
-        rings: usize,
+        mesh: CornerMesh,
         material_die: &Elasticity,
+        patterns: &SectionPatterns,
     ) -> FeResult<f64> {
-        use crate::fe::solid::corner::{solve_corner, CornerFrame, CornerMesh, CornerSector};
+        use crate::fe::solid::corner::{solve_corner, CornerFrame, CornerSector};
         let pi = std::f64::consts::PI;
         let wall = 1f64.atan2(self.model.slope);
         let sectors = [CornerSector {
@@ -466,16 +468,17 @@ impl VertexChain<'_> {
             e_z: f.e_z,
             e_t,
         };
-        let field = self.field_for(s_um + 1.1 * radius_um, 0.8);
-        let mesh = CornerMesh {
-            radius_um,
-            read_at_um: read_um,
-            rings_per_octave: rings,
-            octaves_inside: 3,
-        };
-        let corner = solve_corner(frame, &sectors, mesh, DriverKinematics::Linear, &field)?;
+        let field = self.field_for(s_um + 1.1 * mesh.radius_um, 0.8);
+        let corner = solve_corner(
+            frame,
+            &sectors,
+            mesh,
+            DriverKinematics::Linear,
+            &field,
+            patterns,
+        )?;
         let ring = corner
-            .ring_at(read_um)
+            .ring_at(mesh.read_at_um)
             .expect("the mesh places a ring at the read-out");
         Ok(corner.max_principal_on_ring(ring, |k| k == 0, &field)?.0)
     }
@@ -501,6 +504,7 @@ impl VertexChain<'_> {
         rings: usize,
         material_die: &Elasticity,
         only: Option<VertexPlace>,
+        patterns: &SectionPatterns,
     ) -> FeResult<VertexReading> {
         let pi = std::f64::consts::PI;
         let mut best = VertexReading {
@@ -566,7 +570,13 @@ impl VertexChain<'_> {
         let values: Vec<f64> = places
             .par_iter()
             .map(|&(edge, s)| {
-                self.section(edge, s, SECTION_RADIUS * s, read_um, rings, material_die)
+                let mesh = CornerMesh {
+                    radius_um: SECTION_RADIUS * s,
+                    read_at_um: read_um,
+                    rings_per_octave: rings,
+                    octaves_inside: SECTION_OCTAVES_INSIDE,
+                };
+                self.section(edge, s, mesh, material_die, patterns)
             })
             .collect::<Vec<_>>()
             .into_iter()
