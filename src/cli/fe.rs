@@ -734,18 +734,23 @@ fn grading_text(r: &tactfab::sensor::solid::SolidReport) -> String {
         "by lines across the die"
     };
     // Auto's choice with the factor sizes that made it.
-    let local = match r.grading_choice {
+    let local = match &r.grading_choice {
         Some(c) if !grading.is_empty() => {
             let (mine, other, other_how) = if r.local_refinement {
                 (c.local_factor_entries, c.lines_factor_entries, "by lines")
             } else {
                 (c.lines_factor_entries, c.local_factor_entries, "locally")
             };
-            format!(
-                " ({how}; the smaller factor, {:.0} M entries against {:.0} M {other_how})",
-                mine as f64 * 1e-6,
-                other as f64 * 1e-6
-            )
+            match (mine, other, &c.refused) {
+                (Some(mine), Some(other), _) => format!(
+                    " ({how}; the smaller factor, {:.0} M entries against {:.0} M {other_how})",
+                    mine as f64 * 1e-6,
+                    other as f64 * 1e-6
+                ),
+                // The other grading could not be analysed: say why this one was solved.
+                (_, _, Some(why)) => format!(" ({how}; {other_how} was refused: {why})"),
+                _ => format!(" ({how})"),
+            }
         }
         _ if r.local_refinement && !grading.is_empty() => format!(" ({how})"),
         _ => String::new(),

@@ -104,7 +104,8 @@ pub struct SolidReport {
     /// The hot teeth's edges and the channel walls graded locally: bisected cells that merge
     /// back away from the tooth, with hanging nodes between (else by lines across the die).
     pub local_refinement: bool,
-    /// Under [`SolidGrading::Auto`], the finest level's factor sizes that chose it.
+    /// Under [`SolidGrading::Auto`], the finest level's factor sizes that chose it, or, where
+    /// one grading's analysis was refused, why the other was solved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grading_choice: Option<GradingChoice>,
     /// How many teeth's base edges the levels are graded at: every tooth under `graded`, else
@@ -560,11 +561,24 @@ pub enum SolidGrading {
     Lines,
 }
 
-/// The factor sizes `SolidGrading::Auto` chose between, on the finest level.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// The factor sizes `SolidGrading::Auto` chose between, on the finest level. Where one grading's
+/// analysis was refused (its factor over the memory there is, or the mesh over the size limit),
+/// its size is None, `refused` says why, and auto solves the other.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct GradingChoice {
-    pub local_factor_entries: usize,
-    pub lines_factor_entries: usize,
+    pub local_factor_entries: Option<usize>,
+    pub lines_factor_entries: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refused: Option<String>,
+}
+
+/// Why auto could not analyse a grading: the refusal's message, without its hint.
+fn refusal(e: &SensorError) -> String {
+    let text = match e {
+        SensorError::Fe(fe) => fe.to_string(),
+        other => other.to_string(),
+    };
+    text.lines().next().unwrap_or_default().to_string()
 }
 
 /// Solves a scene on the solid rung over `run.levels` meshes and compares each quantity with
@@ -668,12 +682,27 @@ pub fn evaluate_solid(
             (Ok(local), Ok(lines)) => (
                 local < lines,
                 Some(GradingChoice {
-                    local_factor_entries: local,
-                    lines_factor_entries: lines,
+                    local_factor_entries: Some(local),
+                    lines_factor_entries: Some(lines),
+                    refused: None,
                 }),
             ),
-            (Ok(_), Err(e)) if too_large(&e) => (true, None),
-            (Err(e), Ok(_)) if too_large(&e) => (false, None),
+            (Ok(local), Err(e)) if too_large(&e) => (
+                true,
+                Some(GradingChoice {
+                    local_factor_entries: Some(local),
+                    lines_factor_entries: None,
+                    refused: Some(refusal(&e)),
+                }),
+            ),
+            (Err(e), Ok(lines)) if too_large(&e) => (
+                false,
+                Some(GradingChoice {
+                    local_factor_entries: None,
+                    lines_factor_entries: Some(lines),
+                    refused: Some(refusal(&e)),
+                }),
+            ),
             (Err(e), _) | (_, Err(e)) => return Err(e),
         },
     };

@@ -343,8 +343,15 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     assert!(local.local_refinement && !lines.local_refinement);
     assert!(local.grading_choice.is_none() && lines.grading_choice.is_none());
     let choice = auto.grading_choice.expect("auto reports its choice");
-    assert_eq!(choice.local_factor_entries, local.levels[0].factor_entries);
-    assert_eq!(choice.lines_factor_entries, lines.levels[0].factor_entries);
+    assert!(choice.refused.is_none(), "{choice:?}");
+    assert_eq!(
+        choice.local_factor_entries,
+        Some(local.levels[0].factor_entries)
+    );
+    assert_eq!(
+        choice.lines_factor_entries,
+        Some(lines.levels[0].factor_entries)
+    );
     let chosen = if choice.local_factor_entries < choice.lines_factor_entries {
         &local
     } else {
@@ -1155,20 +1162,45 @@ fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     let (level0, three) = (refused("1", &[]), refused("3", &[]));
     assert!(level0 > 300 && three > level0, "{level0} {three}");
     // Auto's fallback: under a limit between the two gradings' needs, the one that fits is
-    // solved (with no choice to report), not the run refused.
+    // solved, not the run refused, and the text and the JSON say why the other was not.
     let (local, lines) = (
         refused("1", &["--solid-grading", "local"]),
         refused("1", &["--solid-grading", "lines"]),
     );
     assert!(local.abs_diff(lines) >= 4, "{local} {lines}");
     let between = ((local + lines) / 2).to_string();
-    let args = solid_levels("1", &["--scene", "centre-1n", "--json"]);
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("fe.json");
+    let json_arg = json.to_str().unwrap();
+    let args = solid_levels("1", &["--scene", "centre-1n", "--json-file", json_arg]);
     let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", &between)]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let solid = &v["scenes"][0];
     assert_eq!(solid["local_refinement"], local < lines, "{solid}");
-    assert!(solid.get("grading_choice").is_none(), "{solid}");
+    let choice = &solid["grading_choice"];
+    let (taken, other) = if local < lines {
+        ("local_factor_entries", "lines_factor_entries")
+    } else {
+        ("lines_factor_entries", "local_factor_entries")
+    };
+    assert!(
+        choice[taken].is_u64() && choice[other].is_null(),
+        "{choice}"
+    );
+    let limit = format!("more than the {between} MB the limit TACTFAB_MEMORY_LIMIT_MB sets");
+    let why = choice["refused"].as_str().unwrap_or_default();
+    assert!(why.contains(&limit) && !why.contains("hint"), "{choice}");
+    let (how, other_how) = if local < lines {
+        ("locally: hanging nodes", "by lines")
+    } else {
+        ("by lines across the die", "locally")
+    };
+    assert!(
+        stdout.contains(&format!("({how}; {other_how} was refused: ")) && stdout.contains(&limit),
+        "{stdout}"
+    );
     for bad in ["abc", "0", "-5", "inf"] {
         let (code, _, stderr) = run_env(
             &["etch", "process/mis-grasper.yaml"],
