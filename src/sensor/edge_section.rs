@@ -29,6 +29,7 @@ use serde::Serialize;
 use crate::fe::convergence::ThreeMesh;
 use crate::fe::solid::corner::{
     solve_corner, CornerFrame, CornerMesh, CornerSector, DriverKinematics, SectionPatterns,
+    OCTAVES_INSIDE,
 };
 use crate::fe::solid::{
     merged_lines, principal_stresses_pa, Axis3, Constraint, FaceRect, HexGrid, NodeSet, Outward,
@@ -213,7 +214,7 @@ pub fn tooth_base_section(g: &SensorGeometry) -> FeResult<Option<EdgeSection>> {
             radius_um: radius,
             read_at_um: read,
             rings_per_octave: rings,
-            octaves_inside: 3,
+            octaves_inside: OCTAVES_INSIDE,
         };
         let c = solve_corner(
             frame,

@@ -33,7 +33,7 @@ use serde::Serialize;
 
 use crate::fe::solid::corner::{
     solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
-    SectionPatterns,
+    SectionPatterns, OCTAVES_INSIDE,
 };
 use crate::fe::solid::vertex::{
     VertexChain, VertexFrame, VertexGrading, VertexModel, VertexPlace, VertexReading, LAST_SECTION,
@@ -301,7 +301,7 @@ fn section(
         radius_um: edge.radius_um,
         read_at_um: read_um,
         rings_per_octave: rings,
-        octaves_inside: 3,
+        octaves_inside: OCTAVES_INSIDE,
     };
     let c = solve_corner(
         edge.frame(at),

@@ -678,33 +678,23 @@ pub fn evaluate_solid(
         SolidGrading::Local => (true, None),
         SolidGrading::Lines => (false, None),
         // The smaller factor.
-        SolidGrading::Auto => match (factor_size(true), factor_size(false)) {
-            (Ok(local), Ok(lines)) => (
-                local < lines,
+        SolidGrading::Auto => {
+            let choice = |local, lines, refused: Option<&SensorError>| {
                 Some(GradingChoice {
-                    local_factor_entries: Some(local),
-                    lines_factor_entries: Some(lines),
-                    refused: None,
-                }),
-            ),
-            (Ok(local), Err(e)) if too_large(&e) => (
-                true,
-                Some(GradingChoice {
-                    local_factor_entries: Some(local),
-                    lines_factor_entries: None,
-                    refused: Some(refusal(&e)),
-                }),
-            ),
-            (Err(e), Ok(lines)) if too_large(&e) => (
-                false,
-                Some(GradingChoice {
-                    local_factor_entries: None,
-                    lines_factor_entries: Some(lines),
-                    refused: Some(refusal(&e)),
-                }),
-            ),
-            (Err(e), _) | (_, Err(e)) => return Err(e),
-        },
+                    local_factor_entries: local,
+                    lines_factor_entries: lines,
+                    refused: refused.map(refusal),
+                })
+            };
+            match (factor_size(true), factor_size(false)) {
+                (Ok(local), Ok(lines)) => (local < lines, choice(Some(local), Some(lines), None)),
+                (Ok(local), Err(e)) if too_large(&e) => (true, choice(Some(local), None, Some(&e))),
+                (Err(e), Ok(lines)) if too_large(&e) => {
+                    (false, choice(None, Some(lines), Some(&e)))
+                }
+                (Err(e), _) | (_, Err(e)) => return Err(e),
+            }
+        }
     };
     // Every mesh of the run, the thickness check's too, graded alike.
     let mesh = |level: usize| graded_mesh(level, local_refinement);

@@ -74,6 +74,10 @@ pub struct CornerMesh {
     pub octaves_inside: usize,
 }
 
+/// Octaves of rings inside the read-out ring \[choice\]: every section (the edges', the vertices'
+/// and the plate rungs' tooth base) is graded alike there.
+pub const OCTAVES_INSIDE: usize = 3;
+
 /// Inside this fraction of the radius du/dt is the edge's own (most of the graded rings: it
 /// saves most of the driver's reads).
 const CONSTANT_DT_FRACTION: f64 = 1.0 / 64.0;
@@ -113,13 +117,9 @@ impl SectionPatterns {
     }
 
     /// Topologies held.
-    pub fn len(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
         self.0.lock().unwrap_or_else(|e| e.into_inner()).len()
-    }
-
-    /// True if none is held yet.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 
     fn insert(&self, key: SectionTopology, pattern: Arc<SectionPattern>) {

@@ -2,7 +2,7 @@
 //! (every nested level, every reading: the direct ones and the edges' sections), a rigid rotation
 //! taken out by the corotated frame, and linearity.
 
-use super::corner::{CornerMesh, DriverKinematics, SectionPatterns};
+use super::corner::{CornerMesh, DriverKinematics, SectionPatterns, OCTAVES_INSIDE};
 use super::elasticity::Elasticity;
 use super::principal::principal_stresses_pa;
 use super::vertex::*;
@@ -209,7 +209,7 @@ fn the_direct_reading_and_the_edge_section_agree() {
                     radius_um: 0.5 * s,
                     read_at_um: read,
                     rings_per_octave: 4,
-                    octaves_inside: SECTION_OCTAVES_INSIDE,
+                    octaves_inside: OCTAVES_INSIDE,
                 },
                 &die,
                 &SectionPatterns::default(),

@@ -21,7 +21,9 @@
 //! every level (stiffness scales with size, the displacements do not) and every vertex of the
 //! same material and slope.
 
-use crate::fe::solid::corner::{polar_rotation, CornerMesh, DriverKinematics, SectionPatterns};
+use crate::fe::solid::corner::{
+    polar_rotation, CornerMesh, DriverKinematics, SectionPatterns, OCTAVES_INSIDE,
+};
 use crate::fe::solid::elasticity::Elasticity;
 use crate::fe::solid::grid::{HexGrid, NodeMap};
 use crate::fe::solid::problem::{Axis3, Constraint, NodeSet, SolidProblem};
@@ -393,8 +395,6 @@ pub const SMALLEST_IN_READS: f64 = 30.0;
 /// distance): a disc of radius s / 4 round the edge at s, with the critical distance inside it.
 const FIRST_SECTION: f64 = 18.0;
 const SECTION_RADIUS: f64 = 0.25;
-/// Octaves of the sections' rings inside the critical distance \[choice\], as the edges' own.
-pub const SECTION_OCTAVES_INSIDE: usize = 3;
 /// Sections reach this fraction of the largest model's size (where a caller's own reading of
 /// the edges takes over: `sensor::edge_stress` starts the tooth bases' sections there).
 pub const LAST_SECTION: f64 = 0.6;
@@ -574,7 +574,7 @@ impl VertexChain<'_> {
                     radius_um: SECTION_RADIUS * s,
                     read_at_um: read_um,
                     rings_per_octave: rings,
-                    octaves_inside: SECTION_OCTAVES_INSIDE,
+                    octaves_inside: OCTAVES_INSIDE,
                 };
                 self.section(edge, s, mesh, material_die, patterns)
             })
