@@ -238,10 +238,10 @@ pub struct FeArgs {
     #[arg(long, value_enum, value_name = "GRADING")]
     pub solid_grading: Option<GradingArg>,
     /// With --model solid or --verify-solid: the solid's mesh levels, 1-5 (1000, 707, 500, 354,
-    /// 250 um in plane; three give an error estimate). By default 3 for --model solid, 2 for
-    /// --verify-solid, or --max-levels if lower. A fourth brings the bundled centre load's
-    /// deflection estimate from 1.29 % to 0.91 % (every reading under 1 %) in 10 min against 6
-    /// and 10.5 GB against 8.0 (dev build; README, "A fourth level").
+    /// 250 um in plane, half that across the span; three give an error estimate). By default 3
+    /// for --model solid, 2 for --verify-solid, or --max-levels if lower. Three put every reading
+    /// of the bundled centre load under 1 % but the tooth base and vertex stresses (about 4 %,
+    /// the thickness check's part; README, "Finer across the span").
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
     pub solid_levels: Option<u8>,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)

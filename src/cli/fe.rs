@@ -461,7 +461,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
         let secs: f64 = r.levels.iter().map(|l| l.seconds).sum();
         println!(
             "scene `{}` ({} N): solid model ({}), {}; base {}; {}, {} dofs and {:.0} MB \
-             of factor on the last (h {} um{}), {:.1} s",
+             of factor on the last (h {} um, {} across the span{}), {:.1} s",
             r.scene,
             f(r.force_n, 3),
             if r.nonlinear {
@@ -500,6 +500,7 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     8e-6
                 },
             f(last.element_um, 0),
+            f(last.span_element_um, 0),
             grading_text(r),
             secs
         );

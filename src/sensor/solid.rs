@@ -50,6 +50,8 @@ fn line_strip_um(g: &SensorGeometry) -> f64 {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolidLevel {
     pub element_um: f64,
+    /// The largest cell across the span (y between the channel walls; [`SolidMeshOptions`]).
+    pub span_element_um: f64,
     pub dofs: usize,
     /// Newton iterations (each a tangent assembly and a correction) of the geometrically
     /// nonlinear solve; None for the linear one (one factorisation).
@@ -637,6 +639,7 @@ pub fn evaluate_solid(
             };
             let level = SolidLevel {
                 element_um: opts.element_um,
+                span_element_um: opts.span_element_um,
                 dofs,
                 newton_iterations: newton.map(|n| n.iterations),
                 factorisations: newton.map(|n| n.factorisations),
