@@ -241,7 +241,8 @@ pub struct FeArgs {
     /// 250 um in plane, half that across the span; three give an error estimate). By default 3
     /// for --model solid, 2 for --verify-solid, or --max-levels if lower. Three put every reading
     /// of the bundled centre load under 1 % but the tooth base and vertex stresses (about 4 %,
-    /// the thickness check's part; README, "Finer across the span").
+    /// the thickness check's part) and the peak principal stress, which is reported but not
+    /// required to converge (README, "Finer across the span").
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
     pub solid_levels: Option<u8>,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)

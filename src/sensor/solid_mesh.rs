@@ -579,14 +579,14 @@ pub fn build(
     let mut xs = subdivide(xs, |_, _| opts.element_um, min_um.max(1.0));
     // Across the span (between the walls at the plate's underside) finer, the plate bending
     // there ([`SPAN_REFINEMENT`]).
-    let span_um = |a: f64, b: f64| {
+    let y_cell_um = |a: f64, b: f64| {
         if a >= y0 - 1e-6 && b <= y1 + 1e-6 {
             opts.span_element_um.min(opts.element_um)
         } else {
             opts.element_um
         }
     };
-    let mut ys = subdivide(ys, span_um, min_um.max(1.0));
+    let mut ys = subdivide(ys, y_cell_um, min_um.max(1.0));
     // Local grading: the cells either side of a graded edge bisected toward it; away from its
     // tooth they merge back (below, once the map is set).
     let mut bands = Vec::new();
