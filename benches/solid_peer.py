@@ -459,7 +459,9 @@ def rel(a, b, scale=None):
 
 def report(ex, peer, t_read):
     r = ex["results"]
-    print(f"== {ex['scene']} level {ex['level']} (h {ex['element_um']:.0f} um), mirrors x "
+    span = ex.get("span_element_um", ex["element_um"])
+    print(f"== {ex['scene']} level {ex['level']} (h {ex['element_um']:.0f} um, "
+          f"{span:.0f} across the span), mirrors x "
           f"{ex['mirror_x_um']}, y {ex['mirror_y_um']}: {len(ex['elements'])} elements, "
           f"{len(ex['nodes_um'])} nodes")
     print(f"  node map: positions equal to {peer.node_move_m:.1e} m; element volumes against "

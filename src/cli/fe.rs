@@ -511,6 +511,14 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 100.0 * r.contact_on_top_faces
             );
         }
+        if last.edge_moved_um > 0.0 {
+            println!(
+                "  mesh: a feature line (an edge, a wall, a load's side) stands {:.3} um off \
+                 the mesh line it merged into; read-outs take points that close outside the \
+                 material from its nearest face",
+                last.edge_moved_um
+            );
+        }
         let plate_name = if r.plate_rung == "large_deflection_plate" {
             "LD plate"
         } else {

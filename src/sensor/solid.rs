@@ -65,9 +65,17 @@ pub struct SolidLevel {
     pub single_precision_factorisations: Option<usize>,
     /// Entries of the Cholesky factor (f64), a measure of the memory it takes.
     pub factor_entries: usize,
+    /// How far a feature line stands off its mesh line (um; left out when none does:
+    /// [`super::solid_mesh::SensorSolid::edge_moved_um`]).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub edge_moved_um: f64,
     #[serde(skip)]
     pub seconds: f64,
     pub readout: SolidReadout,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// One quantity of the solid rung with its discretisation estimate and the linear plate's value.
@@ -645,6 +653,7 @@ pub fn evaluate_solid(
                 factorisations: newton.map(|n| n.factorisations),
                 single_precision_factorisations: newton.map(|n| n.single_precision),
                 factor_entries,
+                edge_moved_um: solid.edge_moved_um,
                 seconds: start.elapsed().as_secs_f64(),
                 readout,
             };

@@ -131,6 +131,9 @@ pub struct SolidExport {
     pub scene: String,
     pub level: usize,
     pub element_um: f64,
+    /// The largest cell across the span (y between the channel walls), um
+    /// ([`super::solid_mesh::SolidMeshOptions::span_element_um`]).
+    pub span_element_um: f64,
     pub mirror_x_um: Option<f64>,
     pub mirror_y_um: Option<f64>,
     pub node_order: &'static str,
@@ -418,6 +421,7 @@ pub fn export_scene(
         scene: scene.name.clone(),
         level,
         element_um: opts.element_um,
+        span_element_um: opts.span_element_um,
         mirror_x_um: scene_model.mirror_x_um,
         mirror_y_um: scene_model.mirror_y_um,
         node_order: "a + 3 b + 9 c at (xi, eta, zeta) = (a - 1, b - 1, c - 1), xi along x",

@@ -131,6 +131,10 @@ pub struct SensorSolid {
     /// Per case, the smallest fraction of a contact's area that found an upward face (1 unless
     /// part of it lies over sidewalls; the pressure there is raised so the total stays the force).
     pub loaded_fraction: Vec<f64>,
+    /// The farthest a feature line (an edge of a tooth or an electrode, a wall, a load's side,
+    /// an anchor) stands from the mesh line it merged into, um: lines closer than the gap the
+    /// grid's [`HexGrid::tolerance_um`] holds merge, the lower kept. 0 when each is a mesh line.
+    pub edge_moved_um: f64,
 }
 
 impl SensorSolid {
@@ -189,14 +193,22 @@ pub const LOCAL_GRADING_MARGIN: f64 = 2.0;
 /// cell of [`TOOTH_EDGE_GRADING`].
 pub const LOCAL_GRADING_CELL: f64 = 0.5;
 
-/// The coarse cells either side of line `v` in `lines` (sorted), each with the lines bisecting
-/// it toward `v` until the cell next to `v` is at most `h_min_um`: (cell's low end, high end,
-/// new lines). A grading of ratio 2 whose lines nest, so that the cell merges back whole.
-fn bisect_toward(lines: &[f64], v: f64, h_min_um: f64) -> Vec<(f64, f64, Vec<f64>)> {
-    let tol = 1e-9 * lines.last().map_or(1.0, |l| l.abs().max(1.0));
-    let Some(c) = lines.iter().position(|&l| (l - v).abs() <= tol) else {
+/// The coarse cells either side of the line standing for `v` in `lines` (sorted: the nearest
+/// within `gap_um`, the gap closer than which the lines were merged, so an edge whose line gave
+/// way to a neighbour's is graded at that line), each with the lines bisecting it toward that
+/// line until the cell next to it is at most `h_min_um`: (cell's low end, high end, new lines).
+/// A grading of ratio 2 whose lines nest, so that the cell merges back whole.
+fn bisect_toward(lines: &[f64], v: f64, h_min_um: f64, gap_um: f64) -> Vec<(f64, f64, Vec<f64>)> {
+    let Some((c, _)) = lines
+        .iter()
+        .map(|l| (l - v).abs())
+        .enumerate()
+        .filter(|&(_, d)| d < gap_um)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
         return Vec::new();
     };
+    let v = lines[c];
     let mut out = Vec::new();
     for w in [c.checked_sub(1), Some(c + 1)]
         .into_iter()
@@ -363,16 +375,43 @@ pub fn silicon_elasticity(s: SiliconStiffness) -> Elasticity {
 
 /// Lines `lines` with extra ones so no interval `(a, b)` exceeds `max_um(a, b)` (taken as at
 /// least `min_um`, so the count stays bounded), and none closer than `min_um` (the later of two
-/// near lines is dropped).
-fn subdivide(mut lines: Vec<f64>, max_um: impl Fn(f64, f64) -> f64, min_um: f64) -> Vec<f64> {
+/// near lines is dropped, but the last line, the domain's end at a mirror or the die's edge,
+/// stays and the line before it gives way); with the farthest any given line stands from its
+/// nearest kept one (a merged edge is meshed at the nearest line: materials go by cell centre).
+fn subdivide(
+    mut lines: Vec<f64>,
+    max_um: impl Fn(f64, f64) -> f64,
+    min_um: f64,
+) -> (Vec<f64>, f64) {
     lines.sort_by(f64::total_cmp);
     let mut merged: Vec<f64> = Vec::with_capacity(lines.len());
-    for v in lines {
+    for &v in &lines {
         match merged.last() {
             Some(&last) if v - last < min_um => {}
             _ => merged.push(v),
         }
     }
+    if let (Some(&end), Some(&kept)) = (lines.last(), merged.last()) {
+        if end > kept {
+            if merged.len() >= 2 {
+                merged.pop();
+            }
+            merged.push(end);
+        }
+    }
+    // Each given line's distance to the nearest kept one.
+    let moved_um = lines
+        .iter()
+        .map(|&v| {
+            let i = merged.partition_point(|&m| m < v);
+            [i.checked_sub(1), Some(i)]
+                .into_iter()
+                .flatten()
+                .filter_map(|j| merged.get(j))
+                .map(|m| (m - v).abs())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max);
     let mut out = Vec::new();
     for w in merged.windows(2) {
         let n = ((w[1] - w[0]) / max_um(w[0], w[1]).max(min_um))
@@ -385,7 +424,7 @@ fn subdivide(mut lines: Vec<f64>, max_um: impl Fn(f64, f64) -> f64, min_um: f64)
     if let Some(&last) = merged.last() {
         out.push(last);
     }
-    out
+    (out, moved_um)
 }
 
 /// One axis of the teeth layer: tooth base edges (the lines) move to the tooth top edges at the
@@ -575,8 +614,10 @@ pub fn build(
     let clip = |v: &mut Vec<f64>, hi: f64| v.retain(|&c| (0.0..=hi + 1e-9).contains(&c));
     clip(&mut xs, x_hi);
     clip(&mut ys, y_hi);
-    let min_um = 0.02 * opts.element_um.min(t);
-    let mut xs = subdivide(xs, |_, _| opts.element_um, min_um.max(1.0));
+    // Lines closer than this merge (the lower kept): a drawn edge may stand up to it off its
+    // line, which the grid's tolerance tells its readers.
+    let gap_um = (0.02 * opts.element_um.min(t)).max(1.0);
+    let (mut xs, x_moved_um) = subdivide(xs, |_, _| opts.element_um, gap_um);
     // Across the span (between the walls at the plate's underside) finer, the plate bending
     // there ([`SPAN_REFINEMENT`]).
     let y_cell_um = |a: f64, b: f64| {
@@ -586,7 +627,7 @@ pub fn build(
             opts.element_um
         }
     };
-    let mut ys = subdivide(ys, y_cell_um, min_um.max(1.0));
+    let (mut ys, y_moved_um) = subdivide(ys, y_cell_um, gap_um);
     // Local grading: the cells either side of a graded edge bisected toward it; away from its
     // tooth they merge back (below, once the map is set).
     let mut bands = Vec::new();
@@ -596,7 +637,7 @@ pub fn build(
         // line and stay fine along the die (they are the teeth bands' coarse cells).
         let coarse = ys.clone();
         for v in [y0, y1].into_iter().filter(|&v| v < y_hi - 1e-6) {
-            for (_, _, new) in bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t) {
+            for (_, _, new) in bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t, gap_um) {
                 ys.extend(new);
             }
         }
@@ -616,7 +657,9 @@ pub fn build(
                     keep.push((2.0 * m - o0.max(o1) - margin, 2.0 * m - o0.min(o1) + margin));
                 }
                 for v in images(e.0, mirror).into_iter().flatten() {
-                    for (lo_um, hi_um, new) in bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t) {
+                    for (lo_um, hi_um, new) in
+                        bisect_toward(&coarse, v, LOCAL_GRADING_CELL * t, gap_um)
+                    {
                         lines.extend(new);
                         bands.push(GradedBand {
                             axis,
@@ -648,7 +691,7 @@ pub fn build(
     }
     zs.push(layers.teeth_top_um);
 
-    let mut grid = HexGrid::new(&xs, &ys, &zs)?;
+    let mut grid = HexGrid::new(&xs, &ys, &zs)?.with_tolerance_um(gap_um);
     // Materials by logical position (the unmapped element's centre).
     let tooth_top = |xc: f64, yc: f64| {
         et.tooth_tops_um.iter().any(|tt| {
@@ -737,6 +780,7 @@ pub fn build(
         mirror_x_um,
         mirror_y_um,
         loaded_fraction,
+        edge_moved_um: x_moved_um.max(y_moved_um),
     })
 }
 
@@ -839,4 +883,55 @@ fn top_loads(
         }
     }
     (out, frac)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An edge whose line gave way to a neighbour's within the gap is graded at that line, as
+    /// an edge on it; one farther than the gap from every line is not graded.
+    /// Lines closer than the gap merge into the lower, and say how far the dropped one stood;
+    /// the domain's ends (a mirror, the die's edge) stay where they are, so a mirror's
+    /// constraint always finds its plane.
+    #[test]
+    fn near_lines_merge_but_the_domains_ends_stay() {
+        let coarse = |_: f64, _: f64| 1e9;
+        for (given, kept, moved) in [
+            (
+                vec![0.0, 1000.0, 1000.4, 3000.0],
+                vec![0.0, 1000.0, 3000.0],
+                0.4,
+            ),
+            (
+                vec![3000.0, 0.0, 1000.0, 2999.5, 0.3],
+                vec![0.0, 1000.0, 3000.0],
+                0.5,
+            ),
+            // Everything within the gap: both ends still.
+            (vec![0.0, 0.2, 0.5], vec![0.0, 0.5], 0.2),
+        ] {
+            let (l, m) = subdivide(given.clone(), coarse, 1.0);
+            assert_eq!(l, kept, "{given:?}");
+            assert!((m - moved).abs() < 1e-9, "{given:?}: {m}");
+        }
+        // Subdivided evenly, none wider than asked.
+        let (l, _) = subdivide(vec![0.0, 1000.0], |_, _| 300.0, 1.0);
+        assert_eq!(l, vec![0.0, 250.0, 500.0, 750.0, 1000.0]);
+    }
+
+    #[test]
+    fn an_edge_merged_into_a_neighbours_line_is_graded_there() {
+        let lines = [0.0, 1000.0, 3000.0];
+        let on = bisect_toward(&lines, 1000.0, 100.0, 1.0);
+        assert_eq!(
+            on,
+            vec![
+                (0.0, 1000.0, vec![500.0, 750.0, 875.0, 937.5]),
+                (1000.0, 3000.0, vec![2000.0, 1500.0, 1250.0, 1125.0, 1062.5]),
+            ]
+        );
+        assert_eq!(bisect_toward(&lines, 1000.4, 100.0, 1.0), on);
+        assert!(bisect_toward(&lines, 1001.5, 100.0, 1.0).is_empty());
+    }
 }

@@ -607,6 +607,82 @@ fn the_nonlinear_solid_stiffens_and_keeps_equilibrium_in_the_deformed_state() {
     );
 }
 
+/// A channel wall that lands within the line gap of a tooth row's base edge (the supports 8 um
+/// wider: the wall 0.33 um below row 0's edge on the plate) merges the two lines, so the
+/// meshed edge stands off the drawn one. The submodels, placed on the drawn corner, read the
+/// solid within the grid's tolerance (until 2026-12-01 the run stopped, exit 2: "the corner
+/// submodel reads the solid at ... outside it"), and what they read lies between the designs
+/// with the wall 4 um either side, whose lines do not merge.
+#[test]
+fn a_wall_a_fraction_of_a_micron_from_a_tooth_edge_is_read() {
+    use tactfab::sensor::edge_stress::EdgeKind;
+    let design = |width: &str| {
+        let set = format!("geometry.support_width_um={width}");
+        geometry(&[&SHORT[..], &[set.as_str()]].concat())
+    };
+    let near = design("2508");
+    let ro = near.etched.tooth_run_out_um;
+    let edge = near
+        .etched
+        .tooth_tops_um
+        .iter()
+        .map(|t| t[3] + ro)
+        .find(|y| (y - near.plate_y0_um).abs() < 1.0)
+        .expect("a tooth edge within a micron of the wall");
+    let s = build(
+        &near,
+        &[],
+        Base::Rigid,
+        SolidMeshOptions::level(1000.0, 0),
+        &[],
+        None,
+        Some(7500.0),
+    )
+    .unwrap();
+    let ys = s.problem.grid.lines_um()[1];
+    let on = |v: f64| ys.iter().any(|y| (y - v).abs() < 1e-6);
+    assert!(
+        on(near.plate_y0_um) && !on(edge),
+        "{edge} {}",
+        near.plate_y0_um
+    );
+    assert!((edge - near.plate_y0_um).abs() < s.problem.grid.tolerance_um());
+    assert!((s.edge_moved_um - (edge - near.plate_y0_um)).abs() < 1e-9);
+    // The centre load's most loaded tooth base section is on that edge.
+    let scene = point(6000.0, 7500.0, 1.0);
+    // Each design's edge stresses, and how far its level's feature lines moved (the JSON's
+    // `edge_moved_um`): only the merged design's did.
+    let read = |g: &tactfab::sensor::SensorGeometry, moved_um: f64| {
+        let level = evaluate_solid(g, &scene, run(1, true), &[], &[])
+            .expect("read")
+            .levels
+            .remove(0);
+        assert!((level.edge_moved_um - moved_um).abs() < 1e-9, "{moved_um}");
+        level.readout.edge_stress
+    };
+    let at = read(&near, s.edge_moved_um);
+    let (below, above) = (read(&design("2504"), 0.0), read(&design("2512"), 0.0));
+    let kind = |v: &[tactfab::sensor::edge_stress::EdgeStress], k| {
+        v.iter()
+            .find(|e| e.kind == k)
+            .cloned()
+            .expect("each kind read")
+    };
+    let tooth = kind(&at, EdgeKind::ToothBase);
+    assert!((tooth.at_um[1] - edge).abs() < 1e-6, "{tooth:?}");
+    for k in [EdgeKind::ToothBase, EdgeKind::SupportEdge] {
+        let (a, lo, hi) = (kind(&at, k), kind(&below, k), kind(&above, k));
+        let (lo, hi) = (
+            lo.stress_mpa.min(hi.stress_mpa),
+            lo.stress_mpa.max(hi.stress_mpa),
+        );
+        assert!(
+            a.stress_mpa > lo && a.stress_mpa < hi,
+            "{k:?}: {a:?} not in {lo}..{hi}"
+        );
+    }
+}
+
 #[test]
 fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     // Three levels refine in plane only; level 0 again with twice the bricks through the plate

@@ -62,6 +62,13 @@ fn the_export_is_the_solid_rungs_model_and_is_complete() {
         (r.support1_n, r.support2_n)
     );
     assert_eq!(res.free_dofs, rung.levels[0].dofs);
+    // The cell sizes it says are the level's, across the span too.
+    let level = &rung.levels[0];
+    assert_eq!(
+        (ex.element_um, ex.span_element_um),
+        (level.element_um, level.span_element_um)
+    );
+    assert!(ex.span_element_um < ex.element_um);
     assert!(ex.mirror_y_um.is_some() && ex.mirror_x_um.is_none());
 
     // Connectivity: 27 distinct nodes per element, every node used, positive volumes.

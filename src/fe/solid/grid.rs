@@ -47,6 +47,9 @@ pub struct HexGrid {
     merged: HashMap<usize, [[usize; 3]; 3]>,
     /// Cells inside a merged brick other than its first -> that brick's element.
     covered: HashMap<usize, usize>,
+    /// How far (um) a drawn face may lie from the grid's: a builder that merges lines closer
+    /// than a gap moves a face by up to that gap ([`HexGrid::with_tolerance_um`]).
+    tolerance_um: f64,
 }
 
 impl fmt::Debug for HexGrid {
@@ -61,6 +64,7 @@ impl fmt::Debug for HexGrid {
             )
             .field("mapped", &self.map.is_some())
             .field("merged", &self.merged.len())
+            .field("tolerance_um", &self.tolerance_um)
             .finish()
     }
 }
@@ -152,7 +156,27 @@ impl HexGrid {
             map: None,
             merged: HashMap::new(),
             covered: HashMap::new(),
+            tolerance_um: 0.0,
         })
+    }
+
+    /// The grid with its faces known only to within `um` of the faces its builder drew (it
+    /// merged lines closer than that): a point that far outside the active elements is read on
+    /// the nearest one ([`crate::fe::solid::SolidSolution::locate`]). Zero (the default): only
+    /// points inside an element, within round-off, are found.
+    #[track_caller]
+    pub fn with_tolerance_um(mut self, um: f64) -> Self {
+        assert!(
+            um.is_finite() && um >= 0.0,
+            "a grid's tolerance is a finite length >= 0"
+        );
+        self.tolerance_um = um;
+        self
+    }
+
+    /// See [`HexGrid::with_tolerance_um`].
+    pub fn tolerance_um(&self) -> f64 {
+        self.tolerance_um
     }
 
     /// The grid with `map` applied to every node position (um to um). Validated when the model

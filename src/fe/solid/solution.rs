@@ -194,7 +194,9 @@ impl SolidSolution {
     /// Element and local point containing `p_um` (after the node map): the element found on
     /// the unmapped grid, its neighbours, those within a few cells in plane (a node
     /// map moves points across many fine cells), then every active element whose node box holds
-    /// the point, each tried by Newton on x(xi) = p. None outside the active elements.
+    /// the point, each tried by Newton on x(xi) = p. Failing that, the nearest point of an
+    /// active element within the grid's [`HexGrid::tolerance_um`] (a drawn face the builder
+    /// moved onto a nearby line). None farther outside the active elements.
     pub fn locate(&self, p_um: [f64; 3]) -> Option<([usize; 3], [f64; 3])> {
         let grid = &self.ctx.grid;
         let try_element = |e: usize| -> Option<[f64; 3]> {
@@ -250,19 +252,42 @@ impl SolidSolution {
                 tried.extend(ring);
             }
         }
-        let tol = 1e-9 * grid.extent_um();
-        tried.sort_unstable();
-        (0..grid.element_count())
-            .filter(|e| tried.binary_search(e).is_err())
-            .filter(|&e| {
-                let x = grid.element_nodes(e).map(|n| self.ctx.pos_um[n]);
-                (0..3).all(|d| {
-                    let lo = x.iter().map(|p| p[d]).fold(f64::INFINITY, f64::min);
-                    let hi = x.iter().map(|p| p[d]).fold(f64::NEG_INFINITY, f64::max);
-                    p_um[d] >= lo - tol && p_um[d] <= hi + tol
+        // Active elements whose node box, grown by `margin`, holds the point.
+        let near = |margin: f64| {
+            (0..grid.element_count())
+                .filter(|&e| grid.material(e).is_some())
+                .filter(move |&e| {
+                    let x = grid.element_nodes(e).map(|n| self.ctx.pos_um[n]);
+                    (0..3).all(|d| {
+                        let lo = x.iter().map(|p| p[d]).fold(f64::INFINITY, f64::min);
+                        let hi = x.iter().map(|p| p[d]).fold(f64::NEG_INFINITY, f64::max);
+                        p_um[d] >= lo - margin && p_um[d] <= hi + margin
+                    })
                 })
+        };
+        tried.sort_unstable();
+        let inside = near(1e-9 * grid.extent_um())
+            .filter(|e| tried.binary_search(e).is_err())
+            .find_map(|e| try_element(e).map(|xi| (grid.element_ijk(e), xi)));
+        let tol = grid.tolerance_um();
+        if inside.is_some() || tol <= 0.0 {
+            return inside;
+        }
+        // The nearest point within the tolerance (the smallest distance, then the lowest
+        // element: deterministic).
+        near(tol)
+            .filter_map(|e| {
+                let x = grid.element_nodes(e).map(|n| self.ctx.pos_um[n]);
+                let xi = nearest_local_point(&x, p_um);
+                let at = hex27::position(&x, xi);
+                let d = (0..3)
+                    .map(|k| (at[k] - p_um[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                (d <= tol).then_some((d, e, xi))
             })
-            .find_map(|e| try_element(e).map(|xi| (grid.element_ijk(e), xi)))
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|(_, e, xi)| (grid.element_ijk(e), xi))
     }
 
     /// Displacement (m) at a point (um, after the node map); None outside the active elements.
@@ -272,14 +297,29 @@ impl SolidSolution {
     }
 }
 
-/// Local coordinates of `p` in the element with nodes `x` (same unit), by Newton from the
-/// centre; None if it does not converge inside [-1, 1]^3 (with a 1e-9 margin).
 /// Cells in plane round the unmapped guess that [`SolidSolution::locate`] tries before scanning
 /// every element \[choice\]: a tooth's sidewall map moves a point by its run-out (141 um on the
 /// bundled design), several of the finest graded cells.
 const LOCATE_REACH: i64 = 6;
 
+/// Local coordinates of `p` in the element with nodes `x` (same unit), by Newton from the
+/// centre; None if it does not converge inside [-1, 1]^3 (with a 1e-9 margin).
 fn inverse_map(x: &[[f64; 3]; hex27::NODES], p: [f64; 3]) -> Option<[f64; 3]> {
+    let (xi, converged) = newton_local_point(x, p);
+    (converged && xi.iter().all(|v| v.abs() <= 1.0 + 1e-9)).then(|| xi.map(|v| v.clamp(-1.0, 1.0)))
+}
+
+/// A point of the element with nodes `x` near `p` (outside it): Newton's local coordinates of
+/// `p`, clamped to [-1, 1]^3. On a curved face not exactly the closest point, so its distance
+/// from `p` is at least the closest point's; the caller measures that distance.
+fn nearest_local_point(x: &[[f64; 3]; hex27::NODES], p: [f64; 3]) -> [f64; 3] {
+    newton_local_point(x, p).0.map(|v| v.clamp(-1.0, 1.0))
+}
+
+/// Newton on x(xi) = p from the element's centre, the iterate kept within [-3, 3]^3 (a point
+/// far outside is not chased): the last iterate and whether it converged (to 1e-12 of the
+/// element's size).
+fn newton_local_point(x: &[[f64; 3]; hex27::NODES], p: [f64; 3]) -> ([f64; 3], bool) {
     let scale = (0..3)
         .map(|d| {
             let lo = x.iter().map(|q| q[d]).fold(f64::INFINITY, f64::min);
@@ -292,16 +332,14 @@ fn inverse_map(x: &[[f64; 3]; hex27::NODES], p: [f64; 3]) -> Option<[f64; 3]> {
         let at = hex27::position(x, xi);
         let r: [f64; 3] = std::array::from_fn(|d| p[d] - at[d]);
         if r.iter().map(|v| v.abs()).fold(0.0, f64::max) <= 1e-12 * scale {
-            return xi
-                .iter()
-                .all(|v| v.abs() <= 1.0 + 1e-9)
-                .then(|| xi.map(|v| v.clamp(-1.0, 1.0)));
+            return (xi, true);
         }
-        let step = hex27::solve_transposed(&hex27::jacobian(x, xi), r)?;
+        let Some(step) = hex27::solve_transposed(&hex27::jacobian(x, xi), r) else {
+            return (xi, false);
+        };
         for d in 0..3 {
-            // Keep the iterate near the element: a point far outside is rejected, not chased.
             xi[d] = (xi[d] + step[d]).clamp(-3.0, 3.0);
         }
     }
-    None
+    (xi, false)
 }

@@ -446,6 +446,54 @@ fn half_model_equals_full_model() {
     );
 }
 
+/// A point off the material by less than the grid's tolerance (a drawn face the mesh builder
+/// moved onto a nearby line) is read at the nearest point of the material: on a face, on an
+/// edge; farther off, or on a grid without a tolerance, it is outside.
+#[test]
+fn a_point_within_the_grids_tolerance_reads_the_nearest_material() {
+    let gradient = [
+        [1.0e-4, 2.0e-5, -3.0e-5],
+        [5.0e-5, -2.0e-4, 1.0e-5],
+        [-4.0e-5, 6.0e-5, 1.5e-4],
+    ];
+    let u0_m = [1e-7, -2e-7, 3e-7];
+    let exact = linear_field_m(u0_m, gradient);
+    let solve = |tolerance_um: f64| {
+        let l = [0.0, 1000.0, 2000.0];
+        let grid = HexGrid::new(&l, &l, &l)
+            .unwrap()
+            .with_tolerance_um(tolerance_um);
+        let mut p = SolidProblem::new(grid, vec![Elasticity::isotropic(150e9, 0.25)]);
+        prescribe_linear_on_faces(&mut p, (0.0, 2000.0), u0_m, gradient);
+        p.load_cases.push(vec![]);
+        p.solve().unwrap().remove(0)
+    };
+    let s = solve(1.0);
+    let scale = 2000e-6 * 2e-4;
+    let close = |u: [f64; 3], at: [f64; 3]| {
+        let e = exact(at);
+        (0..3).all(|d| (u[d] - e[d]).abs() < 1e-10 * scale)
+    };
+    // Off a face by 0.5 um: the face's point; off an edge by 0.6 um (0.42 per axis): the edge's.
+    for (p, on) in [
+        ([2000.5, 700.0, 1100.0], [2000.0, 700.0, 1100.0]),
+        ([-0.5, 1300.0, 250.0], [0.0, 1300.0, 250.0]),
+        ([2000.42, 2000.42, 1100.0], [2000.0, 2000.0, 1100.0]),
+    ] {
+        let u = s.displacement_m(p).expect("within the tolerance");
+        assert!(close(u, on), "{p:?}: {u:?} against {:?}", exact(on));
+    }
+    // Inside, as always: the element holding it.
+    assert!(close(
+        s.displacement_m([700.0, 1300.0, 1100.0]).unwrap(),
+        [700.0, 1300.0, 1100.0]
+    ));
+    // Beyond the tolerance, and without one, outside.
+    assert!(s.displacement_m([2001.5, 700.0, 1100.0]).is_none());
+    assert!(s.displacement_m([2000.8, 2000.8, 1100.0]).is_none());
+    assert!(solve(0.0).displacement_m([2000.5, 700.0, 1100.0]).is_none());
+}
+
 fn small_problem() -> SolidProblem {
     let l = uniform_lines(0.0, 100.0, 2);
     let mut p = SolidProblem::new(
