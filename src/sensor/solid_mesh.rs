@@ -889,11 +889,9 @@ fn top_loads(
 mod tests {
     use super::*;
 
-    /// An edge whose line gave way to a neighbour's within the gap is graded at that line, as
-    /// an edge on it; one farther than the gap from every line is not graded.
-    /// Lines closer than the gap merge into the lower, and say how far the dropped one stood;
-    /// the domain's ends (a mirror, the die's edge) stay where they are, so a mirror's
-    /// constraint always finds its plane.
+    /// Lines closer than the gap merge into the lower, and say how far a given line stands
+    /// from its nearest kept one; the domain's ends (a mirror, the die's edge) stay where they
+    /// are, so a mirror's constraint always finds its plane.
     #[test]
     fn near_lines_merge_but_the_domains_ends_stay() {
         let coarse = |_: f64, _: f64| 1e9;
@@ -920,6 +918,8 @@ mod tests {
         assert_eq!(l, vec![0.0, 250.0, 500.0, 750.0, 1000.0]);
     }
 
+    /// An edge whose line gave way to a neighbour's within the gap is graded at that line, as
+    /// an edge on it; one farther than the gap from every line is not graded.
     #[test]
     fn an_edge_merged_into_a_neighbours_line_is_graded_there() {
         let lines = [0.0, 1000.0, 3000.0];
