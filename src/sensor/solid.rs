@@ -710,12 +710,11 @@ pub fn evaluate_solid(
     };
     // Every mesh of the run, the thickness check's too, graded alike.
     let mesh = |level: usize| graded_mesh(level, local_refinement);
-    // Level 0 again with twice the bricks through the plate and the teeth: the edges' thickness
-    // check (below).
+    // Level 0 again with every brick of the plate and the teeth bisected (the teeth's grading
+    // kept): the edges' thickness check (below).
     let doubled = || {
         let mut opts = mesh(0);
-        opts.plate_layers *= 2;
-        opts.teeth_layers *= 2;
+        opts.brick_halvings += 1;
         opts
     };
     // The largest meshes first, analysed but not solved: a run whose finest level or thickness
@@ -1196,8 +1195,7 @@ mod tests {
         let sm = SceneModel::new(&g, &scene, true).expect("scene");
         let level0 = SolidMeshOptions::level(COARSE_ELEMENT_UM, 0);
         let doubled = SolidMeshOptions {
-            plate_layers: 2 * level0.plate_layers,
-            teeth_layers: 2 * level0.teeth_layers,
+            brick_halvings: level0.brick_halvings + 1,
             ..level0
         };
         let coarse = sm.build(&g, Base::Rigid, level0, &[]).expect("level 0");
