@@ -710,10 +710,9 @@ pub fn build(
         }
     }
     let mut zs = Vec::new();
+    // Uniform layers: the same planes as a graded layer of ratio 1, never bisected.
     let layer = |zs: &mut Vec<f64>, a: f64, b: f64, n: usize| {
-        for k in 0..n.max(1) {
-            zs.push(a + (b - a) * k as f64 / n.max(1) as f64);
-        }
+        zs.extend(graded_planes(a, b, n, 1.0, 0));
     };
     if let Base::Elastic { thickness_um, .. } = base {
         layer(&mut zs, -thickness_um, 0.0, opts.base_layers);
@@ -723,13 +722,8 @@ pub fn build(
     layer(&mut zs, d, f + d, 1);
     // At most 16 bricks per brick: the check asks for 1.
     let halvings = opts.brick_halvings.min(4);
-    zs.extend(graded_planes(
-        f + d,
-        f + d + t,
-        opts.plate_layers,
-        1.0,
-        halvings,
-    ));
+    let (n, q) = (opts.plate_layers, 1.0);
+    zs.extend(graded_planes(f + d, f + d + t, n, q, halvings));
     if !et.tooth_tops_um.is_empty() {
         let (n, q) = (opts.teeth_layers, opts.teeth_grading);
         zs.extend(graded_planes(f + d + t, f + d + t + h, n, q, halvings));
