@@ -234,7 +234,9 @@ pub struct FeArgs {
     /// between; `lines`: lines at 0.5 and 2 plate thicknesses either side of each edge, across
     /// the whole die (the only grading before 2026-11-30); `auto` (the default): whichever gives
     /// the finest level the smaller factor, which on the bundled design is local for the centre
-    /// load and lines for the line load (README, "Local refinement").
+    /// load and lines for the line load (README, "Local refinement"); `uniform`: no tooth graded,
+    /// the feature lines only (the cheapest look; it can miss the worst tooth base beyond its
+    /// estimate, and says so).
     #[arg(long, value_enum, value_name = "GRADING")]
     pub solid_grading: Option<GradingArg>,
     /// With --model solid or --verify-solid: the solid's mesh levels, 1-5 (1000, 707, 500, 354,
@@ -322,7 +324,8 @@ pub struct BuildArgs {
     #[arg(long, requires = "verify_solid")]
     pub plain_shear: bool,
     /// With --verify-solid: how the solid's levels are graded at the hot teeth, as `fe
-    /// --solid-grading` (by default `auto`: the grading with the smaller factor).
+    /// --solid-grading` (by default `auto`: the grading with the smaller factor; `uniform`
+    /// grades no tooth).
     #[arg(long, value_enum, value_name = "GRADING", requires = "verify_solid")]
     pub solid_grading: Option<GradingArg>,
     /// With --verify-solid: the solid's mesh levels, 1-5 (by default 2, or --max-levels if
@@ -504,6 +507,7 @@ pub enum GradingArg {
     Auto,
     Local,
     Lines,
+    Uniform,
 }
 
 impl GradingArg {
@@ -514,6 +518,7 @@ impl GradingArg {
             None | Some(GradingArg::Auto) => G::Auto,
             Some(GradingArg::Local) => G::Local,
             Some(GradingArg::Lines) => G::Lines,
+            Some(GradingArg::Uniform) => G::Uniform,
         }
     }
 }

@@ -286,6 +286,27 @@ impl Edge {
     }
 }
 
+/// The displacement (m) at `p_um` of the whole die's mirror-symmetric field: a point beyond a
+/// mirror of the part solved (`solid_mesh`: the part is [0, m]) is read at its image, with the
+/// displacement across that mirror reversed. A submodel at a station on a mirror reaches across
+/// it (a hot edge crossing the mirror has its largest stress there).
+fn mirrored_displacement(
+    s: &SensorSolid,
+    sol: &impl SolidField,
+    p_um: [f64; 3],
+) -> Option<[f64; 3]> {
+    let mut q = p_um;
+    let mut flip = [false; 3];
+    for (axis, mirror) in [(0, s.mirror_x_um), (1, s.mirror_y_um)] {
+        if let Some(m) = mirror.filter(|&m| q[axis] > m) {
+            q[axis] = 2.0 * m - q[axis];
+            flip[axis] = true;
+        }
+    }
+    let u = sol.displacement_m(q)?;
+    Some([0, 1, 2].map(|i| if flip[i] { -u[i] } else { u[i] }))
+}
+
 /// Solves one section at `rings` rings per octave and reads the silicon's largest principal
 /// stress on the ring at `read_um`.
 fn section(
@@ -293,10 +314,10 @@ fn section(
     at: f64,
     read_um: f64,
     rings: usize,
-    sol: &impl SolidField,
+    (s, sol): (&SensorSolid, &impl SolidField),
     patterns: &SectionPatterns,
 ) -> FeResult<(f64, CornerSolution)> {
-    let field = |p: [f64; 3]| sol.displacement_m(p);
+    let field = |p: [f64; 3]| mirrored_displacement(s, sol, p);
     let mesh = CornerMesh {
         radius_um: edge.radius_um,
         read_at_um: read_um,
@@ -349,7 +370,7 @@ pub fn edge_stresses(
         let fine: Vec<(f64, CornerSolution)> = ranked
             .par_iter()
             .take(SECTIONS_PER_KIND)
-            .map(|&(_, edge, at)| section(edge, at, read_um, RINGS_FINE, sol, &patterns))
+            .map(|&(_, edge, at)| section(edge, at, read_um, RINGS_FINE, (s, sol), &patterns))
             .collect::<Vec<_>>()
             .into_iter()
             .collect::<FeResult<_>>()?;
@@ -363,7 +384,7 @@ pub fn edge_stresses(
         if let Some(i) = top {
             let (_, edge, at) = ranked[i];
             let (value, c) = &fine[i];
-            let (coarse, _) = section(edge, at, read_um, RINGS_COARSE, sol, &patterns)?;
+            let (coarse, _) = section(edge, at, read_um, RINGS_COARSE, (s, sol), &patterns)?;
             out.push(EdgeStress {
                 kind,
                 stress_mpa: value * 1e-6,
@@ -530,7 +551,7 @@ fn vertex_stress(
      -> FeResult<VertexReading> {
         let local = die.rotated(&[frame.e_x, frame.e_y, frame.e_z]);
         let model = vertex_model(slope, &local, grading)?;
-        let field = |p: [f64; 3]| sol.displacement_m(p);
+        let field = |p: [f64; 3]| mirrored_displacement(s, sol, p);
         VertexChain::solve(
             &model,
             frame,

@@ -562,13 +562,16 @@ pub struct SolidRun {
 /// design (README, "Local refinement"): the centre load's local factor is 16 % smaller, the
 /// line load's 52 % larger (five hot teeth in a row on the whole die keep their bands fine along
 /// it, both walls are graded, and bricks spanning planes constrain the order), so neither wins
-/// everywhere; the symbolic analyses that decide take seconds.
+/// everywhere; the symbolic analyses that decide take seconds. `Uniform` grades no tooth: the
+/// feature lines only, about half the cost of one graded level on the short test die
+/// (README), and it can miss the worst tooth base beyond its estimate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SolidGrading {
     Auto,
     Local,
     Lines,
+    Uniform,
 }
 
 /// The factor sizes `SolidGrading::Auto` chose between, on the finest level. Where one grading's
@@ -603,6 +606,11 @@ pub fn evaluate_solid(
     graded_teeth: &[usize],
 ) -> Result<SolidReport, SensorError> {
     let scene_model = SceneModel::new(g, scene, run.symmetry)?;
+    let graded_teeth: &[usize] = if run.grading == SolidGrading::Uniform {
+        &[]
+    } else {
+        graded_teeth
+    };
     let (base, tol) = (run.base, run.tol);
     let levels = run.levels.clamp(1, MAX_SOLID_LEVELS);
     let force_n = scene_model.force_n();
@@ -688,7 +696,7 @@ pub fn evaluate_solid(
     };
     let (local_refinement, grading_choice) = match run.grading {
         SolidGrading::Local => (true, None),
-        SolidGrading::Lines => (false, None),
+        SolidGrading::Lines | SolidGrading::Uniform => (false, None),
         // The smaller factor.
         SolidGrading::Auto => {
             let choice = |local, lines, refused: Option<&SensorError>| {

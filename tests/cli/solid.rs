@@ -19,6 +19,57 @@ const SHORT: [&str; 4] = [
     "checks.scenes[1].load.point.x_um=6000",
 ];
 
+/// A 6 x 9 mm die with two columns and three rows of teeth (the point scenes at its centre, the
+/// half model's mirror through the middle row): a level of it solves in about a sixth of the
+/// short die's time (16 s against 95 s for the centre load through the binary, 2026-12-02), for
+/// the tests that check what the binary says rather than numbers of the bundled design.
+const TINY: [&str; 8] = [
+    "geometry.die_length_um=6000",
+    "geometry.teeth.count_x=2",
+    "geometry.die_width_um=9000",
+    "geometry.teeth.count_y=3",
+    "checks.scenes[0].load.point.x_um=3000",
+    "checks.scenes[1].load.point.x_um=3000",
+    "checks.scenes[0].load.point.y_um=4500",
+    "checks.scenes[1].load.point.y_um=4500",
+];
+
+/// `fe` with the solid rung on `levels` levels of the tiny test die, then `rest`.
+fn tiny_levels<'a>(levels: &'a str, rest: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "fe",
+        "process/mis-grasper.yaml",
+        "--model",
+        "solid",
+        "--max-levels",
+        levels,
+    ];
+    args.extend_from_slice(rest);
+    with_sets(&args, &TINY)
+}
+
+/// `build --verify-solid FLAGS` on one level of the tiny die's geometry with `scenes` (a
+/// `checks.scenes=...` set), unconverged allowed.
+fn tiny_verify_build<'a>(out: &'a str, flags: &[&'a str], scenes: &'a str) -> Vec<&'a str> {
+    let mut args = vec![
+        "build",
+        "process/mis-grasper.yaml",
+        "-o",
+        out,
+        "--verify-solid",
+    ];
+    args.extend_from_slice(flags);
+    args.extend(["--max-levels", "1", "--allow-unconverged"]);
+    let mut sets = TINY[..4].to_vec();
+    sets.push(scenes);
+    with_sets(&args, &sets)
+}
+
+/// [`tiny_levels`] on one level.
+fn tiny_one_level<'a>(rest: &[&'a str]) -> Vec<&'a str> {
+    tiny_levels("1", rest)
+}
+
 /// `args` followed by a `--set` of each of `sets`.
 fn with_sets<'a>(args: &[&'a str], sets: &[&'a str]) -> Vec<&'a str> {
     let mut out = args.to_vec();
@@ -31,25 +82,6 @@ fn with_sets<'a>(args: &[&'a str], sets: &[&'a str]) -> Vec<&'a str> {
 /// `args` followed by the `--set`s that make the short test die.
 fn on_short_die<'a>(args: &[&'a str]) -> Vec<&'a str> {
     with_sets(args, &SHORT)
-}
-
-/// `fe` on the bundled file's short die with the solid rung on `levels` levels, then `rest`.
-fn solid_levels<'a>(levels: &'a str, rest: &[&'a str]) -> Vec<&'a str> {
-    let mut args = vec![
-        "fe",
-        "process/mis-grasper.yaml",
-        "--model",
-        "solid",
-        "--max-levels",
-        levels,
-    ];
-    args.extend_from_slice(rest);
-    on_short_die(&args)
-}
-
-/// [`solid_levels`] on one level.
-fn solid_one_level<'a>(rest: &[&'a str]) -> Vec<&'a str> {
-    solid_levels("1", rest)
 }
 
 fn point(x_um: f64, y_um: f64, force_n: f64) -> Scene {
@@ -143,9 +175,9 @@ fn the_meshed_silicon_is_the_etched_silicon() {
 fn supports_carry_the_load_and_each_scales_with_it() {
     // An off-centre load on a shortened die (three columns of teeth): equilibrium through the
     // films, the nearer support carrying more, and twice the force twice every reading.
-    let g = geometry(&SHORT);
-    let one = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(1, true), &[], &[]).unwrap();
-    let two = evaluate_solid(&g, &point(4500.0, 5000.0, 2.0), run(1, true), &[], &[]).unwrap();
+    let g = geometry(&TINY);
+    let one = evaluate_solid(&g, &point(2000.0, 4000.0, 1.0), run(1, true), &[], &[]).unwrap();
+    let two = evaluate_solid(&g, &point(2000.0, 4000.0, 2.0), run(1, true), &[], &[]).unwrap();
     let r1 = &one.levels[0].readout;
     let r2 = &two.levels[0].readout;
     assert!((r1.support1_n + r1.support2_n - 1.0).abs() < 1e-9, "{r1:?}");
@@ -172,15 +204,15 @@ fn edge_stress_follows_the_wedge_singularity_with_the_critical_distance() {
     // 1952): 4^-0.366 = 0.602; silicon's anisotropy and the regular part of the field move it
     // by a few per cent. Both kinds are tensile somewhere along their edges and resolved by
     // their submodels to better than 1 %.
-    let g = geometry(&SHORT);
+    let g = geometry(&TINY);
     let tough = geometry(
         &[
-            SHORT.as_slice(),
+            TINY.as_slice(),
             &["materials.silicon.fracture_toughness_mpa_sqrt_m=1.44"],
         ]
         .concat(),
     );
-    let scene = point(4500.0, 5000.0, 1.0);
+    let scene = point(2000.0, 4000.0, 1.0);
     let a = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
     let b = evaluate_solid(&tough, &scene, run(1, true), &[], &[]).unwrap();
     let (ra, rb) = (&a.levels[0].readout, &b.levels[0].readout);
@@ -253,11 +285,11 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     // uniform one's (the lines split elements where the map is linear), so the conforming
     // solution can only grow more compliant: the deflection under the load rises, and both
     // balance the load.
-    let g = geometry(&SHORT);
+    let g = geometry(&TINY);
     let solve = |graded: bool, teeth: &[usize]| {
         evaluate_solid(
             &g,
-            &point(6000.0, 7500.0, 0.02),
+            &point(3000.0, 4500.0, 0.02),
             SolidRun {
                 graded,
                 ..run(1, true)
@@ -282,7 +314,7 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     assert!(wv > wu * (1.0 + 1e-3), "{wu} {wv}");
     // One tooth graded (the one nearest the load, as the plate's hot teeth are): its lines only,
     // between the two in dofs and in deflection (the spaces nest).
-    let near = tooth_nearest(&g, 6000.0, 7500.0);
+    let near = tooth_nearest(&g, 3000.0, 4500.0);
     let one = solve(false, &[near]);
     assert!(!one.graded && one.graded_teeth == 1);
     let o = &one.levels[0];
@@ -301,7 +333,7 @@ fn the_graded_solid_adds_lines_at_the_tooth_bases_and_only_softens() {
     }
     // Through the binary: `--graded` reaches the solid, which says so (the JSON's `graded`:
     // `build_verify_solid_graded_reaches_the_solid_rung`).
-    let out = tactfab(&solid_one_level(&["--point", "6,7.5,0.02,0.5", "--graded"]));
+    let out = tactfab(&tiny_one_level(&["--point", "3,4.5,0.02,0.5", "--graded"]));
     out.expect_code(0);
     assert!(
         out.stdout.contains("graded at the tooth base edges")
@@ -369,13 +401,14 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     // nodes between). Its space holds the uniform mesh's, so the deflection under the load only
     // rises; it costs fewer dofs than the same tooth graded by lines across the die; what is
     // meshed is still what is etched; the supports carry the load. Auto (the default) solves
-    // the one whose factor is smaller, exactly as that grading asked for by name.
-    let g = geometry(&SHORT);
-    let near = tooth_nearest(&g, 6000.0, 7500.0);
+    // the one whose factor is smaller, exactly as that grading asked for by name. Uniform grades
+    // no tooth, the hot one given or not.
+    let g = geometry(&TINY);
+    let near = tooth_nearest(&g, 3000.0, 4500.0);
     let solve = |grading: SolidGrading, teeth: &[usize]| {
         evaluate_solid(
             &g,
-            &point(6000.0, 7500.0, 0.02),
+            &point(3000.0, 4500.0, 0.02),
             SolidRun {
                 grading,
                 ..run(1, true)
@@ -386,12 +419,13 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
         .unwrap()
     };
     let (uniform, lines, local, auto) = (
-        solve(SolidGrading::Lines, &[]),
+        solve(SolidGrading::Uniform, &[near]),
         solve(SolidGrading::Lines, &[near]),
         solve(SolidGrading::Local, &[near]),
         solve(SolidGrading::Auto, &[near]),
     );
-    assert!(local.local_refinement && !lines.local_refinement);
+    assert!(local.local_refinement && !lines.local_refinement && !uniform.local_refinement);
+    assert_eq!(uniform.graded_teeth, 0);
     assert!(local.grading_choice.is_none() && lines.grading_choice.is_none());
     let choice = auto.grading_choice.expect("auto reports its choice");
     assert!(choice.refused.is_none(), "{choice:?}");
@@ -468,9 +502,9 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
     }
     // Through the binary: the summary says so; without the solid `--solid-grading` is a usage
     // error naming the flag.
-    let out = tactfab(&solid_one_level(&[
+    let out = tactfab(&tiny_one_level(&[
         "--point",
-        "6,7.5,0.02,0.5",
+        "3,4.5,0.02,0.5",
         "--solid-grading",
         "local",
     ]));
@@ -498,11 +532,11 @@ fn tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium() {
     // shears makes the same mesh more compliant under the load (on the bundled design's centre
     // load, level 2: 0.6495 against 0.6434 um, the graded reference about 0.650), with the same
     // dofs, and both balance the load.
-    let g = geometry(&SHORT);
+    let g = geometry(&TINY);
     let solve = |tied_shear: bool| {
         evaluate_solid(
             &g,
-            &point(6000.0, 7500.0, 0.02),
+            &point(3000.0, 4500.0, 0.02),
             SolidRun {
                 tied_shear,
                 ..run(1, true)
@@ -528,10 +562,13 @@ fn tied_shear_unlocks_the_plate_bricks_and_keeps_equilibrium() {
     // Through the binary: `--plain-shear` unties, and the text says so (tied by default, as the
     // JSON of `solid_levels_sets_the_solid_rungs_levels` says); without the solid rung
     // `--plain-shear` is a usage error.
-    let out = tactfab(&solid_one_level(&[
+    // (Uniform levels on the tiny die: the subject is the shear, not the numbers.)
+    let out = tactfab(&tiny_one_level(&[
         "--point",
-        "6,7.5,0.02,0.5",
+        "3,4.5,0.02,0.5",
         "--plain-shear",
+        "--solid-grading",
+        "uniform",
     ]));
     out.expect_code(0);
     assert!(
@@ -687,8 +724,8 @@ fn a_wall_a_fraction_of_a_micron_from_a_tooth_edge_is_read() {
 fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     // Three levels refine in plane only; level 0 again with twice the bricks through the plate
     // measures what the thickness does to the edges' stresses, and their estimate includes it.
-    let g = geometry(&SHORT);
-    let r = evaluate_solid(&g, &point(4500.0, 5000.0, 1.0), run(3, true), &[], &[]).unwrap();
+    let g = geometry(&TINY);
+    let r = evaluate_solid(&g, &point(3000.0, 4500.0, 1.0), run(3, true), &[], &[]).unwrap();
     assert_eq!(r.edge_thickness.len(), 3, "{:?}", r.edge_thickness);
     let lambda = tactfab::fe::solid::corner::williams_exponent(
         std::f64::consts::PI + 54.7356f64.to_radians(),
@@ -728,12 +765,12 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
 
 #[test]
 fn mirrored_parts_read_as_the_whole_die() {
-    // A matrix of teeth on a 12 mm die and a centre load: symmetric about both centre lines, so
+    // A matrix of teeth on the tiny die and a centre load: symmetric about both centre lines, so
     // a quarter is solved; the whole die on the same lines must read the same.
-    let mut sets = SHORT.to_vec();
+    let mut sets = TINY.to_vec();
     sets.push("geometry.teeth.pattern=matrix");
     let g = geometry(&sets);
-    let scene = point(6000.0, 7500.0, 1.0);
+    let scene = point(3000.0, 4500.0, 1.0);
     let quarter = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
     assert!(
         quarter.part_solved.starts_with("quarter"),
@@ -787,6 +824,43 @@ fn mirrored_parts_read_as_the_whole_die() {
 }
 
 #[test]
+fn a_hot_edge_crossing_the_mirror_is_read_across_it() {
+    // A 6 x 9 mm die with a tooth centred on the mirror y = 4.5 mm beside a centre load: its
+    // base edge along y is hottest where it crosses the mirror, so the half model's corner
+    // submodel there reaches beyond the part solved and reads the image. The whole die reads
+    // the same. Until 2026-12-02 the half read the edge otherwise (this test failed), and `fe
+    // --model solid` on this die stopped with exit 2: "the corner submodel reads the solid at
+    // ... outside it".
+    let g = geometry(&[
+        "geometry.die_length_um=6000",
+        "geometry.teeth.count_x=2",
+        "geometry.die_width_um=9000",
+        "geometry.teeth.count_y=3",
+        "checks.scenes=[]",
+    ]);
+    let scene = point(3000.0, 4500.0, 1.0);
+    let half = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
+    assert!(half.part_solved.starts_with("half"), "{}", half.part_solved);
+    let whole = evaluate_solid(&g, &scene, run(1, false), &[], &[]).unwrap();
+    let (h, w) = (&half.levels[0].readout, &whole.levels[0].readout);
+    assert!(!w.edge_stress.is_empty());
+    assert_eq!(h.edge_stress.len(), w.edge_stress.len());
+    for (a, b) in h.edge_stress.iter().zip(&w.edge_stress) {
+        assert_eq!(a.kind, b.kind);
+        assert!(
+            (a.stress_mpa - b.stress_mpa).abs() <= 1e-6 * b.stress_mpa.abs(),
+            "{a:?} {b:?}"
+        );
+    }
+    let tooth = w
+        .edge_stress
+        .iter()
+        .find(|e| e.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
+        .expect("a tooth base edge");
+    assert!((tooth.at_um[1] - 4500.0).abs() < 1.0, "{tooth:?}");
+}
+
+#[test]
 fn contact_loads_find_the_tooth_tops() {
     // A patch centred on a tooth top lies on it entirely; the force is all applied.
     let g = geometry(&[]);
@@ -815,7 +889,7 @@ fn fe_model_solid_through_the_binary() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("solid.json");
     let json = json.to_str().unwrap();
-    let args = solid_one_level(&["--scene", "line-y5mm", "--json-file", json]);
+    let args = tiny_one_level(&["--scene", "line-y5mm", "--json-file", json]);
     let text = tactfab(&args);
     text.expect_code(0);
     let written = std::fs::read_to_string(json).unwrap();
@@ -894,16 +968,23 @@ fn fe_model_solid_through_the_binary() {
     // The levels are graded where the plate finds the worst tooth base, and say so; the
     // caveat of uniform levels is left out.
     assert!(
-        text.stdout.contains("teeth the plate finds hottest (")
+        text.stdout.contains("the plate finds hottest (")
             && !text.stdout.contains("can miss the worst tooth base"),
         "{}",
         text.stdout
     );
     // A press on a support leaves the averaged stress under the plate in compression: no
     // negative factor from it either.
-    let on_support = solid_one_level(&["--point", "6,1.25,0.02,0.5"]);
+    // (Uniform levels, which say they can miss the worst tooth base: half a graded level.)
+    let on_support = tiny_one_level(&["--point", "3,1.25,0.02,0.5", "--solid-grading", "uniform"]);
     let text = tactfab(&on_support);
     text.expect_code(0);
+    assert!(
+        text.stdout.contains("can miss the worst tooth base")
+            && !text.stdout.contains("the plate finds hottest"),
+        "{}",
+        text.stdout
+    );
     let averaged = text
         .stdout
         .lines()
@@ -946,35 +1027,21 @@ fn the_converse_piezo_effect_is_negligible_for_this_film() {
 
 #[test]
 fn build_verify_solid_fails_where_the_plate_and_the_solid_disagree() {
-    // On the short die the support electrodes read the opposite sign in the solid (the force
-    // goes through the film at the wall, outside the islands): the check must fail the build and
-    // say which quantity, and the comparison is written beside the traveler. Two of the bundled
-    // scenes, the centre load and the pressure (82 and 60 s alone with --verify-solid, against
-    // 121 s for max-grasp-4n and 88 s for line-y5mm, which `fe_verify_solid_...` takes).
+    // On the tiny die the support electrodes read the opposite sign in the solid (the force
+    // goes through the film at the wall, outside the islands), as on the short one: the check
+    // must fail the build and say which quantity, and the comparison is written beside the
+    // traveler. Two of the bundled scenes, the centre load and the pressure.
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("b");
-    let args = with_sets(
-        &[
-            "build",
-            "process/mis-grasper.yaml",
-            "-o",
-            out.to_str().unwrap(),
-            "--verify-solid",
-            // One level of the plate and (so) of the solid: the disagreement is far beyond any
-            // estimate (the second solid level triples the test's time).
-            "--max-levels",
-            "1",
-            "--allow-unconverged",
-        ],
-        &[
-            SHORT[0],
-            SHORT[1],
-            // A safety factor no rung meets on the centre load: the solid's own check must say
-            // so too.
-            "checks.scenes=[{name: centre-1n, load: {point: {x_um: 6000, y_um: 7500, \
-             force_n: 1, radius_um: 500}}, limits: {min_safety_factor: 1000}}, {name: \
-             pressure-2n, load: {pressure: {force_n: 2}}}]",
-        ],
+    // One level of the plate and (so) of the solid: the disagreement is far beyond any estimate
+    // (the second solid level triples the test's time). A safety factor no rung meets on the
+    // centre load: the solid's own check must say so too.
+    let args = tiny_verify_build(
+        out.to_str().unwrap(),
+        &[],
+        "checks.scenes=[{name: centre-1n, load: {point: {x_um: 3000, y_um: 4500, force_n: 1, \
+         radius_um: 500}}, limits: {min_safety_factor: 1000}}, {name: pressure-2n, load: \
+         {pressure: {force_n: 2}}}]",
     );
     let run = tactfab(&args);
     run.expect_code(1);
@@ -1119,29 +1186,17 @@ fn the_support_section_brings_the_plain_plate_to_the_solid() {
 
 #[test]
 fn build_verify_solid_graded_reaches_the_solid_rung() {
-    // `build --verify-solid --graded` reaches the solid rung (one light scene on the short die,
+    // `build --verify-solid --graded` reaches the solid rung (one light scene on the tiny die,
     // one level: the flag is the scene's, every level takes it) and says so; --graded alone is
     // a usage error.
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("b");
-    let run = tactfab(&[
-        "build",
-        "process/mis-grasper.yaml",
-        "-o",
+    let run = tactfab(&tiny_verify_build(
         out.to_str().unwrap(),
-        "--verify-solid",
-        "--graded",
-        "--max-levels",
-        "1",
-        "--allow-unconverged",
-        "--set",
-        SHORT[0],
-        "--set",
-        SHORT[1],
-        "--set",
-        "checks.scenes=[{name: light, load: {point: {x_um: 6000, y_um: 7500, force_n: 0.02, \
+        &["--graded"],
+        "checks.scenes=[{name: light, load: {point: {x_um: 3000, y_um: 4500, force_n: 0.02, \
          radius_um: 500}}}]",
-    ]);
+    ));
     assert!(matches!(run.code, 0 | 1), "{}", run.stderr);
     assert!(
         run.stdout
@@ -1162,19 +1217,25 @@ fn build_verify_solid_graded_reaches_the_solid_rung() {
 
 #[test]
 fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
-    // The line load on the short die (the large-deflection plate answers it, so the solid is
+    // The line load on the tiny die (the large-deflection plate answers it, so the solid is
     // nonlinear): its differences become the plate answer's `model` part. One level of each:
-    // `--max-levels` bounds the solid's levels too.
-    let args = on_short_die(&[
-        "fe",
-        "process/mis-grasper.yaml",
-        "--scene",
-        "line-y5mm",
-        "--verify-solid",
-        "--max-levels",
-        "1",
-        "--json",
-    ]);
+    // `--max-levels` bounds the solid's levels too; uniform (`--solid-grading` reaches
+    // `--verify-solid`): the subject is the comparison, at half a graded level's cost.
+    let args = with_sets(
+        &[
+            "fe",
+            "process/mis-grasper.yaml",
+            "--scene",
+            "line-y5mm",
+            "--verify-solid",
+            "--max-levels",
+            "1",
+            "--solid-grading",
+            "uniform",
+            "--json",
+        ],
+        &TINY,
+    );
     let run = tactfab(&args);
     let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
         panic!("{e}\n{}\n{}", run.stdout, run.stderr);
@@ -1183,6 +1244,7 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
     let plate = &v["scenes"][0];
     assert_eq!(solid["plate_rung"], plate["model"]["kind"]);
     assert_eq!(solid["levels"].as_array().unwrap().len(), 1);
+    assert_eq!(solid["graded_teeth"], 0, "{solid}");
     let by_name = |name: &str| {
         solid["quantities"]
             .as_array()
@@ -1271,7 +1333,7 @@ fn fe_verify_solid_takes_the_plate_answers_model_error_from_the_solid() {
 fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     // The factor (MB) a run of `levels` solid levels under a 300 MB limit refuses.
     let refused = |levels: &str, rest: &[&str]| -> u64 {
-        let mut args = solid_levels(levels, &["--scene", "centre-1n"]);
+        let mut args = tiny_levels(levels, &["--scene", "centre-1n"]);
         args.extend_from_slice(rest);
         let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", "300")]);
         assert_eq!(code, 2, "{stdout}\n{stderr}");
@@ -1304,7 +1366,7 @@ fn a_factor_over_the_memory_limit_is_refused_before_it_is_allocated() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("fe.json");
     let json_arg = json.to_str().unwrap();
-    let args = solid_levels("1", &["--scene", "centre-1n", "--json-file", json_arg]);
+    let args = tiny_levels("1", &["--scene", "centre-1n", "--json-file", json_arg]);
     let (code, stdout, stderr) = run_env(&args, &[("TACTFAB_MEMORY_LIMIT_MB", &between)]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let v: serde_json::Value =
