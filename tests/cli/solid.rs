@@ -1524,9 +1524,9 @@ fn verify_solid_takes_its_levels_from_solid_levels() {
     const PLAIN: [&str; 4] = [
         "materials.base.kind=rigid",
         "geometry.teeth.pattern=none",
-        "checks.scenes=[{name: light, load: {point: {x_um: 6000, y_um: 7500, force_n: 0.02, \
+        "checks.scenes=[{name: light, load: {point: {x_um: 3000, y_um: 7500, force_n: 0.02, \
          radius_um: 500}}}]",
-        "geometry.die_length_um=12000",
+        "geometry.die_length_um=6000",
     ];
     let run = tactfab(&with_sets(
         &[
