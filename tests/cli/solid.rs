@@ -1435,7 +1435,10 @@ fn factors_that_fit_only_one_at_a_time_are_solved_one_at_a_time() {
 /// exit 2. (The plain plate on a rigid base: four levels in seconds.)
 #[test]
 fn solid_levels_sets_the_solid_rungs_levels() {
-    let mut args = on_short_die(&["fe", "process/mis-grasper.yaml", "--model", "solid"]);
+    let mut args = with_sets(
+        &["fe", "process/mis-grasper.yaml", "--model", "solid"],
+        &TINY,
+    );
     args.extend([
         "--solid-levels",
         "4",
@@ -1444,7 +1447,7 @@ fn solid_levels_sets_the_solid_rungs_levels() {
         "--set",
         "geometry.teeth.pattern=none",
         "--point",
-        "6,7.5,0.02,0.5",
+        "3,4.5,0.02,0.5",
         "--json",
         "--timings",
     ]);
