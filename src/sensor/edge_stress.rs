@@ -287,7 +287,7 @@ impl Edge {
 }
 
 /// The displacement (m) at `p_um` of the whole die's mirror-symmetric field: a point beyond a
-/// mirror of the part solved (`solid_mesh`: the part is [0, m]) is read at its image, with the
+/// mirror of the part solved is read at its image ([`SensorSolid::mirror_image_um`]), with the
 /// displacement across that mirror reversed. A submodel at a station on a mirror reaches across
 /// it (a hot edge crossing the mirror has its largest stress there).
 fn mirrored_displacement(
@@ -295,16 +295,10 @@ fn mirrored_displacement(
     sol: &impl SolidField,
     p_um: [f64; 3],
 ) -> Option<[f64; 3]> {
-    let mut q = p_um;
-    let mut flip = [false; 3];
-    for (axis, mirror) in [(0, s.mirror_x_um), (1, s.mirror_y_um)] {
-        if let Some(m) = mirror.filter(|&m| q[axis] > m) {
-            q[axis] = 2.0 * m - q[axis];
-            flip[axis] = true;
-        }
-    }
-    let u = sol.displacement_m(q)?;
-    Some([0, 1, 2].map(|i| if flip[i] { -u[i] } else { u[i] }))
+    let ((x, y), [fx, fy]) = s.mirror_image_um((p_um[0], p_um[1]));
+    let u = sol.displacement_m([x, y, p_um[2]])?;
+    let sign = |flip: bool| if flip { -1.0 } else { 1.0 };
+    Some([sign(fx) * u[0], sign(fy) * u[1], u[2]])
 }
 
 /// Solves one section at `rings` rings per octave and reads the silicon's largest principal

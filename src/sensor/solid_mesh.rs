@@ -138,6 +138,18 @@ pub struct SensorSolid {
 }
 
 impl SensorSolid {
+    /// (x, y) um carried into the part solved through its mirrors (the part ends at each mirror
+    /// m: [0, m]), and which of x and y was reflected: the whole die's symmetric field at (x, y)
+    /// is the part's at the image, with those components reversed.
+    pub fn mirror_image_um(&self, (x, y): (f64, f64)) -> ((f64, f64), [bool; 2]) {
+        let reflect = |v: f64, mirror: Option<f64>| match mirror {
+            Some(m) if v > m => (2.0 * m - v, true),
+            _ => (v, false),
+        };
+        let ((x, fx), (y, fy)) = (reflect(x, self.mirror_x_um), reflect(y, self.mirror_y_um));
+        ((x, y), [fx, fy])
+    }
+
     /// Volume of each material (um^3, by [`SILICON`], [`PVDF`], [`BASE`]) in the part solved:
     /// the mapped elements integrated exactly (3x3x3 Gauss points on the quadratic map), so the
     /// solid's silicon can be checked against the etched shape in closed form.

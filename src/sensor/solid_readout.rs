@@ -55,18 +55,9 @@ fn principal_in_plane(s: [f64; 3]) -> f64 {
 
 /// (x, y) carried into the part solved through the model's mirrors, and the sign the in-plane
 /// shear takes there: s_xy is odd under a reflection of x or of y, s_xx and s_yy even.
-fn fold(s: &SensorSolid, (x, y): (f64, f64)) -> ((f64, f64), f64) {
-    let mut shear = 1.0;
-    let mut reflect = |v: f64, mirror: Option<f64>| match mirror {
-        // The part solved ends at the mirror (`solid_mesh`: [0, m]).
-        Some(m) if v > m => {
-            shear = -shear;
-            2.0 * m - v
-        }
-        _ => v,
-    };
-    let p = (reflect(x, s.mirror_x_um), reflect(y, s.mirror_y_um));
-    (p, shear)
+fn fold(s: &SensorSolid, p: (f64, f64)) -> ((f64, f64), f64) {
+    let (q, [fx, fy]) = s.mirror_image_um(p);
+    (q, if fx != fy { -1.0 } else { 1.0 })
 }
 
 /// The stress tensor (xx, yy, xy) averaged over a square of side `side_um` centred at (x, y) on

@@ -173,7 +173,7 @@ fn the_meshed_silicon_is_the_etched_silicon() {
 
 #[test]
 fn supports_carry_the_load_and_each_scales_with_it() {
-    // An off-centre load on a shortened die (three columns of teeth): equilibrium through the
+    // An off-centre load on the tiny die (two columns of teeth): equilibrium through the
     // films, the nearer support carrying more, and twice the force twice every reading.
     let g = geometry(&TINY);
     let one = evaluate_solid(&g, &point(2000.0, 4000.0, 1.0), run(1, true), &[], &[]).unwrap();
@@ -825,19 +825,13 @@ fn mirrored_parts_read_as_the_whole_die() {
 
 #[test]
 fn a_hot_edge_crossing_the_mirror_is_read_across_it() {
-    // A 6 x 9 mm die with a tooth centred on the mirror y = 4.5 mm beside a centre load: its
+    // The tiny die: a tooth centred on the mirror y = 4.5 mm beside a centre load: its
     // base edge along y is hottest where it crosses the mirror, so the half model's corner
     // submodel there reaches beyond the part solved and reads the image. The whole die reads
     // the same. Until 2026-12-02 the half read the edge otherwise (this test failed), and `fe
     // --model solid` on this die stopped with exit 2: "the corner submodel reads the solid at
     // ... outside it".
-    let g = geometry(&[
-        "geometry.die_length_um=6000",
-        "geometry.teeth.count_x=2",
-        "geometry.die_width_um=9000",
-        "geometry.teeth.count_y=3",
-        "checks.scenes=[]",
-    ]);
+    let g = geometry(&TINY);
     let scene = point(3000.0, 4500.0, 1.0);
     let half = evaluate_solid(&g, &scene, run(1, true), &[], &[]).unwrap();
     assert!(half.part_solved.starts_with("half"), "{}", half.part_solved);
