@@ -219,7 +219,7 @@ pub fn export_scene(
     let mut phases_s = Vec::new();
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
-        let solid = scene_model.build(g, base, opts, graded_teeth)?;
+        let solid = scene_model.build(g, base, opts.clone(), graded_teeth)?;
         let t1 = Instant::now();
         let model = SolidModel::new(&solid.problem).map_err(SensorError::Fe)?;
         let t2 = Instant::now();

@@ -173,7 +173,7 @@ impl SensorSolid {
 
 /// Mesh density (the largest in-plane element, um, and the elements through each layer) and how
 /// the bricks take their transverse shears.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SolidMeshOptions {
     pub element_um: f64,
     /// The largest cell across the span (y between the channel walls): the plate bends across
@@ -202,6 +202,12 @@ pub struct SolidMeshOptions {
     /// (the thickness check's 1): the planes nest, so a coarser field lies in the finer space
     /// and the grading stays.
     pub brick_halvings: u32,
+    /// Where the bricks keep all `brick_halvings`: in-plane boxes `[x0, x1, y0, y1]` um
+    /// (unmapped, as the plate's top and bottom faces are). Elsewhere each brick's halves
+    /// merge back into bricks of `brick_halvings_outside` halvings, whose faces the finer
+    /// bricks' nodes hang on. Empty: `brick_halvings` everywhere.
+    pub fine_brick_boxes_um: Vec<[f64; 4]>,
+    pub brick_halvings_outside: u32,
 }
 
 /// The ratio of the upper brick in the teeth to the lower one, at their base \[measured\]: the
@@ -296,6 +302,8 @@ impl SolidMeshOptions {
             local_refinement: false,
             teeth_grading: TEETH_BRICK_GRADING,
             brick_halvings: 0,
+            fine_brick_boxes_um: Vec::new(),
+            brick_halvings_outside: 0,
         }
     }
 }
@@ -330,10 +338,19 @@ struct GradedBand {
 
 /// Merges the bisected cells back into their coarse cells where they are not needed: over each
 /// pair of in-plane units (a band's coarse cell, or a single cell), along each axis whose band
-/// is far (no keep interval meets the other unit), in every layer. Cells the merge refuses (void
-/// or of two materials, or bent by the node map) stay as they are.
-fn merge_far_bands(grid: &mut HexGrid, bands: &[GradedBand]) {
-    if bands.is_empty() {
+/// is far (no keep interval meets the other unit), and through the thickness over each of
+/// `z_groups` (cells `k0 .. k1`: a brick's halves) unless the box meets one of `fine_boxes_um`
+/// (`[x0, x1, y0, y1]`, where each cell stays a brick). Cells the merge refuses (void or of two
+/// materials, or bent by the node map) stay as they are. Every box merged is a union of whole
+/// units and groups, so neighbours nest.
+fn merge_back(
+    grid: &mut HexGrid,
+    bands: &[GradedBand],
+    z_groups: &[(usize, usize)],
+    fine_boxes_um: &[[f64; 4]],
+) {
+    let thick = z_groups.iter().any(|&(a, b)| b - a > 1);
+    if bands.is_empty() && !thick {
         return;
     }
     let lines: [Vec<f64>; 3] = grid.lines_um().map(<[f64]>::to_vec);
@@ -375,10 +392,16 @@ fn merge_far_bands(grid: &mut HexGrid, bands: &[GradedBand]) {
             !k.iter().any(|&(k0, k1)| c1 > k0 && c0 < k1)
         })
     };
-    let nz = lines[2].len() - 1;
+    let singles: Vec<(usize, usize)> = (0..lines[2].len() - 1).map(|k| (k, k + 1)).collect();
+    // A box stays fine through the thickness where it meets a fine box.
+    let fine = |(a, b): (usize, usize), (c, d): (usize, usize)| {
+        fine_boxes_um.iter().any(|f| {
+            lines[0][b] > f[0] && lines[0][a] < f[1] && lines[1][d] > f[2] && lines[1][c] < f[3]
+        })
+    };
     for (x0, x1, kx) in &ux {
         for (y0, y1, ky) in &uy {
-            if kx.is_none() && ky.is_none() {
+            if kx.is_none() && ky.is_none() && !thick {
                 continue;
             }
             let merge_x = far(kx, 1, (*y0, *y1));
@@ -395,12 +418,17 @@ fn merge_far_bands(grid: &mut HexGrid, bands: &[GradedBand]) {
             };
             for &(a, b) in &xs {
                 for &(c, d) in &ys {
-                    if b - a == 1 && d - c == 1 {
-                        continue;
-                    }
-                    for k in 0..nz {
+                    let zs = if fine((a, b), (c, d)) {
+                        &singles
+                    } else {
+                        z_groups
+                    };
+                    for &(k0, k1) in zs {
+                        if b - a == 1 && d - c == 1 && k1 - k0 == 1 {
+                            continue;
+                        }
                         // A refused box (void, two materials, bent by the map) stays fine.
-                        let _ = grid.merge([a, c, k], [b, d, k + 1]);
+                        let _ = grid.merge([a, c, k0], [b, d, k1]);
                     }
                 }
             }
@@ -734,12 +762,27 @@ pub fn build(
     layer(&mut zs, d, f + d, 1);
     // At most 16 bricks per brick: the check asks for 1.
     let halvings = opts.brick_halvings.min(4);
+    // Away from the fine boxes each brick's halves merge back in groups of this many cells.
+    let group = if opts.fine_brick_boxes_um.is_empty() {
+        1
+    } else {
+        1usize << (halvings - opts.brick_halvings_outside.min(halvings))
+    };
+    let below_plate = zs.len();
     let (n, q) = (opts.plate_layers, 1.0);
     zs.extend(graded_planes(f + d, f + d + t, n, q, halvings));
     if !et.tooth_tops_um.is_empty() {
         let (n, q) = (opts.teeth_layers, opts.teeth_grading);
         zs.extend(graded_planes(f + d + t, f + d + t + h, n, q, halvings));
     }
+    let z_groups: Vec<(usize, usize)> = (0..below_plate)
+        .map(|k| (k, k + 1))
+        .chain(
+            (below_plate..zs.len())
+                .step_by(group)
+                .map(|k| (k, k + group)),
+        )
+        .collect();
     zs.push(layers.teeth_top_um);
 
     let mut grid = HexGrid::new(&xs, &ys, &zs)?.with_tolerance_um(gap_um);
@@ -791,7 +834,7 @@ pub fn build(
     }));
 
     let mut grid = grid;
-    merge_far_bands(&mut grid, &bands);
+    merge_back(&mut grid, &bands, &z_groups, &opts.fine_brick_boxes_um);
 
     let silicon = silicon_elasticity(g.silicon);
     let pvdf = Elasticity::isotropic(g.pvdf_e_pa, g.pvdf_nu);

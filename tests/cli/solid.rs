@@ -354,10 +354,10 @@ fn the_levels_cells_are_finer_across_the_span() {
     assert_eq!(opts.span_element_um, 0.5 * opts.element_um);
     let mesh = |o: SolidMeshOptions| build(&g, &[], g.base, o, &[], None, None).unwrap();
     let (fine, even) = (
-        mesh(opts),
+        mesh(opts.clone()),
         mesh(SolidMeshOptions {
             span_element_um: opts.element_um,
-            ..opts
+            ..opts.clone()
         }),
     );
     let lines = |s: &SensorSolid, axis: usize| s.problem.grid.lines_um()[axis].to_vec();
@@ -468,7 +468,7 @@ fn local_refinement_grades_the_hot_tooth_and_merges_back_elsewhere() {
             g.base,
             SolidMeshOptions {
                 local_refinement,
-                ..opts
+                ..opts.clone()
             },
             &[near],
             None,
@@ -722,19 +722,17 @@ fn a_wall_a_fraction_of_a_micron_from_a_tooth_edge_is_read() {
 
 #[test]
 fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
-    // Three levels refine in plane only; level 0 again with twice the bricks through the plate
-    // measures what the thickness does to the edges' stresses, and their estimate includes it.
+    // Three levels refine in plane only; level 0 again with twice the bricks through the plate,
+    // then with eight in boxes round the readings, measures what the thickness does to the
+    // edges' stresses: their values take the correction and their estimate what is left.
     let g = geometry(&TINY);
     let r = evaluate_solid(&g, &point(3000.0, 4500.0, 1.0), run(3, true), &[], &[]).unwrap();
     assert_eq!(r.edge_thickness.len(), 3, "{:?}", r.edge_thickness);
     let lambda = tactfab::fe::solid::corner::williams_exponent(
         std::f64::consts::PI + 54.7356f64.to_radians(),
     );
-    let scale = r.levels[2]
-        .readout
-        .edge_stress
-        .iter()
-        .fold(0.0f64, |m, e| m.max(e.stress_mpa.abs()));
+    let finest = &r.levels[2].readout.edge_stress;
+    let scale = finest.iter().fold(0.0f64, |m, e| m.max(e.stress_mpa.abs()));
     for c in &r.edge_thickness {
         let level0 = r.levels[0]
             .readout
@@ -743,24 +741,43 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
             .find(|e| e.kind == c.kind)
             .unwrap();
         assert_eq!(c.two_bricks_mpa, level0.stress_mpa);
-        let d = (c.four_bricks_mpa - c.two_bricks_mpa).abs();
-        assert!(d > 0.0 && (c.error_mpa - d / (1.0 - 2f64.powf(-lambda))).abs() < 1e-9 * d);
-        let q = r
-            .quantities
-            .iter()
-            .find(|q| q.name == format!("{}_stress", c.kind.as_str()))
-            .unwrap();
+        let eight = c.eight_bricks_mpa.expect("the eight-brick boxes solved");
+        let (d1, d2) = (
+            c.four_bricks_mpa - c.two_bricks_mpa,
+            eight - c.four_bricks_mpa,
+        );
+        let rho = d2 / d1;
+        if (0.0..1.0).contains(&rho) {
+            // Monotone: the value moves to the eight bricks' and what is left is the last step
+            // at the observed rate or 2 lambda, whichever is slower.
+            let r = rho.max(2f64.powf(-2.0 * lambda));
+            assert!((c.correction_mpa - (d1 + d2)).abs() < 1e-9 * scale);
+            assert!((c.error_mpa - d2.abs() * r / (1.0 - r)).abs() < 1e-9 * scale);
+        } else {
+            let worst = d1.abs().max((d1 + d2).abs());
+            assert_eq!(c.correction_mpa, 0.0);
+            assert!((c.error_mpa - worst / (1.0 - 2f64.powf(-lambda))).abs() < 1e-9 * scale);
+        }
+        let name = format!("{}_stress", c.kind.as_str());
+        let q = r.quantities.iter().find(|q| q.name == name).unwrap();
+        let at_finest = finest.iter().find(|e| e.kind == c.kind).unwrap();
+        assert!((q.value - (at_finest.stress_mpa + c.correction_mpa)).abs() < 1e-9 * scale);
         let disc = q.discretisation.expect("three levels");
         assert!(disc * scale >= c.error_mpa * (1.0 - 1e-9), "{disc} {c:?}");
     }
     // A tooth's base edge: more bricks through the plate raise it (the corner's field resolved
-    // closer in), as on the bundled design.
+    // closer in), as on the bundled design, and the eight bricks more again.
     let tooth = r
         .edge_thickness
         .iter()
         .find(|c| c.kind == tactfab::sensor::edge_stress::EdgeKind::ToothBase)
         .unwrap();
     assert!(tooth.four_bricks_mpa > tooth.two_bricks_mpa, "{tooth:?}");
+    assert!(
+        tooth.eight_bricks_mpa > Some(tooth.four_bricks_mpa),
+        "{tooth:?}"
+    );
+    assert!(tooth.correction_mpa > 0.0, "{tooth:?}");
 }
 
 #[test]
