@@ -614,9 +614,9 @@ pub struct EdgeThicknessCheck {
     /// times rho / (1 - rho), rho the observed ratio of the differences but never under
     /// 2^-2 lambda (the rate a field converges at away from a corner of Williams exponent
     /// lambda, the pollution error: Wahlbin, Local behavior in finite element methods, Handbook
-    /// of Numerical Analysis II, 1991; the submodel's disc is driven at a distance from the
-    /// edge); else the largest difference
-    /// from the two-brick value over 1 - 2^-lambda (the corner's own rate).
+    /// of Numerical Analysis II, 1991; the submodels are driven at a distance from the edge);
+    /// else the largest difference from the two-brick value over 1 - 2^-lambda (the corner's
+    /// own rate).
     pub error_mpa: f64,
     /// The observed order -log2(rho) of the three, where they converge monotonically.
     #[serde(skip_serializing_if = "Option::is_none")]
