@@ -614,10 +614,10 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
             for e in &last.readout.edge_stress {
                 if let Some(along) = e.along_edge_um {
                     println!(
-                        "  {} stress on the finest level {} MPa at L/2 = {} nm from a tooth's base corner and its \
-                         edges (worst {} um along an edge from the corner, at x {} y {} mm; \
-                         vertex submodels nested from a half-size of {} um, their own estimate \
-                         {} MPa): {}",
+                        "  {} stress on the finest level {} MPa at L/2 = {} nm from a tooth's \
+                         base corner and its edges (worst {} um along an edge from the corner, \
+                         at x {} y {} mm; vertex submodels nested from a half-size of {} um, \
+                         their own estimate {} MPa): {}",
                         e.kind.as_str(),
                         f(e.stress_mpa, 4),
                         f(e.read_at_um * 1e3, 3),
@@ -631,8 +631,9 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                     continue;
                 }
                 println!(
-                    "  {} stress on the finest level {} MPa at L/2 = {} nm from the edge (section at x {} y {} mm; \
-                     corner submodel of radius {} um, its own estimate {} MPa): {}",
+                    "  {} stress on the finest level {} MPa at L/2 = {} nm from the edge \
+                     (section at x {} y {} mm; corner submodel of radius {} um, its own \
+                     estimate {} MPa): {}",
                     e.kind.as_str(),
                     f(e.stress_mpa, 4),
                     f(e.read_at_um * 1e3, 3),
@@ -644,25 +645,24 @@ fn solid(args: &FeArgs, g: &SensorGeometry, scenes: &[Scene]) -> anyhow::Result<
                 );
             }
         }
+        let box_um = tactfab::sensor::edge_stress::FINE_BRICK_BOX * g.plate_thickness_um;
         for c in &r.edge_thickness {
             match (c.eight_bricks_mpa, c.correction_mpa != 0.0) {
-                (Some(eight), true) => {
-                    println!(
+                (Some(eight), true) => println!(
                     "  {} through the thickness (level 0, 2, 4 and 8 bricks through the plate and \
                      the teeth, the 8 within {} um of the reading): {}, {}, {} MPa (order {}): \
                      {} MPa added to the finest level's value, {} MPa left in its disc. (the \
                      last difference at that rate, or at 2 lambda, the rate away from the \
                      corner, if slower)",
                     c.kind.as_str(),
-                    f(tactfab::sensor::edge_stress::FINE_BRICK_BOX * g.plate_thickness_um, 0),
+                    f(box_um, 0),
                     f(c.two_bricks_mpa, 4),
                     f(c.four_bricks_mpa, 4),
                     f(eight, 4),
                     c.observed_order.map_or("-".to_string(), |p| f(p, 2)),
                     f(c.correction_mpa, 3),
                     f(c.error_mpa, 3)
-                )
-                }
+                ),
                 (eight, _) => println!(
                     "  {} through the thickness (level 0, 2 against 4 bricks through the plate and \
                      the teeth{}): {} against {} MPa, taken as an error of {} MPa in its disc. \

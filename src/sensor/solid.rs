@@ -778,9 +778,10 @@ pub fn evaluate_solid(
             // Eight bricks in boxes round the readings, four elsewhere, from the four-brick
             // field (whose space it holds): the third value gives the thickness its own rate.
             let finer = eight_brick_mesh(doubled(), &answer.readout.edge_stress, g);
-            // One that cannot fit in memory leaves the check at two values (the corner's rate).
-            let eight = match analyse(finer.clone()) {
-                Ok(_) => Some(solve(finer, thick_field.as_ref(), thickness_check_newton())?.0),
+            // One that cannot fit in memory (refused at its symbolic analysis, before any
+            // numeric work) leaves the check at two values (the corner's rate).
+            let eight = match solve(finer, thick_field.as_ref(), thickness_check_newton()) {
+                Ok((l, ..)) => Some(l),
                 Err(e) if too_large(&e) => None,
                 Err(e) => return Err(e),
             };
