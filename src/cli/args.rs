@@ -242,9 +242,9 @@ pub struct FeArgs {
     /// With --model solid or --verify-solid: the solid's mesh levels, 1-5 (1000, 707, 500, 354,
     /// 250 um in plane, half that across the span; three give an error estimate). By default 3
     /// for --model solid, 2 for --verify-solid, or --max-levels if lower. Three put every reading
-    /// of the bundled centre load under 1 % but the tooth base and vertex stresses (about 4 %,
-    /// the thickness check's part) and the peak principal stress, which is reported but not
-    /// required to converge (README, "Finer across the span").
+    /// of the bundled centre load under 1 % (the tooth base and vertex stresses with the 2-4-8
+    /// bricks' correction through the thickness) but the peak principal stress, which is
+    /// reported but not required to converge (README, "Eight bricks where the edges are read").
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
     pub solid_levels: Option<u8>,
     /// Print the per-level convergence table (mesh, elements, dofs, time, value, estimate, order)

@@ -633,7 +633,7 @@ pub fn hot_teeth(g: &SensorGeometry, sol: &PlateSolution, section: &EdgeSection)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::solid::corner::williams_exponent;
+    use crate::fe::solid::corner::tooth_base_exponent;
     use crate::sensor::solid_mesh::silicon_elasticity;
 
     use crate::sensor::geometry::bundled as geometry;
@@ -720,7 +720,7 @@ mod tests {
         .unwrap()
         .unwrap();
         assert!((far.read_at_um / near.read_at_um - 4.0).abs() < 1e-9);
-        let lambda = williams_exponent(std::f64::consts::PI + 54.7356f64.to_radians());
+        let lambda = tooth_base_exponent();
         let want = 4f64.powf(lambda - 1.0);
         let got = far.unit_mpa[0] / near.unit_mpa[0];
         assert!((got - want).abs() < 0.02, "{got} against {want}");

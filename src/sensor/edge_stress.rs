@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::fe::solid::corner::{
-    solve_corner, williams_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
+    solve_corner, tooth_base_exponent, CornerFrame, CornerMesh, CornerSector, CornerSolution,
     SectionPatterns, OCTAVES_INSIDE,
 };
 use crate::fe::solid::vertex::{
@@ -639,7 +639,7 @@ pub fn thickness_checks(
     four: &[EdgeStress],
     eight: Option<&[EdgeStress]>,
 ) -> Vec<EdgeThicknessCheck> {
-    let lambda = williams_exponent(std::f64::consts::PI + 54.7356f64.to_radians());
+    let lambda = tooth_base_exponent();
     let (corner, away) = (2f64.powf(-lambda), 2f64.powf(-2.0 * lambda));
     two.iter()
         .filter_map(|a| {
@@ -690,11 +690,6 @@ mod tests {
         }
     }
 
-    /// The corner's Williams exponent (material angle 180 + 54.74 deg): 0.634.
-    fn lambda() -> f64 {
-        williams_exponent(std::f64::consts::PI + 54.7356f64.to_radians())
-    }
-
     #[test]
     fn without_eight_bricks_the_check_scales_the_difference_by_the_corner_rate() {
         let e = reading;
@@ -702,8 +697,8 @@ mod tests {
         let four = [e(EdgeKind::ToothBase, 30.42)];
         let c = thickness_checks(&two, &four, None);
         assert_eq!(c.len(), 1);
-        assert!((lambda() - 0.634_008).abs() < 1e-6);
-        let want = 1.94 / (1.0 - 2f64.powf(-lambda()));
+        assert!((tooth_base_exponent() - 0.634_008).abs() < 1e-6);
+        let want = 1.94 / (1.0 - 2f64.powf(-tooth_base_exponent()));
         assert!((c[0].error_mpa - want).abs() < 1e-4, "{c:?}");
         assert_eq!((c[0].correction_mpa, c[0].eight_bricks_mpa), (0.0, None));
         // Measured with 6 bricks: 31.25 MPa, and the fitted limit near 34: the estimate reaches it.
@@ -720,10 +715,10 @@ mod tests {
     fn three_monotone_values_correct_toward_the_limit_and_cover_it() {
         let limit = 2240.0;
         for (p, c) in [
-            (2.0 * lambda(), 60.0),
+            (2.0 * tooth_base_exponent(), 60.0),
             (1.87, 50.0),
             (0.9, 40.0),
-            (2.0 * lambda(), -9.0),
+            (2.0 * tooth_base_exponent(), -9.0),
         ] {
             let s = |bricks: f64| limit - c * (2.0 / bricks).powf(p);
             let e = |b| [reading(EdgeKind::ToothBase, s(b))];
@@ -732,7 +727,7 @@ mod tests {
             assert!((k.correction_mpa - (s(8.0) - s(2.0))).abs() < 1e-9, "{k:?}");
             assert!((k.observed_order.unwrap() - p).abs() < 1e-9, "{k:?}");
             let left = (limit - s(8.0)).abs();
-            if p <= 2.0 * lambda() + 1e-12 {
+            if p <= 2.0 * tooth_base_exponent() + 1e-12 {
                 // The tail of the observed series: exact.
                 assert!((k.error_mpa - left).abs() < 1e-9 * c.abs(), "{k:?} {left}");
             } else {
@@ -744,7 +739,7 @@ mod tests {
         // 2 lambda; the whole die with 8 bricks reads 2237.55, within what is left.
         let e = |v| [reading(EdgeKind::ToothBase, v)];
         let k = &thickness_checks(&e(2207.64), &e(2230.22), Some(&e(2236.82)))[0];
-        let r = 2f64.powf(-2.0 * lambda());
+        let r = 2f64.powf(-2.0 * tooth_base_exponent());
         assert!((k.error_mpa - 6.60 * r / (1.0 - r)).abs() < 1e-9, "{k:?}");
         assert!(2207.64 + k.correction_mpa + k.error_mpa > 2237.55);
     }
@@ -756,11 +751,11 @@ mod tests {
         let e = |v| [reading(EdgeKind::ToothVertex, v)];
         let k = &thickness_checks(&e(100.0), &e(110.0), Some(&e(105.0)))[0];
         assert_eq!((k.correction_mpa, k.observed_order), (0.0, None));
-        assert!((k.error_mpa - 10.0 / (1.0 - 2f64.powf(-lambda()))).abs() < 1e-4);
+        assert!((k.error_mpa - 10.0 / (1.0 - 2f64.powf(-tooth_base_exponent()))).abs() < 1e-4);
         // Growing differences (diverging) and a step back past the two-brick value likewise.
         let k = &thickness_checks(&e(100.0), &e(110.0), Some(&e(125.0)))[0];
         assert_eq!(k.correction_mpa, 0.0);
-        assert!((k.error_mpa - 25.0 / (1.0 - 2f64.powf(-lambda()))).abs() < 1e-4);
+        assert!((k.error_mpa - 25.0 / (1.0 - 2f64.powf(-tooth_base_exponent()))).abs() < 1e-4);
         let k = &thickness_checks(&e(100.0), &e(100.0), Some(&e(101.0)))[0];
         assert_eq!(k.correction_mpa, 0.0);
         assert!(k.error_mpa > 1.0);

@@ -198,6 +198,12 @@ pub fn williams_exponent(angle_rad: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// [`williams_exponent`] of the tooth's base edge, where a {111} sidewall (54.74 deg) meets the
+/// (100) plate: material angle 234.74 deg, lambda 0.634.
+pub fn tooth_base_exponent() -> f64 {
+    williams_exponent(std::f64::consts::PI + 54.7356f64.to_radians())
+}
+
 /// Rotation of the polar decomposition F = R U by Higham's iteration R <- (R + R^-T) / 2
 /// (Higham 1986, SIAM J. Sci. Stat. Comput. 7: 1160), which converges quadratically.
 pub fn polar_rotation(f: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
