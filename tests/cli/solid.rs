@@ -728,9 +728,7 @@ fn edge_stress_estimate_includes_the_bricks_through_the_thickness() {
     let g = geometry(&TINY);
     let r = evaluate_solid(&g, &point(3000.0, 4500.0, 1.0), run(3, true), &[], &[]).unwrap();
     assert_eq!(r.edge_thickness.len(), 3, "{:?}", r.edge_thickness);
-    let lambda = tactfab::fe::solid::corner::williams_exponent(
-        std::f64::consts::PI + 54.7356f64.to_radians(),
-    );
+    let lambda = tactfab::fe::solid::corner::tooth_base_exponent();
     let finest = &r.levels[2].readout.edge_stress;
     let scale = finest.iter().fold(0.0f64, |m, e| m.max(e.stress_mpa.abs()));
     for c in &r.edge_thickness {
